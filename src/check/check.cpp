@@ -1,0 +1,156 @@
+#include "check/check.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace sscs {
+
+const char* status_name(Status s) {
+  switch (s) {
+    case Status::Pass: return "pass";
+    case Status::Fail: return "fail";
+    case Status::Error: return "error";
+  }
+  return "?";
+}
+
+namespace {
+
+double read(const Operand& op, const std::vector<double>& values) {
+  return op.kind == Operand::Kind::Slot ? values[op.slot] : op.constant_si;
+}
+
+std::string with_unit(double si, Dim dim) {
+  const char* unit = file_unit(dim);
+  return *unit ? fmt::format("{:g} {}", si_to_file(si, dim), unit) : fmt::format("{:g}", si_to_file(si, dim));
+}
+
+void check_bound(const BoundCheck& b, const std::vector<double>& values, CheckResult& r) {
+  double lhs = read(b.lhs, values), rhs = read(b.rhs, values);
+  double L = lhs + b.lhs_tol_si, R = rhs + b.rhs_tol_si;
+  double margin = 0;
+  bool pass = false;
+  switch (b.op) {
+    case RelOp::LT: margin = R - L; pass = margin > 0; break;
+    case RelOp::LE: margin = R - L; pass = margin >= -b.eps_si; break;
+    case RelOp::GT: margin = L - R; pass = margin > 0; break;
+    case RelOp::GE: margin = L - R; pass = margin >= -b.eps_si; break;
+    case RelOp::EQ: margin = b.eps_si - std::abs(L - R); pass = margin >= 0; break;
+  }
+  r.dim = b.dim;
+  r.lhs = si_to_file(lhs, b.dim);
+  r.rhs = si_to_file(rhs, b.dim);
+  r.margin = si_to_file(margin, b.dim);
+  r.status = pass ? Status::Pass : Status::Fail;
+  auto side = [&](const Operand& op, double value, double tol) {
+    std::string s = op.kind == Operand::Kind::Slot ? fmt::format("{} = {}", op.text, with_unit(value, b.dim))
+                                                   : with_unit(value, b.dim);
+    if (tol != 0) s += fmt::format(" {} {}", tol < 0 ? "-" : "+", with_unit(std::abs(tol), b.dim));
+    return s;
+  };
+  r.message = fmt::format("{} {} {}: {}", side(b.lhs, lhs, b.lhs_tol_si), relop_symbol(b.op), side(b.rhs, rhs, b.rhs_tol_si),
+                          pass ? "holds" : "violated");
+}
+
+double evaluate(const Expression& e, const std::vector<Operand>& inputs, const std::vector<double>& values,
+                std::vector<double>& scratch) {
+  scratch.resize(inputs.size());
+  for (size_t i = 0; i < inputs.size(); ++i) scratch[i] = read(inputs[i], values);
+  return e.evaluate(scratch.data());
+}
+
+double margin_of(const ExprCheck::MarginNode& n, const std::vector<double>& values, std::vector<double>& scratch,
+                 double* lhs, double* rhs) {
+  switch (n.op) {
+    case MarginTree::Op::And:
+    case MarginTree::Op::Or: {
+      double m = n.op == MarginTree::Op::And ? INFINITY : -INFINITY;
+      for (const auto& c : n.children) {
+        double cm = margin_of(c, values, scratch, nullptr, nullptr);
+        m = n.op == MarginTree::Op::And ? std::min(m, cm) : std::max(m, cm);
+      }
+      return m;
+    }
+    default: break;
+  }
+  double L = evaluate(*n.lhs.expr, n.lhs.inputs, values, scratch);
+  double R = evaluate(*n.rhs.expr, n.rhs.inputs, values, scratch);
+  if (lhs) *lhs = L;
+  if (rhs) *rhs = R;
+  switch (n.op) {
+    case MarginTree::Op::Lt:
+    case MarginTree::Op::Le: return R - L;
+    case MarginTree::Op::Gt:
+    case MarginTree::Op::Ge: return L - R;
+    case MarginTree::Op::Eq: return -std::abs(L - R);
+    case MarginTree::Op::Ne: return std::abs(L - R);
+    default: return NAN;
+  }
+}
+
+void check_expr(const ExprCheck& e, const std::vector<double>& values, CheckResult& r) {
+  std::vector<double> scratch;
+  double v = evaluate(*e.expr, e.inputs, values, scratch);
+  if (std::isnan(v)) {
+    r.status = Status::Error;
+    r.message = fmt::format("'{}' could not be evaluated (not a number)", e.expr->text());
+    return;
+  }
+  bool pass = v != 0;
+  r.status = pass ? Status::Pass : Status::Fail;
+  if (e.margin) {
+    double lhs = NAN, rhs = NAN;
+    double m = margin_of(*e.margin, values, scratch, &lhs, &rhs);
+    if (std::isfinite(m)) r.margin = m;
+    if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or) {
+      r.lhs = lhs;
+      r.rhs = rhs;
+    }
+  }
+  std::vector<std::string> parts;
+  for (size_t i = 0; i < e.inputs.size(); ++i)
+    if (e.inputs[i].kind == Operand::Kind::Slot) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
+  r.message = fmt::format("{}: {}{}", e.expr->text(), pass ? "holds" : "violated",
+                          parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
+}
+
+}  // namespace
+
+CheckReport check(const Workcell& wc) { return check(wc, wc.values); }
+
+CheckReport check(const Workcell& wc, const std::vector<double>& values) {
+  CheckReport report;
+  report.results.reserve(wc.constraints.size());
+  for (size_t i = 0; i < wc.constraints.size(); ++i) {
+    const Constraint& c = wc.constraints[i];
+    auto tally = [&](const CheckResult& r) {
+      if (r.status == Status::Pass) ++report.passed;
+      else if (c.severity == Severity::Warning) ++report.warnings;
+      else ++report.failed;
+    };
+    if (const auto* d = std::get_if<DeferredCheck>(&c.body)) {
+      for (const auto& member : d->members) {
+        CheckResult r;
+        r.constraint = static_cast<int>(i);
+        r.status = Status::Error;
+        r.subjects = member;
+        r.message = d->reason;
+        tally(r);
+        report.results.push_back(std::move(r));
+      }
+      continue;
+    }
+    CheckResult r;
+    r.constraint = static_cast<int>(i);
+    r.subjects = c.subjects;
+    if (const auto* b = std::get_if<BoundCheck>(&c.body)) check_bound(*b, values, r);
+    else if (const auto* e = std::get_if<ExprCheck>(&c.body)) check_expr(*e, values, r);
+    tally(r);
+    report.results.push_back(std::move(r));
+  }
+  return report;
+}
+
+}  // namespace sscs

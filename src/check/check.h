@@ -1,0 +1,40 @@
+#pragma once
+/// The check stage: evaluate every constraint of a Workcell into results with margins.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compile/workcell.h"
+
+namespace sscs {
+
+enum class Status : uint8_t { Pass, Fail, Error };
+const char* status_name(Status s);
+
+/// One check: a constraint, or one member (object, pair) of a constraint over a set.
+struct CheckResult {
+  int constraint = -1;
+  Status status = Status::Pass;
+  std::vector<int> subjects;
+  std::optional<double> lhs, rhs;  ///< in file units of `dim`
+  std::optional<double> margin;    ///< in file units of `dim`; positive when satisfied
+  Dim dim = Dim::None;
+  std::string message;
+};
+
+struct CheckReport {
+  std::vector<CheckResult> results;
+  size_t passed = 0;
+  size_t failed = 0;    ///< error-severity checks that failed or could not be evaluated
+  size_t warnings = 0;  ///< warning-severity checks that failed or could not be evaluated
+  /// Violations for the exit status: failures, and warnings too when strict.
+  bool violated(bool strict) const { return failed > 0 || (strict && warnings > 0); }
+};
+
+/// Checks every constraint at the workcell's values.
+CheckReport check(const Workcell& wc);
+
+/// Checks with another set of slot values (same layout as wc.values), e.g. during a motion.
+CheckReport check(const Workcell& wc, const std::vector<double>& values);
+
+}  // namespace sscs

@@ -1,0 +1,245 @@
+#include "cli/commands.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "check/check.h"
+#include "compile/compile.h"
+#include "report/report.h"
+
+namespace sscs {
+
+namespace {
+
+constexpr int kOk = 0, kViolations = 1, kInputError = 2, kInternalError = 3;
+
+/// Options every subcommand takes.
+struct Common {
+  std::vector<std::string> library;
+  std::vector<std::string> plugins;
+  std::vector<std::string> set;
+  bool quiet = false;
+  std::string color = "auto";
+
+  void add_to(CLI::App* app) {
+    app->add_option("--library", library, "extra type-library folder (repeatable)");
+    app->add_option("--plugins", plugins, "plugin folder (repeatable)");
+    app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
+    app->add_flag("--quiet", quiet, "print only summaries and errors");
+    app->add_option("--color", color, "colour output: auto, always or never")
+        ->check(CLI::IsMember({"auto", "always", "never"}));
+  }
+  bool color_for(FILE* stream) const {
+    if (color == "always") return true;
+    if (color == "never") return false;
+    return isatty(fileno(stream)) && std::getenv("NO_COLOR") == nullptr;
+  }
+  /// --set NAME=VALUE pairs; a malformed one is an input error.
+  bool overrides(CompileOptions& options) const {
+    for (const std::string& s : set) {
+      auto eq = s.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        std::cerr << fmt::format("sscs: error: --set expects NAME=VALUE, found '{}'\n", s);
+        return false;
+      }
+      options.overrides.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    }
+    options.library_dirs = library;
+    return true;
+  }
+};
+
+struct CheckArgs {
+  std::vector<std::string> vaults;
+  std::string format;
+  std::string out;
+  bool strict = false;
+  std::string baseline;
+};
+
+/// The format named, else the --out extension's, else text.
+std::string pick_format(const CheckArgs& a) {
+  if (!a.format.empty()) return a.format;
+  std::string ext = std::filesystem::path(a.out).extension().string();
+  if (ext == ".json") return "json";
+  if (ext == ".xml") return "junit";
+  return "text";
+}
+
+int run_check(const Common& common, const CheckArgs& args) {
+  if (!args.baseline.empty()) {
+    std::cerr << "sscs: error: --baseline is not available in this sscs version yet\n";
+    return kInputError;
+  }
+  std::string format = pick_format(args);
+  CompileOptions options;
+  if (!common.overrides(options)) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  std::vector<Workcell> cells;
+  cells.reserve(args.vaults.size());
+  for (const std::string& path : args.vaults) {
+    auto wc = compile_file(path, options, sources, diag);
+    if (wc) cells.push_back(std::move(*wc));
+    if (diag.full()) break;
+  }
+  if (diag.has_errors()) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;  // nothing written
+  }
+  std::vector<VaultReport> reports;
+  for (size_t i = 0; i < cells.size(); ++i) reports.push_back({&cells[i], args.vaults[i], check(cells[i])});
+  std::string output;
+  if (format == "json") {
+    output = format_json(reports, sources);
+  } else if (format == "junit") {
+    output = format_junit(reports, sources, args.strict);
+  } else {
+    bool color = args.out.empty() && common.color_for(stdout);
+    output = format_text(reports, sources, {color, common.quiet, args.strict});
+  }
+  if (args.out.empty()) {
+    std::cout << output << std::flush;
+  } else {
+    if (std::string err = write_file_atomic(args.out, output); !err.empty()) {
+      std::cerr << "sscs: error: " << err << "\n";
+      return kInputError;
+    }
+    if (!common.quiet && format != "text") {
+      // Keep the one summary line on the terminal when the report goes to a file.
+      std::cout << format_text(reports, sources, {common.color_for(stdout), true, args.strict});
+    }
+  }
+  bool violated = std::any_of(reports.begin(), reports.end(), [&](const VaultReport& r) { return r.report.violated(args.strict); });
+  return violated ? kViolations : kOk;
+}
+
+nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types) {
+  nlohmann::ordered_json j;
+  j["name"] = t.name;
+  j["extends"] = t.base >= 0 ? types[t.base].name : "object";
+  j["kind"] = t.device ? "device" : "object";
+  j["description"] = t.description;
+  j["file"] = t.spec->path;
+  auto attrs = nlohmann::ordered_json::array();
+  for (const AttributeDef& a : t.attributes) {
+    nlohmann::ordered_json aj;
+    aj["name"] = a.name;
+    aj["type"] = attr_type_name(a.type);
+    aj["unit"] = file_unit(a.dim);
+    aj["default"] = a.default_value.present ? nlohmann::ordered_json(a.default_value.text) : nullptr;
+    aj["min"] = a.min_si ? nlohmann::ordered_json(stable(si_to_file(*a.min_si, a.dim))) : nullptr;
+    aj["max"] = a.max_si ? nlohmann::ordered_json(stable(si_to_file(*a.max_si, a.dim))) : nullptr;
+    if (a.type == AttrType::Enum) aj["values"] = a.values;
+    aj["joint"] = a.joint;
+    aj["description"] = a.description;
+    attrs.push_back(std::move(aj));
+  }
+  j["attributes"] = std::move(attrs);
+  auto frames = nlohmann::ordered_json::array();
+  for (const FrameSpec& f : t.spec->frames) frames.push_back(f.name);
+  j["frames"] = std::move(frames);
+  return j;
+}
+
+int run_types(const Common& common, const std::string& format) {
+  Sources sources;
+  Diagnostics diag;
+  std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
+  for (const std::string& d : common.library) dirs.push_back({d, {}});
+  std::vector<ObjectType> types = load_library(dirs, sources, diag);
+  if (diag.has_errors()) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;
+  }
+  std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
+  // Sorting moved them: base indices refer to the old order, so look bases up by name below.
+  std::map<std::string, std::string> base_of;
+  for (const ObjectType& t : types) base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
+  static const char* kKinds[] = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
+  if (format == "json") {
+    nlohmann::ordered_json j;
+    j["sscs"] = 1;
+    auto arr = nlohmann::ordered_json::array();
+    for (const ObjectType& t : types) {
+      auto tj = type_json(t, types);
+      tj["extends"] = base_of[t.name];
+      arr.push_back(std::move(tj));
+    }
+    j["types"] = std::move(arr);
+    j["constraint_kinds"] = kKinds;
+    std::cout << j.dump(2) << "\n";
+    return kOk;
+  }
+  for (const ObjectType& t : types) {
+    std::cout << fmt::format("{} ({}{}) - {}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
+                             t.description);
+    for (const AttributeDef& a : t.attributes) {
+      const char* unit = file_unit(a.dim);
+      std::string range;
+      if (a.min_si || a.max_si)
+        range = fmt::format("  [{}, {}]", a.min_si ? fmt::format("{:g}", stable(si_to_file(*a.min_si, a.dim))) : "",
+                            a.max_si ? fmt::format("{:g}", stable(si_to_file(*a.max_si, a.dim))) : "");
+      std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
+      std::string def = a.default_value.present ? fmt::format("  default {}", a.default_value.text) : "  required";
+      std::cout << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,
+                               def, range, values, a.description.empty() ? "" : "  # " + a.description);
+    }
+    if (!t.spec->frames.empty()) {
+      std::vector<std::string> names;
+      for (const FrameSpec& f : t.spec->frames) names.push_back(f.name);
+      std::cout << fmt::format("  frames: {}\n", fmt::join(names, ", "));
+    }
+  }
+  std::cout << fmt::format("constraint kinds: {}\n", fmt::join(kKinds, ", "));
+  return kOk;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+  try {
+    CLI::App app{"sscs: the Storage Simulation Construction Set"};
+    app.set_version_flag("--version", std::string("sscs ") + SSCS_VERSION);
+    app.require_subcommand(1);
+    Common common;
+
+    CheckArgs check_args;
+    CLI::App* check_cmd = app.add_subcommand("check", "compile each vault and check its constraints");
+    check_cmd->add_option("VAULT", check_args.vaults, "vault files")->required();
+    check_cmd->add_option("--format", check_args.format, "text, json or junit (default: from --out's extension, else text)")
+        ->check(CLI::IsMember({"text", "json", "junit"}));
+    check_cmd->add_option("--out", check_args.out, "write the report to this file (atomically)");
+    check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too");
+    check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier JSON report");
+    common.add_to(check_cmd);
+
+    std::string types_format = "text";
+    CLI::App* types_cmd = app.add_subcommand("types", "list the object types, devices and constraint kinds");
+    types_cmd->add_option("--format", types_format, "text or json")->check(CLI::IsMember({"text", "json"}));
+    common.add_to(types_cmd);
+
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      int code = app.exit(e);
+      return code == 0 ? kOk : kInputError;
+    }
+    if (check_cmd->parsed()) return run_check(common, check_args);
+    if (types_cmd->parsed()) return run_types(common, types_format);
+    return kInputError;
+  } catch (const std::exception& e) {
+    std::cerr << "sscs: internal error: " << e.what() << "\n";
+    return kInternalError;
+  }
+}
+
+}  // namespace sscs

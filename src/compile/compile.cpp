@@ -1,0 +1,701 @@
+// The compile driver and its passes: names -> types -> parameters -> arrays -> objects ->
+// values in dependency order -> constraints -> freeze.
+#include "compile/compile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "compile/state.h"
+#include "compile/values.h"
+#include "core/names.h"
+#include "load/load.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+// ---- Workcell lookups --------------------------------------------------------------------------
+
+int Workcell::find_object(std::string_view n) const {
+  auto it = std::lower_bound(by_name.begin(), by_name.end(), n,
+                             [&](int i, std::string_view key) { return objects[i].name < key; });
+  return it != by_name.end() && objects[*it].name == n ? *it : -1;
+}
+
+bool Workcell::is_a(int t, int ancestor) const {
+  for (; t >= 0; t = types[t].base)
+    if (t == ancestor) return true;
+  return false;
+}
+
+// ---- CompileState helpers -----------------------------------------------------------------------
+
+uint32_t CompileState::new_slots(size_t n) {
+  auto first = static_cast<uint32_t>(wc.values.size());
+  wc.values.resize(wc.values.size() + n, 0.0);
+  slot_pending.resize(wc.values.size(), -1);
+  return first;
+}
+
+std::string CompileState::slot_name(uint32_t slot) const {
+  for (const Parameter& p : wc.parameters)
+    if (p.slot == slot) return p.name;
+  auto it = std::upper_bound(wc.objects.begin(), wc.objects.end(), slot,
+                             [](uint32_t s, const Object& o) { return s < o.first_slot; });
+  if (it == wc.objects.begin()) return fmt::format("slot {}", slot);
+  const Object& o = *std::prev(it);
+  uint32_t k = slot - o.first_slot;
+  static const char* kPose[] = {"location.x", "location.y", "location.z", "orientation.roll", "orientation.pitch",
+                                "orientation.yaw"};
+  if (k < kFirstAttributeSlot) return fmt::format("{}.{}", o.name, kPose[k]);
+  return fmt::format("{}.{}", o.name, wc.types[o.type].attributes[k - kFirstAttributeSlot].name);
+}
+
+std::vector<std::string> CompileState::object_names() const {
+  std::vector<std::string> out;
+  out.reserve(wc.objects.size());
+  for (const Object& o : wc.objects) out.push_back(o.name);
+  return out;
+}
+
+std::vector<std::string> CompileState::parameter_names() const {
+  std::vector<std::string> out;
+  for (const Parameter& p : wc.parameters) out.push_back(p.name);
+  return out;
+}
+
+std::shared_ptr<const Expression> CompileState::parse_expression(const Scalar& s, std::string_view what) {
+  auto it = expr_cache.find(s.text);
+  if (it != expr_cache.end()) return it->second;
+  Expression::Error err;
+  auto e = Expression::parse(s.text, &err);
+  if (!e) {
+    diag.error(mark_at(s, err.position), fmt::format("cannot read '{}' as a number, unit value or expression for {}: {}",
+                                                     s.text, what, err.message));
+    return nullptr;
+  }
+  auto shared = std::make_shared<const Expression>(std::move(*e));
+  expr_cache.emplace(s.text, shared);
+  return shared;
+}
+
+std::optional<Operand> CompileState::resolve_reference(std::string_view ref, SourceMark mark, const ExprScope& scope,
+                                                       bool allow_bbox) {
+  Operand op;
+  op.text = std::string(ref);
+  size_t dot = ref.find('.');
+  if (dot == std::string_view::npos) {
+    if (scope.index) {
+      static const char* kIdx[] = {"i", "j", "k"};
+      for (int d = 0; d < 3; ++d)
+        if (ref == kIdx[d]) {
+          op.constant_si = (*scope.index)[d];
+          return op;
+        }
+    }
+    if (scope.object >= 0) {
+      const Object& self = wc.objects[scope.object];
+      int a = wc.types[self.type].find_attribute(ref);
+      if (a >= 0) {
+        op.kind = Operand::Kind::Slot;
+        op.slot = self.first_slot + kFirstAttributeSlot + a;
+        op.object = scope.object;
+        op.dim = wc.types[self.type].attributes[a].dim;
+        return op;
+      }
+    }
+    auto p = parameter_index.find(std::string(ref));
+    if (p != parameter_index.end()) {
+      const Parameter& param = wc.parameters[p->second];
+      op.kind = Operand::Kind::Slot;
+      op.slot = param.slot;
+      op.dim = param.dim;
+      return op;
+    }
+    std::vector<std::string> candidates = parameter_names();
+    if (scope.object >= 0)
+      for (const AttributeDef& a : wc.types[wc.objects[scope.object].type].attributes) candidates.push_back(a.name);
+    diag.error(mark, fmt::format("unknown name '{}': expected a parameter or a reference Object.attribute{}", ref,
+                                 did_you_mean(ref, candidates)));
+    return std::nullopt;
+  }
+  std::string_view object_name = ref.substr(0, dot);
+  std::string_view member = ref.substr(dot + 1);
+  int obj = wc.find_object(object_name);
+  if (obj < 0) {
+    diag.error(mark, fmt::format("unknown object '{}' in reference '{}'{}", object_name, ref,
+                                 did_you_mean(object_name, object_names())));
+    return std::nullopt;
+  }
+  const Object& o = wc.objects[obj];
+  const ObjectType& type = wc.types[o.type];
+  op.object = obj;
+  op.kind = Operand::Kind::Slot;
+  auto component = [&](std::string_view prefix, std::initializer_list<const char*> names, uint32_t base,
+                       Dim dim) -> std::optional<Operand> {
+    std::string_view rest = member.substr(prefix.size());
+    int k = 0;
+    for (const char* n : names) {
+      if (rest == n) {
+        op.slot = o.first_slot + base + k;
+        op.dim = dim;
+        return op;
+      }
+      ++k;
+    }
+    diag.error(mark, fmt::format("expected {}{} in reference '{}'", prefix, fmt::join(names, fmt::format(" or {}", prefix)), ref));
+    return std::nullopt;
+  };
+  if (member.starts_with("location.")) return component("location.", {"x", "y", "z"}, kLocationSlot, Dim::Length);
+  if (member.starts_with("orientation."))
+    return component("orientation.", {"roll", "pitch", "yaw"}, kOrientationSlot, Dim::Angle);
+  if (member.starts_with("bbox.")) {
+    std::string_view rest = member.substr(5);
+    bool ok = false;
+    for (const char* corner : {"min.", "max.", "size."})
+      for (const char* axis : {"x", "y", "z"})
+        if (rest == fmt::format("{}{}", corner, axis)) ok = true;
+    if (!ok) {
+      diag.error(mark, fmt::format("expected bbox.min|max|size.x|y|z in reference '{}'", ref));
+      return std::nullopt;
+    }
+    if (!allow_bbox) {
+      diag.error(mark, fmt::format("'{}': bounding boxes need evaluated geometry, which this sscs version does not "
+                                   "have yet; they can be used in constraints (reported as errors until then)",
+                                   ref));
+      return std::nullopt;
+    }
+    op.kind = Operand::Kind::BoundingBox;
+    op.dim = Dim::Length;
+    return op;
+  }
+  int a = type.find_attribute(member);
+  if (a < 0) {
+    std::vector<std::string> names = {"location.x", "location.y", "location.z", "orientation.roll",
+                                      "orientation.pitch", "orientation.yaw"};
+    for (const AttributeDef& def : type.attributes) names.push_back(def.name);
+    diag.error(mark, fmt::format("'{}' (a {}) has no attribute '{}'{}", o.name, type.name, member, did_you_mean(member, names)));
+    return std::nullopt;
+  }
+  const AttributeDef& def = type.attributes[a];
+  if (def.type == AttrType::String || def.type == AttrType::Enum) {
+    diag.error(mark, fmt::format("'{}' is a {} attribute; expressions and bounds take numeric values", ref,
+                                 attr_type_name(def.type)));
+    return std::nullopt;
+  }
+  op.slot = o.first_slot + kFirstAttributeSlot + a;
+  op.dim = def.dim;
+  return op;
+}
+
+bool CompileState::resolve_inputs(const Expression& expr, const Scalar& s, const ExprScope& scope,
+                                  std::vector<Operand>& out, bool allow_bbox) {
+  bool ok = true;
+  out.clear();
+  for (const std::string& n : expr.names()) {
+    size_t pos = s.text.find(n);
+    auto op = resolve_reference(n, mark_at(s, pos == std::string::npos ? 0 : pos), scope, allow_bbox);
+    if (!op) {
+      ok = false;
+      continue;
+    }
+    out.push_back(*op);
+  }
+  return ok;
+}
+
+void CompileState::evaluate_pending() {
+  // Iterative depth-first evaluation: a deep chain of references cannot overflow the stack.
+  std::vector<std::pair<int, size_t>> stack;  // pending index, next input to visit
+  std::vector<double> inputs;
+  for (size_t start = 0; start < pending.size(); ++start) {
+    if (pending[start].state != 0) continue;
+    stack.push_back({static_cast<int>(start), 0});
+    pending[start].state = 1;
+    while (!stack.empty()) {
+      auto& [p, next] = stack.back();
+      PendingValue& pv = pending[p];
+      bool descended = false;
+      bool failed = false;
+      while (next < pv.inputs.size()) {
+        const Operand& in = pv.inputs[next++];
+        if (in.kind != Operand::Kind::Slot) continue;
+        int q = slot_pending[in.slot];
+        if (q < 0) continue;
+        PendingValue& dep = pending[q];
+        if (dep.state == 3) failed = true;
+        if (dep.state == 0) {
+          dep.state = 1;
+          stack.push_back({q, 0});
+          descended = true;
+          break;
+        }
+        if (dep.state == 1) {
+          // A cycle: the stack from q up to here, then q again.
+          std::vector<std::string> path;
+          auto from = std::find_if(stack.begin(), stack.end(), [&](const auto& e) { return e.first == q; });
+          for (auto it = from; it != stack.end(); ++it) path.push_back(slot_name(pending[it->first].slot));
+          path.push_back(slot_name(dep.slot));
+          diag.error(dep.source->mark, fmt::format("values depend on each other in a cycle: {}", fmt::join(path, " -> ")));
+          for (auto it = from; it != stack.end(); ++it) pending[it->first].state = 3;
+          failed = true;
+        }
+      }
+      if (descended) continue;
+      PendingValue& cur = pending[stack.back().first];
+      if (cur.state == 1 && !failed) {
+        inputs.clear();
+        for (const Operand& in : cur.inputs)
+          inputs.push_back(in.kind == Operand::Kind::Slot ? wc.values[in.slot] : in.constant_si);
+        double v = cur.expr->evaluate(inputs.data());
+        if (!std::isfinite(v)) {
+          diag.error(cur.source->mark, fmt::format("'{}' evaluates to {} for {}", cur.source->text, v, slot_name(cur.slot)));
+          cur.state = 3;
+        } else {
+          wc.values[cur.slot] = v + cur.add;
+          cur.state = 2;
+        }
+      } else if (cur.state == 1) {
+        cur.state = 3;
+      }
+      stack.pop_back();
+    }
+  }
+}
+
+// ---- passes ----------------------------------------------------------------------------------------
+
+namespace {
+
+std::string dir_of(const std::string& path) {
+  fs::path p = fs::path(path).parent_path();
+  return p.empty() ? "." : p.string();
+}
+
+std::string resolve_path(const std::string& base_file, const std::string& rel) {
+  fs::path p(rel);
+  if (p.is_absolute()) return p.string();
+  return (fs::path(dir_of(base_file)) / p).lexically_normal().string();
+}
+
+bool valid_color(std::string_view c) {
+  return c.size() == 7 && c[0] == '#' &&
+         std::all_of(c.begin() + 1, c.end(), [](char x) { return std::isxdigit(static_cast<unsigned char>(x)); });
+}
+
+/// Stores a written value into `slot`: a number now, an expression for later.
+void assign(CompileState& st, uint32_t slot, const Scalar& s, const AttributeDef* def, Dim dim, const ExprScope& scope,
+            std::string_view what, double add = 0) {
+  if (def && (def->type == AttrType::String || def->type == AttrType::Enum)) {
+    if (s.null) {
+      st.diag.error(s.mark, fmt::format("expected a {} for {}, found nothing", attr_type_name(def->type), what));
+      return;
+    }
+    if (def->type == AttrType::Enum && std::find(def->values.begin(), def->values.end(), s.text) == def->values.end()) {
+      st.diag.error(s.mark, fmt::format("expected one of {} for {}, found '{}'{}", fmt::join(def->values, ", "), what,
+                                        s.text, did_you_mean(s.text, def->values)));
+      return;
+    }
+    if (st.wc.texts.size() < st.wc.values.size()) st.wc.texts.resize(st.wc.values.size());
+    st.wc.texts[slot] = s.text;
+    return;
+  }
+  if (def && def->type == AttrType::Boolean) {
+    if (!s.quoted && (s.text == "true" || s.text == "false")) {
+      st.wc.values[slot] = s.text == "true" ? 1.0 : 0.0;
+    } else {
+      st.diag.error(s.mark, fmt::format("expected true or false for {}, found '{}'", what, s.text));
+    }
+    return;
+  }
+  ParsedValue v = parse_value(s, dim, what, st.diag);
+  if (v.kind == ParsedValue::Kind::Number) {
+    st.wc.values[slot] = v.si + add;
+    return;
+  }
+  if (v.kind == ParsedValue::Kind::Error) return;
+  auto expr = st.parse_expression(s, what);
+  if (!expr) return;
+  PendingValue pv;
+  pv.slot = slot;
+  pv.source = &s;
+  pv.expr = expr;
+  pv.add = add;
+  if (!st.resolve_inputs(*expr, s, scope, pv.inputs)) return;
+  st.slot_pending[slot] = static_cast<int>(st.pending.size());
+  st.pending.push_back(std::move(pv));
+}
+
+/// Pass: parameters, with --set overrides, evaluated among themselves.
+void compile_parameters(CompileState& st, const CompileOptions& options, std::vector<Scalar>& overrides) {
+  const VaultSpec& spec = st.spec;
+  overrides.reserve(options.overrides.size());  // pointers into it are kept by pending values
+  std::vector<const Scalar*> value_of(spec.parameters.size());
+  for (size_t i = 0; i < spec.parameters.size(); ++i) {
+    const ParameterSpec& p = spec.parameters[i];
+    if (p.name.empty()) continue;
+    if (st.parameter_index.count(p.name)) {
+      st.diag.error(p.mark, fmt::format("parameter '{}' is defined twice", p.name));
+      continue;
+    }
+    Parameter param;
+    param.name = p.name;
+    param.slot = st.new_slots(1);
+    if (p.type) {
+      param.type = *p.type;
+      param.dim = dim_of(*p.type);
+    } else if (auto q = parse_quantity(p.value.text); q && q->has_unit) {
+      param.dim = q->dim;
+      param.type = AttrType::Number;
+    } else if (!p.value.quoted && (p.value.text == "true" || p.value.text == "false")) {
+      param.type = AttrType::Boolean;
+    }
+    st.parameter_index[p.name] = static_cast<int>(st.wc.parameters.size());
+    st.wc.parameters.push_back(param);
+    value_of[st.wc.parameters.size() - 1] = &p.value;
+  }
+  for (const auto& [name, text] : options.overrides) {
+    auto it = st.parameter_index.find(name);
+    if (it == st.parameter_index.end()) {
+      st.diag.error({}, fmt::format("--set {}={}: the vault has no parameter '{}'{}", name, text, name,
+                                    did_you_mean(name, st.parameter_names())));
+      continue;
+    }
+    Scalar s;
+    s.text = text;
+    s.present = true;
+    overrides.push_back(s);
+    value_of[it->second] = &overrides.back();
+  }
+  for (size_t i = 0; i < st.wc.parameters.size(); ++i) {
+    const Parameter& param = st.wc.parameters[i];
+    AttributeDef def;
+    def.type = param.type;
+    assign(st, param.slot, *value_of[i], &def, param.dim, {}, fmt::format("parameter '{}'", param.name));
+  }
+  st.evaluate_pending();
+  for (size_t i = 0; i < spec.parameters.size(); ++i) {
+    const ParameterSpec& p = spec.parameters[i];
+    auto it = st.parameter_index.find(p.name);
+    if (it == st.parameter_index.end()) continue;
+    const Parameter& param = st.wc.parameters[it->second];
+    double v = st.wc.values[param.slot];
+    const Scalar& written = *value_of[it->second];
+    if (param.type == AttrType::Integer && (v != std::floor(v) || v < INT32_MIN || v > INT32_MAX))
+      st.diag.error(written.mark, fmt::format("parameter '{}' is an integer from -2147483648 to 2147483647, found {}",
+                                              p.name, written.text));
+    std::string where = written.mark.valid() ? "" : fmt::format(" (from --set {}={})", p.name, written.text);
+    if (p.min.present)
+      if (auto lo = literal_si(p.min, param.dim, "the parameter's min", st.diag); lo && v < *lo)
+        st.diag.error(written.mark, fmt::format("parameter '{}' is {}, below its min {}{}", p.name,
+                                                si_to_file(v, param.dim), p.min.text, where));
+    if (p.max.present)
+      if (auto hi = literal_si(p.max, param.dim, "the parameter's max", st.diag); hi && v > *hi)
+        st.diag.error(written.mark, fmt::format("parameter '{}' is {}, above its max {}{}", p.name,
+                                                si_to_file(v, param.dim), p.max.text, where));
+  }
+}
+
+/// Evaluates a count or pitch of an array: parameters only.
+std::optional<double> array_number(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
+  ParsedValue v = parse_value(s, dim, what, st.diag);
+  if (v.kind == ParsedValue::Kind::Number) return v.si;
+  if (v.kind == ParsedValue::Kind::Error) return std::nullopt;
+  auto expr = st.parse_expression(s, what);
+  if (!expr) return std::nullopt;
+  std::vector<Operand> inputs;
+  for (const std::string& n : expr->names()) {
+    auto it = st.parameter_index.find(n);
+    if (it == st.parameter_index.end()) {
+      st.diag.error(s.mark, fmt::format("{} may use parameters only; '{}' is not one{}", what, n,
+                                        did_you_mean(n, st.parameter_names())));
+      return std::nullopt;
+    }
+  }
+  std::vector<double> values;
+  for (const std::string& n : expr->names()) values.push_back(st.wc.values[st.wc.parameters[st.parameter_index[n]].slot]);
+  double r = expr->evaluate(values.data());
+  if (!std::isfinite(r)) {
+    st.diag.error(s.mark, fmt::format("{} '{}' evaluates to {}", what, s.text, r));
+    return std::nullopt;
+  }
+  return r;
+}
+
+constexpr size_t kMaxObjects = 2'000'000;
+
+/// Pass: one Object per written object or array instance, with unique names and known types.
+void expand_objects(CompileState& st) {
+  std::vector<std::string> type_names;
+  for (const ObjectType& t : st.wc.types) type_names.push_back(t.name);
+  for (const ObjectSpec& o : st.spec.objects) {
+    if (o.type.empty()) continue;
+    auto t = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == o.type; });
+    if (t == st.wc.types.end()) {
+      st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, did_you_mean(o.type, type_names)));
+      continue;
+    }
+    int type = static_cast<int>(t - st.wc.types.begin());
+    auto add = [&](std::string name, SourceMark mark, std::array<int, 3> index, std::array<double, 3> offset) {
+      Object obj;
+      obj.name = std::move(name);
+      obj.type = type;
+      obj.mark = mark;
+      st.wc.objects.push_back(std::move(obj));
+      st.object_spec.push_back(&o);
+      st.array_index.push_back(index);
+      st.array_offset.push_back(offset);
+    };
+    if (!o.array) {
+      if (o.name.present) add(o.name.text, o.name.mark, {0, 0, 0}, {0, 0, 0});
+      continue;
+    }
+    const ArraySpec& a = *o.array;
+    std::array<int, 3> count = {1, 1, 1};
+    std::array<double, 3> pitch = {0, 0, 0};
+    bool ok = true;
+    for (size_t d = 0; d < a.count.size() && d < 3; ++d) {
+      auto n = array_number(st, a.count[d], Dim::None, "an array count");
+      if (!n) {
+        ok = false;
+        continue;
+      }
+      if (*n != std::floor(*n) || *n < 1 || *n > 1e6) {
+        st.diag.error(a.count[d].mark, fmt::format("expected an array count from 1 to 1000000, found {}", *n));
+        ok = false;
+        continue;
+      }
+      count[d] = static_cast<int>(*n);
+    }
+    for (size_t d = 0; d < 3; ++d) {
+      if (!a.pitch[d].present) continue;
+      auto p = array_number(st, a.pitch[d], Dim::Length, "an array pitch");
+      if (!p) ok = false;
+      else pitch[d] = *p;
+    }
+    const std::string& pattern = a.name_pattern.text;
+    for (size_t d = a.count.size(); d < 3; ++d)
+      if (pattern.find(fmt::format("{{{}}}", "ijk"[d])) != std::string::npos) {
+        st.diag.error(a.name_pattern.mark, fmt::format("array name '{}' uses {{{}}} but count has only {} entries",
+                                                       pattern, "ijk"[d], a.count.size()));
+        ok = false;
+      }
+    if (!ok) continue;
+    if (static_cast<double>(count[0]) * count[1] * count[2] + st.wc.objects.size() > kMaxObjects) {
+      st.diag.error(a.mark, fmt::format("array makes more than {} objects", kMaxObjects));
+      continue;
+    }
+    bool reported = false;
+    for (int i = 1; i <= count[0]; ++i)
+      for (int j = 1; j <= count[1]; ++j)
+        for (int k = 1; k <= count[2]; ++k) {
+          std::string name = pattern;
+          for (auto [key, v] : {std::pair{"{i}", i}, std::pair{"{j}", j}, std::pair{"{k}", k}})
+            for (size_t p; (p = name.find(key)) != std::string::npos;) name.replace(p, 3, std::to_string(v));
+          if (!is_valid_name(name)) {
+            if (!reported)
+              st.diag.error(a.name_pattern.mark, fmt::format("array name '{}' makes '{}', which is not a valid name", pattern, name));
+            reported = true;
+            continue;
+          }
+          add(name, a.name_pattern.mark, {i, j, k}, {(i - 1) * pitch[0], (j - 1) * pitch[1], (k - 1) * pitch[2]});
+        }
+  }
+  if (st.wc.objects.size() > kMaxObjects) return;
+  // Unique names, then the sorted index used by every lookup.
+  auto& by_name = st.wc.by_name;
+  by_name.resize(st.wc.objects.size());
+  for (size_t i = 0; i < by_name.size(); ++i) by_name[i] = static_cast<int>(i);
+  std::stable_sort(by_name.begin(), by_name.end(),
+                   [&](int a, int b) { return st.wc.objects[a].name < st.wc.objects[b].name; });
+  for (size_t i = 1; i < by_name.size(); ++i) {
+    const Object& a = st.wc.objects[by_name[i - 1]];
+    const Object& b = st.wc.objects[by_name[i]];
+    if (a.name == b.name)
+      st.diag.error(b.mark, fmt::format("object name '{}' is used twice (first at line {})", b.name, a.mark.line));
+  }
+  // Slots: location, orientation, then attributes.
+  for (Object& obj : st.wc.objects)
+    obj.first_slot = st.new_slots(kFirstAttributeSlot + st.wc.types[obj.type].attributes.size());
+}
+
+/// Pass: parents, geomodel and colour.
+void resolve_object_links(CompileState& st) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < st.wc.objects.size(); ++i) {
+    Object& obj = st.wc.objects[i];
+    const ObjectSpec& o = *st.object_spec[i];
+    if (o.parent.present && !o.parent.null) {
+      obj.parent = st.wc.find_object(o.parent.text);
+      if (obj.parent < 0) {
+        if (names.empty()) names = st.object_names();
+        st.diag.error(o.parent.mark, fmt::format("unknown parent object '{}'{}", o.parent.text, did_you_mean(o.parent.text, names)));
+      } else if (obj.parent == static_cast<int>(i)) {
+        st.diag.error(o.parent.mark, fmt::format("object '{}' cannot be its own parent", obj.name));
+        obj.parent = -1;
+      }
+    }
+    if (o.geomodel.present && !o.geomodel.null) {
+      obj.geomodel = resolve_path(st.spec.path, o.geomodel.text);
+      std::error_code ec;
+      if (!fs::is_regular_file(obj.geomodel, ec))
+        st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' does not exist", obj.geomodel));
+    }
+    const Scalar& color = o.color.present ? o.color : st.wc.types[obj.type].spec->color;
+    if (color.present && !color.null) {
+      if (valid_color(color.text)) obj.color = color.text;
+      else st.diag.error(color.mark, fmt::format("expected a colour \"#RRGGBB\", found '{}'", color.text));
+    }
+  }
+  // Parent cycles: walk up at most n steps.
+  for (size_t i = 0; i < st.wc.objects.size(); ++i) {
+    std::vector<int> chain = {static_cast<int>(i)};
+    for (int p = st.wc.objects[i].parent; p >= 0; p = st.wc.objects[p].parent) {
+      if (p == static_cast<int>(i)) {
+        std::vector<std::string> path;
+        for (int c : chain) path.push_back(st.wc.objects[c].name);
+        path.push_back(st.wc.objects[i].name);
+        st.diag.error(st.object_spec[i]->parent.mark, fmt::format("parent chain forms a cycle: {}", fmt::join(path, " -> ")));
+        break;
+      }
+      if (chain.size() > st.wc.objects.size()) break;  // a cycle further up, reported from its own members
+      chain.push_back(p);
+    }
+  }
+}
+
+/// Pass: every object's values (written, or the type's defaults), then evaluation in dependency order.
+void compile_values(CompileState& st) {
+  for (size_t i = 0; i < st.wc.objects.size(); ++i) {
+    const Object& obj = st.wc.objects[i];
+    const ObjectSpec& o = *st.object_spec[i];
+    const ObjectType& type = st.wc.types[obj.type];
+    const std::array<int, 3>* index = o.array ? &st.array_index[i] : nullptr;
+    ExprScope scope{-1, index};
+    for (int d = 0; d < 3; ++d) {
+      static const char* kLoc[] = {"location.x", "location.y", "location.z"};
+      static const char* kRot[] = {"orientation.roll", "orientation.pitch", "orientation.yaw"};
+      double offset = st.array_offset[i][d];
+      if (o.location[d].present) assign(st, obj.first_slot + kLocationSlot + d, o.location[d], nullptr, Dim::Length, scope,
+                                        kLoc[d], offset);
+      else st.wc.values[obj.first_slot + kLocationSlot + d] = offset;
+      if (o.orientation[d].present)
+        assign(st, obj.first_slot + kOrientationSlot + d, o.orientation[d], nullptr, Dim::Angle, scope, kRot[d]);
+    }
+    std::vector<bool> given(type.attributes.size(), false);
+    for (const AttrValue& v : o.attributes) {
+      int a = type.find_attribute(v.name);
+      if (a < 0) {
+        std::vector<std::string> names = {"type", "name", "location", "orientation", "geomodel", "parent", "color", "array"};
+        for (const AttributeDef& def : type.attributes) names.push_back(def.name);
+        // Report once per written object, not once per array instance.
+        if (i == 0 || st.object_spec[i - 1] != &o)
+          st.diag.error(v.key_mark, fmt::format("type '{}' has no attribute '{}'{}", type.name, v.name, did_you_mean(v.name, names)));
+        continue;
+      }
+      given[a] = true;
+      const AttributeDef& def = type.attributes[a];
+      assign(st, obj.first_slot + kFirstAttributeSlot + a, v.value, &def, def.dim, scope,
+             fmt::format("attribute '{}' of '{}'", def.name, obj.name));
+    }
+    for (size_t a = 0; a < type.attributes.size(); ++a) {
+      if (given[a]) continue;
+      const AttributeDef& def = type.attributes[a];
+      if (!def.default_value.present || def.default_value.null) {
+        if (i == 0 || st.object_spec[i - 1] != &o)
+          st.diag.error(o.mark, fmt::format("object '{}' (a {}) needs a value for '{}', which has no default", obj.name,
+                                            type.name, def.name));
+        continue;
+      }
+      // Type defaults may use the object's other attributes by their bare names.
+      assign(st, obj.first_slot + kFirstAttributeSlot + a, def.default_value, &def, def.dim,
+             ExprScope{static_cast<int>(i), index}, fmt::format("the default of '{}' in type '{}'", def.name, type.name));
+    }
+    if (st.diag.full()) return;
+  }
+  st.evaluate_pending();
+}
+
+/// Pass: every value is a valid instance of its type (integers, min/max).
+void check_values(CompileState& st) {
+  for (size_t i = 0; i < st.wc.objects.size() && !st.diag.full(); ++i) {
+    const Object& obj = st.wc.objects[i];
+    const ObjectType& type = st.wc.types[obj.type];
+    const ObjectSpec& o = *st.object_spec[i];
+    for (size_t a = 0; a < type.attributes.size(); ++a) {
+      const AttributeDef& def = type.attributes[a];
+      uint32_t slot = obj.first_slot + kFirstAttributeSlot + a;
+      if (st.slot_pending[slot] >= 0 && st.pending[st.slot_pending[slot]].state != 2) continue;
+      double v = st.wc.values[slot];
+      auto written = std::find_if(o.attributes.begin(), o.attributes.end(), [&](const AttrValue& x) { return x.name == def.name; });
+      SourceMark mark = written != o.attributes.end() ? written->value.mark : o.mark;
+      std::string text = written != o.attributes.end() ? written->value.text : def.default_value.text;
+      if (def.type == AttrType::Integer) {
+        if (v < -2147483648.0 || v > 2147483647.0) {
+          st.diag.error(mark, fmt::format("integer attribute '{}' of '{}' is {}, outside the 32-bit range "
+                                          "-2147483648 to 2147483647", def.name, obj.name, text));
+          continue;
+        }
+        if (v != std::floor(v)) {
+          st.diag.error(mark, fmt::format("integer attribute '{}' of '{}' is {}, not a whole number", def.name, obj.name, v));
+          continue;
+        }
+      }
+      const char* unit = file_unit(def.dim);
+      if (def.min_si && v < *def.min_si - 1e-12)
+        st.diag.error(mark, fmt::format("'{}' of '{}' is {:g}{}{}, below the min {:g}{}{} of type '{}'", def.name, obj.name,
+                                        si_to_file(v, def.dim), *unit ? " " : "", unit, si_to_file(*def.min_si, def.dim),
+                                        *unit ? " " : "", unit, type.name));
+      if (def.max_si && v > *def.max_si + 1e-12)
+        st.diag.error(mark, fmt::format("'{}' of '{}' is {:g}{}{}, above the max {:g}{}{} of type '{}'", def.name, obj.name,
+                                        si_to_file(v, def.dim), *unit ? " " : "", unit, si_to_file(*def.max_si, def.dim),
+                                        *unit ? " " : "", unit, type.name));
+    }
+  }
+}
+
+}  // namespace
+
+std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources, Diagnostics& diag) {
+  CompileState st{spec, sources, diag, {}, {}, {}, {}, {}, {}, {}, {}};
+  st.wc.name = spec.name;
+  st.wc.path = spec.path;
+  st.wc.description = spec.description;
+
+  std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
+  for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
+  for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
+  st.wc.types = load_library(dirs, sources, diag);
+  for (const Scalar& dir : spec.plugins) {
+    std::error_code ec;
+    if (!fs::is_directory(resolve_path(spec.path, dir.text), ec))
+      diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
+  }
+
+  std::vector<Scalar> overrides;
+  compile_parameters(st, options, overrides);
+  if (diag.has_errors()) return std::nullopt;
+  expand_objects(st);
+  if (diag.has_errors()) return std::nullopt;
+  resolve_object_links(st);
+  compile_values(st);
+  check_values(st);
+  if (diag.has_errors()) return std::nullopt;
+  compile_constraints(st);
+  if (diag.has_errors()) return std::nullopt;
+  st.wc.texts.resize(st.wc.values.size());
+  return std::move(st.wc);
+}
+
+std::optional<Workcell> compile_file(const std::string& path, const CompileOptions& options, Sources& sources,
+                                     Diagnostics& diag) {
+  auto spec = load_vault(path, sources, diag);
+  if (!spec || diag.has_errors()) return std::nullopt;
+  return compile(*spec, options, sources, diag);
+}
+
+}  // namespace sscs

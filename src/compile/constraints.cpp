@@ -1,0 +1,253 @@
+// Pass: constraints. Resolve references and selectors to slots and objects, check dimensions.
+#include <algorithm>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "compile/state.h"
+#include "compile/values.h"
+#include "core/names.h"
+
+namespace sscs {
+
+namespace {
+
+bool looks_like_reference(std::string_view s) {
+  if (s.empty()) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
+}
+
+/// A bound side: a number (maybe with a unit) or a reference.
+std::optional<Operand> bound_operand(CompileState& st, const Scalar& s, std::string_view what) {
+  if (!s.present) return std::nullopt;
+  if (s.null || s.text.empty()) {
+    st.diag.error(s.mark, fmt::format("expected a reference or a number for {}, found nothing", what));
+    return std::nullopt;
+  }
+  std::string unknown;
+  if (auto q = parse_quantity(s.text, &unknown)) {
+    Operand op;
+    op.constant_si = q->si;
+    op.dim = q->has_unit ? q->dim : Dim::None;
+    op.text = s.text;
+    return op;
+  }
+  if (!unknown.empty()) {
+    st.diag.error(s.mark, fmt::format("unknown unit '{}' in '{}' for {}; known units are: {}", unknown, s.text, what,
+                                      known_units(Dim::None)));
+    return std::nullopt;
+  }
+  if (!looks_like_reference(s.text)) {
+    st.diag.error(s.mark, fmt::format("expected a reference (Object.attribute) or a number for {}, found '{}'; "
+                                      "use an expr constraint for expressions", what, s.text));
+    return std::nullopt;
+  }
+  return st.resolve_reference(s.text, mark_at(s, 0), {}, /*allow_bbox=*/true);
+}
+
+std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_view what) {
+  std::vector<int> out;
+  std::vector<std::string> names;
+  for (const Scalar& item : sel.items) {
+    const std::string& t = item.text;
+    if (t == "*") {
+      for (size_t i = 0; i < st.wc.objects.size(); ++i) out.push_back(static_cast<int>(i));
+    } else if (t.starts_with("type:")) {
+      std::string type = t.substr(5);
+      auto it = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == type; });
+      if (it == st.wc.types.end()) {
+        std::vector<std::string> types;
+        for (const ObjectType& x : st.wc.types) types.push_back(x.name);
+        st.diag.error(item.mark, fmt::format("unknown type '{}' in selector{}", type, did_you_mean(type, types)));
+        continue;
+      }
+      int ti = static_cast<int>(it - st.wc.types.begin());
+      for (size_t i = 0; i < st.wc.objects.size(); ++i)
+        if (st.wc.is_a(st.wc.objects[i].type, ti)) out.push_back(static_cast<int>(i));
+    } else if (t.find_first_of("*?") != std::string::npos) {
+      for (size_t i = 0; i < st.wc.objects.size(); ++i)
+        if (glob_match(t, st.wc.objects[i].name)) out.push_back(static_cast<int>(i));
+    } else {
+      int o = st.wc.find_object(t);
+      if (o < 0) {
+        if (names.empty()) names = st.object_names();
+        st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
+        continue;
+      }
+      out.push_back(o);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (out.empty() && !sel.allow_empty && !st.diag.has_errors())
+    st.diag.error(sel.mark, fmt::format("{} selects no objects (add allow_empty: true if that is intended)", what));
+  return out;
+}
+
+int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
+  if (!s.present || s.null) return -1;
+  int o = st.wc.find_object(s.text);
+  if (o < 0) st.diag.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, st.object_names())));
+  return o;
+}
+
+void add_subjects(std::vector<int>& subjects, const std::vector<Operand>& ops) {
+  for (const Operand& op : ops)
+    if (op.object >= 0) subjects.push_back(op.object);
+}
+
+void finish_subjects(std::vector<int>& subjects) {
+  std::sort(subjects.begin(), subjects.end());
+  subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
+}
+
+bool has_bbox(const std::vector<Operand>& ops) {
+  return std::any_of(ops.begin(), ops.end(), [](const Operand& o) { return o.kind == Operand::Kind::BoundingBox; });
+}
+
+const char* kBBoxReason = "bounding-box references need evaluated geometry, which this sscs version does not have yet";
+const char* kGeometryReason = "constraints of kind '{}' need evaluated geometry (FCL), which this sscs version does not have yet";
+
+std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string& text, const Scalar& whole) {
+  Scalar s = whole;
+  s.text = text;
+  Expression::Error err;
+  auto e = Expression::parse(text, &err);
+  if (!e) return std::nullopt;
+  ExprCheck::Side side;
+  side.expr = std::make_shared<const Expression>(std::move(*e));
+  if (!st.resolve_inputs(*side.expr, s, {}, side.inputs, true)) return std::nullopt;
+  return side;
+}
+
+std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const MarginTree& tree, const Scalar& whole) {
+  ExprCheck::MarginNode node;
+  node.op = tree.op;
+  if (tree.op == MarginTree::Op::Or || tree.op == MarginTree::Op::And) {
+    for (const MarginTree& c : tree.children) {
+      auto child = compile_margin(st, c, whole);
+      if (!child) return std::nullopt;
+      node.children.push_back(std::move(*child));
+    }
+    return node;
+  }
+  auto lhs = compile_side(st, tree.lhs, whole);
+  auto rhs = compile_side(st, tree.rhs, whole);
+  if (!lhs || !rhs) return std::nullopt;
+  node.lhs = std::move(*lhs);
+  node.rhs = std::move(*rhs);
+  return node;
+}
+
+void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
+  auto lhs = bound_operand(st, b.lhs, "the bound's lhs");
+  auto rhs = bound_operand(st, b.rhs, "the bound's rhs");
+  if (!lhs || !rhs) return;
+  if (lhs->dim != Dim::None && rhs->dim != Dim::None && lhs->dim != rhs->dim) {
+    st.diag.error(b.op_mark, fmt::format("bound compares {} '{}' with {} '{}'", dim_name(lhs->dim), b.lhs.text,
+                                         dim_name(rhs->dim), b.rhs.text));
+    return;
+  }
+  BoundCheck check;
+  check.dim = lhs->dim != Dim::None ? lhs->dim : rhs->dim;
+  // Plain numbers are in the file unit of the other side's dimension ("90" beside an angle is 90 deg).
+  for (Operand* op : {&*lhs, &*rhs})
+    if (op->kind == Operand::Kind::Constant && op->dim == Dim::None) {
+      op->constant_si *= file_unit_to_si(check.dim);
+      op->dim = check.dim;
+    }
+  check.lhs = *lhs;
+  check.rhs = *rhs;
+  check.op = b.op;
+  if (b.lhs_tol.present)
+    check.lhs_tol_si = literal_si(b.lhs_tol, check.dim, "lhs_tol", st.diag).value_or(0);
+  if (b.rhs_tol.present)
+    check.rhs_tol_si = literal_si(b.rhs_tol, check.dim, "rhs_tol", st.diag).value_or(0);
+  if (b.eps.present) {
+    check.eps_si = literal_si(b.eps, check.dim, "eps", st.diag).value_or(1e-9);
+    if (check.eps_si < 0) st.diag.error(b.eps.mark, "eps must not be negative");
+  }
+  add_subjects(c.subjects, {check.lhs, check.rhs});
+  if (has_bbox({check.lhs, check.rhs})) c.body = DeferredCheck{kBBoxReason, {}};
+  else c.body = std::move(check);
+}
+
+void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
+  if (e.expr.null || e.expr.text.empty()) {
+    st.diag.error(e.expr.mark, "expected a boolean expression for expr, found nothing");
+    return;
+  }
+  auto expr = st.parse_expression(e.expr, "an expr constraint");
+  if (!expr) return;
+  ExprCheck check;
+  check.expr = expr;
+  if (!st.resolve_inputs(*expr, e.expr, {}, check.inputs, /*allow_bbox=*/true)) return;
+  add_subjects(c.subjects, check.inputs);
+  if (has_bbox(check.inputs)) {
+    c.body = DeferredCheck{kBBoxReason, {}};
+    return;
+  }
+  if (auto tree = split_for_margin(e.expr.text)) check.margin = compile_margin(st, *tree, e.expr);
+  c.body = std::move(check);
+}
+
+}  // namespace
+
+void compile_constraints(CompileState& st) {
+  std::set<std::string> seen;
+  for (const ConstraintSpec& spec : st.spec.constraints) {
+    if (!seen.insert(spec.name).second)
+      st.diag.error(spec.mark, fmt::format("constraint name '{}' is used twice", spec.name));
+    Constraint c;
+    c.name = spec.name;
+    c.description = spec.description;
+    c.mark = spec.mark;
+    c.severity = spec.severity;
+    c.kind = constraint_kind_name(spec.kind);
+    c.body = DeferredCheck{"not compiled", {}};
+    if (auto* b = std::get_if<BoundSpec>(&spec.kind)) {
+      compile_bound(st, *b, c);
+    } else if (auto* e = std::get_if<ExprSpec>(&spec.kind)) {
+      compile_expr(st, *e, c);
+    } else if (auto* p = std::get_if<PluginSpec>(&spec.kind)) {
+      for (const Scalar& ref : p->attributes)
+        if (auto op = bound_operand(st, ref, "a plugin attribute"); op && op->object >= 0) c.subjects.push_back(op->object);
+      c.body = DeferredCheck{fmt::format("plugin constraint class '{}' needs the plugin loader, which this sscs version "
+                                         "does not have yet", p->cls.text), {}};
+    } else if (auto* cl = std::get_if<ClearanceSpec>(&spec.kind)) {
+      if (cl->objects) {
+        c.subjects = select(st, *cl->objects, "clearance objects");
+      } else {
+        for (const Scalar* s : {&cl->a, &cl->b})
+          if (int o = object_ref(st, *s, "clearance"); o >= 0) c.subjects.push_back(o);
+      }
+      literal_si(cl->min, Dim::Length, "clearance min", st.diag);
+      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+    } else if (auto* n = std::get_if<NoOverlapSpec>(&spec.kind)) {
+      c.subjects = select(st, n->objects, "no_overlap objects");
+      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+    } else if (auto* in = std::get_if<InsideSpec>(&spec.kind)) {
+      c.subjects = select(st, in->objects, "inside objects");
+      if (int o = object_ref(st, in->container, "inside container"); o >= 0) c.subjects.push_back(o);
+      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+    } else if (auto* r = std::get_if<ReachSpec>(&spec.kind)) {
+      int device = object_ref(st, r->device, "reach device");
+      if (device >= 0 && !st.wc.types[st.wc.objects[device].type].device)
+        st.diag.error(r->device.mark, fmt::format("reach device '{}' is a {}, not a device", r->device.text,
+                                                  st.wc.types[st.wc.objects[device].type].name));
+      if (device >= 0) c.subjects.push_back(device);
+      for (int t : select(st, r->targets, "reach targets")) c.subjects.push_back(t);
+      if (r->position_tol.present) literal_si(r->position_tol, Dim::Length, "position_tol", st.diag);
+      if (r->angle_tol.present) literal_si(r->angle_tol, Dim::Angle, "angle_tol", st.diag);
+      c.body = DeferredCheck{"reach constraints need kinematics (inverse kinematics), which this sscs version does not have yet", {}};
+    }
+    finish_subjects(c.subjects);
+    if (auto* d = std::get_if<DeferredCheck>(&c.body); d && d->members.empty()) d->members.push_back(c.subjects);
+    st.wc.constraints.push_back(std::move(c));
+    if (st.diag.full()) return;
+  }
+}
+
+}  // namespace sscs

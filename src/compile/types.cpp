@@ -1,0 +1,210 @@
+// Pass 1: the type library. Load type files, resolve `extends`, merge attributes, add joints.
+#include <algorithm>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "compile/compile.h"
+#include "compile/values.h"
+#include "core/names.h"
+#include "load/load.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+int ObjectType::find_attribute(std::string_view n) const {
+  for (size_t i = 0; i < attributes.size(); ++i)
+    if (attributes[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+std::string standard_library_dir() {
+  if (const char* env = std::getenv("SSCS_LIBRARY"); env && *env) return env;
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    fs::path installed = exe.parent_path().parent_path() / "share" / "sscs" / "library";
+    if (fs::is_directory(installed / "types", ec)) return installed.string();
+  }
+  return SSCS_SOURCE_LIBRARY_DIR;
+}
+
+namespace {
+
+std::vector<std::string> type_files(const std::string& dir) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  fs::path root = fs::is_directory(fs::path(dir) / "types", ec) ? fs::path(dir) / "types" : fs::path(dir);
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    auto ext = entry.path().extension();
+    if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());  // deterministic order
+  return files;
+}
+
+AttributeDef make_attribute(const AttributeDecl& decl, Diagnostics& diag) {
+  AttributeDef a;
+  a.name = decl.name;
+  a.type = decl.type;
+  a.dim = dim_of(decl.type);
+  a.values = decl.values;
+  a.description = decl.description;
+  a.default_value = decl.default_value;
+  a.mark = decl.mark;
+  bool numeric = decl.type != AttrType::String && decl.type != AttrType::Enum && decl.type != AttrType::Boolean;
+  for (auto [scalar, out, word] : {std::tuple{&decl.min, &a.min_si, "min"}, std::tuple{&decl.max, &a.max_si, "max"}}) {
+    if (!scalar->present) continue;
+    if (!numeric) {
+      diag.error(scalar->mark, fmt::format("'{}' is only allowed for numeric attributes", word));
+      continue;
+    }
+    *out = literal_si(*scalar, a.dim, fmt::format("the {} of '{}'", word, a.name), diag);
+  }
+  if (a.min_si && a.max_si && *a.min_si > *a.max_si)
+    diag.error(decl.max.mark, fmt::format("max of '{}' is below its min", a.name));
+  if (decl.type == AttrType::Enum && decl.default_value.present &&
+      std::find(decl.values.begin(), decl.values.end(), decl.default_value.text) == decl.values.end())
+    diag.error(decl.default_value.mark, fmt::format("default '{}' of '{}' is not one of its values ({})",
+                                                    decl.default_value.text, a.name, fmt::join(decl.values, ", ")));
+  return a;
+}
+
+/// Joint values are attributes of a device instance, limited by the joint's limits.
+void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& diag) {
+  const DeviceSpec& device = *spec.device;
+  for (const PartSpec& part : device.parts) {
+    if (!part.joint || part.joint->type == JointType::Fixed) continue;
+    const JointSpec& j = *part.joint;
+    AttributeDef a;
+    a.name = j.name;
+    a.type = j.type == JointType::Revolute ? AttrType::Angle : AttrType::Length;
+    a.dim = dim_of(a.type);
+    a.mark = j.mark;
+    a.joint = true;
+    a.description = fmt::format("{} joint of part '{}'", j.type == JointType::Revolute ? "revolute" : "prismatic", part.name);
+    if (j.min.present) a.min_si = literal_si(j.min, a.dim, fmt::format("the min of joint '{}'", j.name), diag);
+    if (j.max.present) a.max_si = literal_si(j.max, a.dim, fmt::format("the max of joint '{}'", j.name), diag);
+    if (type.find_attribute(a.name) >= 0) {
+      diag.error(j.mark, fmt::format("joint '{}' has the name of an attribute of '{}'", j.name, type.name));
+      continue;
+    }
+    // The default is the home value, else 0 (or the nearest limit when 0 is outside them).
+    auto home = std::find_if(device.home.begin(), device.home.end(), [&](const auto& h) { return h.first == j.name; });
+    if (home != device.home.end()) {
+      a.default_value = home->second;
+    } else {
+      double zero = 0;
+      if (a.min_si && zero < *a.min_si) zero = *a.min_si;
+      if (a.max_si && zero > *a.max_si) zero = *a.max_si;
+      a.default_value.present = true;
+      a.default_value.mark = j.mark;
+      a.default_value.text = fmt::format("{}", a.type == AttrType::Angle ? zero * 180.0 / 3.14159265358979323846 : zero);
+    }
+    type.attributes.push_back(std::move(a));
+  }
+  for (const auto& [joint, value] : device.home)
+    if (type.find_attribute(joint) < 0 || !type.attributes[type.find_attribute(joint)].joint)
+      diag.error(value.mark, fmt::format("home names '{}', which is not a joint of '{}'", joint, type.name));
+}
+
+}  // namespace
+
+std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
+                                     Diagnostics& diag) {
+  std::vector<std::shared_ptr<const TypeSpec>> specs;
+  std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
+  for (const auto& [dir, where] : dirs) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+      diag.error(where, fmt::format("type library folder '{}' does not exist", dir));
+      continue;
+    }
+    for (const std::string& file : type_files(dir)) {
+      auto spec = load_type(file, sources, diag);
+      if (!spec || spec->name.empty()) continue;
+      std::string stem = fs::path(file).stem().string();
+      if (stem != spec->name)
+        diag.error(spec->mark, fmt::format("type file '{}' defines type '{}'; name the file after its type ({}.yaml)",
+                                           fs::path(file).filename().string(), spec->name, spec->name));
+      if (spec->name == "object") {
+        diag.error(spec->mark, "'object' is the built-in super-class and cannot be redefined");
+        continue;
+      }
+      auto [it, inserted] = index.emplace(spec->name, specs.size());
+      if (!inserted) {
+        diag.error(spec->mark, fmt::format("type '{}' is defined twice (also in {})", spec->name,
+                                           specs[it->second]->path));
+        continue;
+      }
+      specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
+    }
+  }
+
+  // Resolve `extends` in dependency order; a cycle is reported once, at each type in it.
+  std::vector<ObjectType> types(specs.size());
+  std::vector<int> state(specs.size(), 0);  // 0 new, 1 resolving, 2 done, 3 failed
+  std::vector<std::string> names;
+  for (const auto& [n, i] : index) names.push_back(n);
+  std::function<bool(size_t)> resolve = [&](size_t i) -> bool {
+    if (state[i] == 2) return true;
+    if (state[i] == 3) return false;
+    const TypeSpec& spec = *specs[i];
+    if (state[i] == 1) {
+      diag.error(spec.extends_mark, fmt::format("type '{}' extends itself through a cycle", spec.name));
+      state[i] = 3;
+      return false;
+    }
+    state[i] = 1;
+    ObjectType& t = types[i];
+    t.name = spec.name;
+    t.description = spec.description;
+    t.spec = specs[i];
+    t.device = spec.device.has_value();
+    if (!spec.extends.empty()) {
+      auto base = index.find(spec.extends);
+      if (base == index.end()) {
+        diag.error(spec.extends_mark,
+                   fmt::format("type '{}' extends unknown type '{}'{}", spec.name, spec.extends, did_you_mean(spec.extends, names)));
+        state[i] = 3;
+        return false;
+      }
+      if (!resolve(base->second)) {
+        state[i] = 3;
+        return false;
+      }
+      t.base = static_cast<int>(base->second);
+      t.attributes = types[base->second].attributes;
+      t.device = t.device || types[base->second].device;
+    }
+    for (const AttributeDecl& decl : spec.attributes) {
+      AttributeDef a = make_attribute(decl, diag);
+      int existing = t.find_attribute(a.name);
+      if (existing < 0) {
+        t.attributes.push_back(std::move(a));
+      } else if (t.attributes[existing].type != a.type) {
+        diag.error(decl.mark, fmt::format("attribute '{}' is a {} in the base type; '{}' cannot make it a {}", a.name,
+                                          attr_type_name(t.attributes[existing].type), spec.name, attr_type_name(a.type)));
+      } else {
+        t.attributes[existing] = std::move(a);  // an override of the inherited default or limits
+      }
+    }
+    if (spec.device) add_joint_attributes(spec, t, diag);
+    state[i] = 2;
+    return true;
+  };
+  for (size_t i = 0; i < specs.size(); ++i) resolve(i);
+  std::vector<ObjectType> out;
+  for (size_t i = 0; i < specs.size(); ++i)
+    if (state[i] == 2) out.push_back(std::move(types[i]));
+  // `base` indices must follow the compaction: re-resolve by name.
+  std::map<std::string, int> final_index;
+  for (size_t i = 0; i < out.size(); ++i) final_index[out[i].name] = static_cast<int>(i);
+  for (auto& t : out) t.base = t.spec->extends.empty() ? -1 : final_index.at(t.spec->extends);
+  return out;
+}
+
+}  // namespace sscs

@@ -1,0 +1,65 @@
+#include "compile/values.h"
+
+#include <fmt/format.h>
+
+namespace sscs {
+
+Dim dim_of(AttrType type) {
+  switch (type) {
+    case AttrType::Length: return Dim::Length;
+    case AttrType::Angle: return Dim::Angle;
+    case AttrType::Mass: return Dim::Mass;
+    case AttrType::Time: return Dim::Time;
+    default: return Dim::None;
+  }
+}
+
+ParsedValue parse_value(const Scalar& s, Dim dim, std::string_view what, Diagnostics& diag, bool any_dim) {
+  ParsedValue out;
+  if (s.null || s.text.empty()) {
+    diag.error(s.mark, fmt::format("expected a {} for {}, found nothing", dim_name(dim), what));
+    return out;
+  }
+  std::string unknown;
+  if (auto q = parse_quantity(s.text, &unknown)) {
+    if (!q->has_unit) {
+      out.kind = ParsedValue::Kind::Number;
+      out.si = q->si * file_unit_to_si(dim);
+      out.dim = dim;
+      return out;
+    }
+    if (q->dim != dim && !(any_dim && dim == Dim::None)) {
+      diag.error(s.mark, fmt::format("expected a {} for {}, found '{}' (a {})", dim_name(dim), what, s.text,
+                                     dim_name(q->dim)));
+      return out;
+    }
+    out.kind = ParsedValue::Kind::Number;
+    out.si = q->si;
+    out.dim = q->dim;
+    return out;
+  }
+  if (!unknown.empty()) {
+    std::string units = known_units(dim);
+    diag.error(s.mark, fmt::format("unknown unit '{}' in '{}' for {}; {} units are: {}", unknown, s.text, what,
+                                   dim == Dim::None ? "known" : dim_name(dim), units.empty() ? "none" : units));
+    return out;
+  }
+  out.kind = ParsedValue::Kind::Expression;
+  return out;
+}
+
+std::optional<double> literal_si(const Scalar& s, Dim dim, std::string_view what, Diagnostics& diag) {
+  ParsedValue v = parse_value(s, dim, what, diag);
+  if (v.kind == ParsedValue::Kind::Number) return v.si;
+  if (v.kind == ParsedValue::Kind::Expression)
+    diag.error(s.mark, fmt::format("expected a {} for {}, found '{}'", dim_name(dim), what, s.text));
+  return std::nullopt;
+}
+
+SourceMark mark_at(const Scalar& s, size_t pos) {
+  SourceMark m = s.mark;
+  m.column += static_cast<uint32_t>(pos + (s.quoted ? 1 : 0));
+  return m;
+}
+
+}  // namespace sscs

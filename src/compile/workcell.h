@@ -1,0 +1,135 @@
+#pragma once
+/// The compiled model: an immutable Workcell of typed objects and constraints, all values in SI.
+/// Later stages (check, geometry, kinematics, simulation) read only this, never the spec.
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/expr.h"
+#include "core/source.h"
+#include "core/units.h"
+#include "load/spec.h"
+
+namespace sscs {
+
+/// One attribute of a type, with limits converted to SI.
+struct AttributeDef {
+  std::string name;
+  AttrType type = AttrType::Number;
+  Dim dim = Dim::None;
+  std::optional<double> min_si, max_si;
+  std::vector<std::string> values;  ///< enum values
+  std::string description;
+  Scalar default_value;             ///< as written in the type file (may be an expression)
+  SourceMark mark;
+  bool joint = false;               ///< a device joint's value
+};
+
+/// A resolved type: its own and inherited attributes (ancestors' first).
+struct ObjectType {
+  std::string name;
+  int base = -1;  ///< index of the type it extends, -1 for `object`
+  std::string description;
+  bool device = false;
+  std::vector<AttributeDef> attributes;
+  std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
+  int find_attribute(std::string_view name) const;
+};
+
+/// The numeric slots of an object in Workcell::values: location xyz, orientation rpy, attributes.
+constexpr int kLocationSlot = 0;
+constexpr int kOrientationSlot = 3;
+constexpr int kFirstAttributeSlot = 6;
+
+struct Object {
+  std::string name;
+  int type = -1;
+  int parent = -1;
+  uint32_t first_slot = 0;  ///< index of location.x in Workcell::values
+  SourceMark mark;
+  std::string geomodel;  ///< mesh file replacing the type's geometry, resolved path
+  std::string color;
+};
+
+/// What a constraint operand reads.
+struct Operand {
+  enum class Kind : uint8_t { Constant, Slot, BoundingBox } kind = Kind::Constant;
+  double constant_si = 0;
+  uint32_t slot = 0;          ///< for Slot
+  int object = -1;            ///< the object it belongs to (-1 for constants and parameters)
+  Dim dim = Dim::None;
+  std::string text;           ///< as written, for reports
+};
+
+struct BoundCheck {
+  Operand lhs, rhs;
+  double lhs_tol_si = 0, rhs_tol_si = 0, eps_si = 1e-9;
+  RelOp op = RelOp::LT;
+  Dim dim = Dim::None;
+};
+
+struct ExprCheck {
+  std::shared_ptr<const Expression> expr;
+  std::vector<Operand> inputs;  ///< one per expr->names()
+  struct Side {
+    std::shared_ptr<const Expression> expr;
+    std::vector<Operand> inputs;
+  };
+  /// For a margin: comparisons with their two sides compiled, combined by && (min) and || (max).
+  struct MarginNode {
+    MarginTree::Op op;
+    Side lhs, rhs;
+    std::vector<MarginNode> children;
+  };
+  std::optional<MarginNode> margin;
+};
+
+/// A constraint whose kind needs a stage this version does not have yet (geometry, kinematics,
+/// plugins). It is reported with status `error` and this reason, never passed silently.
+struct DeferredCheck {
+  std::string reason;
+  std::vector<std::vector<int>> members;  ///< objects of each member check (one, or a pair)
+};
+
+struct Constraint {
+  std::string name;
+  std::string description;
+  SourceMark mark;
+  Severity severity = Severity::Error;
+  std::string kind;  ///< bound, expr, clearance, ...
+  std::vector<int> subjects;  ///< objects it reads
+  std::variant<BoundCheck, ExprCheck, DeferredCheck> body;
+};
+
+struct Parameter {
+  std::string name;
+  uint32_t slot = 0;
+  Dim dim = Dim::None;
+  AttrType type = AttrType::Number;
+};
+
+/// The compiled vault. Built by compile(); read-only afterwards.
+struct Workcell {
+  std::string name;
+  std::string path;
+  std::string description;
+  std::vector<ObjectType> types;
+  std::vector<Parameter> parameters;
+  std::vector<Object> objects;
+  std::vector<Constraint> constraints;
+  std::vector<double> values;       ///< every numeric slot, SI
+  std::vector<std::string> texts;   ///< string/enum slots (indexed like values)
+
+  std::vector<int> by_name;         ///< object indices sorted by name, for find_object
+
+  /// Index of the object named `name`, or -1. O(log n).
+  int find_object(std::string_view name) const;
+  /// Whether type `t` is `ancestor` or derives from it.
+  bool is_a(int t, int ancestor) const;
+};
+
+}  // namespace sscs

@@ -1,0 +1,39 @@
+#include "core/diagnostics.h"
+
+#include <fmt/format.h>
+
+namespace sscs {
+
+void Diagnostics::error(SourceMark mark, std::string message) {
+  ++count_;
+  if (errors_.size() < limit_) errors_.push_back({mark, std::move(message)});
+}
+
+std::string Diagnostics::format(const Sources& sources, bool color) const {
+  const char* bold = color ? "\033[1m" : "";
+  const char* red = color ? "\033[1;31m" : "";
+  const char* green = color ? "\033[1;32m" : "";
+  const char* reset = color ? "\033[0m" : "";
+  std::string out;
+  for (const Diagnostic& d : errors_) {
+    if (d.mark.valid()) {
+      out += fmt::format("{}{}:{}:{}:{} {}error:{} {}\n", bold, sources.path(d.mark.file), d.mark.line,
+                         d.mark.column, reset, red, reset, d.message);
+      std::string_view line = sources.line(d.mark);
+      if (!line.empty() && line.size() < 300) {
+        out += fmt::format("  {}\n", line);
+        std::string caret(d.mark.column > 0 ? d.mark.column - 1 : 0, ' ');
+        for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
+          if (line[i] == '\t') caret[i] = '\t';
+        out += fmt::format("  {}{}^{}\n", caret, green, reset);
+      }
+    } else {
+      out += fmt::format("{}sscs:{} {}error:{} {}\n", bold, reset, red, reset, d.message);
+    }
+  }
+  if (count_ > errors_.size())
+    out += fmt::format("sscs: {} more errors not shown (limit {})\n", count_ - errors_.size(), limit_);
+  return out;
+}
+
+}  // namespace sscs

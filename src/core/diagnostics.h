@@ -1,0 +1,45 @@
+#pragma once
+/// The one diagnostic sink of sscs: every stage reports input errors here; it collects, never throws.
+#include <string>
+#include <vector>
+
+#include "core/source.h"
+
+namespace sscs {
+
+struct Diagnostic {
+  SourceMark mark;
+  std::string message;
+};
+
+/// Collects input errors with their source marks. After `limit` errors further ones are counted
+/// but not kept, so a file with thousands of mistakes still reports promptly.
+class Diagnostics {
+ public:
+  static constexpr size_t kDefaultLimit = 50;
+  explicit Diagnostics(size_t limit = kDefaultLimit) : limit_(limit) {}
+
+  void error(SourceMark mark, std::string message);
+  bool has_errors() const { return count_ > 0; }
+  size_t count() const { return count_; }
+  bool full() const { return count_ >= limit_; }
+  const std::vector<Diagnostic>& errors() const { return errors_; }
+
+  /// `file:line:col: error: message`, the source line and a caret under the column, for each error;
+  /// then a line saying how many were not shown when the limit was reached.
+  std::string format(const Sources& sources, bool color = false) const;
+
+ private:
+  size_t limit_;
+  size_t count_ = 0;
+  std::vector<Diagnostic> errors_;
+};
+
+/// An error that must stop the current stage at once (a file that cannot be read as YAML).
+/// Thrown only inside a stage and caught at its edge, which reports it through Diagnostics.
+struct InputError {
+  SourceMark mark;
+  std::string message;
+};
+
+}  // namespace sscs

@@ -1,0 +1,24 @@
+#pragma once
+/// Names of objects, types, attributes and parameters, and "did you mean" suggestions.
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sscs {
+
+/// A name starts with a letter, then letters, digits, `_` or `-`.
+bool is_valid_name(std::string_view name);
+
+/// Levenshtein distance, for suggestions.
+size_t edit_distance(std::string_view a, std::string_view b);
+
+/// The candidate closest to `name` when it is close enough to be a likely typo, else "".
+std::string closest_name(std::string_view name, const std::vector<std::string>& candidates);
+
+/// " (did you mean 'X'?)" or "" when nothing is close.
+std::string did_you_mean(std::string_view name, const std::vector<std::string>& candidates);
+
+/// Glob match with `*` and `?` over a whole name.
+bool glob_match(std::string_view pattern, std::string_view name);
+
+}  // namespace sscs

@@ -1,0 +1,27 @@
+#include "core/source.h"
+
+namespace sscs {
+
+Sources::Sources() { files_.push_back({"<none>", ""}); }
+
+uint32_t Sources::add(std::string path, std::string text) {
+  files_.push_back({std::move(path), std::move(text)});
+  return static_cast<uint32_t>(files_.size() - 1);
+}
+
+std::string_view Sources::line(const SourceMark& mark) const {
+  if (mark.file == 0 || mark.file >= files_.size() || mark.line == 0) return {};
+  std::string_view text = files_[mark.file].text;
+  size_t pos = 0;
+  for (uint32_t l = 1; l < mark.line; ++l) {
+    pos = text.find('\n', pos);
+    if (pos == std::string_view::npos) return {};
+    ++pos;
+  }
+  size_t end = text.find('\n', pos);
+  std::string_view line = text.substr(pos, end == std::string_view::npos ? text.size() - pos : end - pos);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return line;
+}
+
+}  // namespace sscs

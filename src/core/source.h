@@ -1,0 +1,44 @@
+#pragma once
+/// Source files read by sscs and positions inside them.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sscs {
+
+/// A position in an input file: 1-based line and column. file == 0 means "no file".
+struct SourceMark {
+  uint32_t file = 0;
+  uint32_t line = 0;
+  uint32_t column = 0;
+  bool valid() const { return file != 0; }
+};
+
+/// Owns the text of every file read, so a diagnostic found at any stage can quote its line.
+/// Not copyable (marks index into it); movable.
+class Sources {
+ public:
+  Sources();
+  Sources(const Sources&) = delete;
+  Sources& operator=(const Sources&) = delete;
+  Sources(Sources&&) = default;
+  Sources& operator=(Sources&&) = default;
+
+  /// Registers a file's text and returns its index for SourceMark::file.
+  uint32_t add(std::string path, std::string text);
+  const std::string& path(uint32_t file) const { return files_.at(file).path; }
+  const std::string& text(uint32_t file) const { return files_.at(file).text; }
+  /// The text of the line a mark points into, without its line break.
+  std::string_view line(const SourceMark& mark) const;
+  size_t size() const { return files_.size(); }
+
+ private:
+  struct File {
+    std::string path;
+    std::string text;
+  };
+  std::vector<File> files_;
+};
+
+}  // namespace sscs

@@ -1,0 +1,132 @@
+#include "core/units.h"
+
+#include <charconv>
+#include <cmath>
+#include <algorithm>
+#include <numbers>
+
+namespace sscs {
+
+namespace {
+struct Unit {
+  const char* word;
+  Dim dim;
+  double to_si;
+};
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr Unit kUnits[] = {
+    {"m", Dim::Length, 1.0},        {"mm", Dim::Length, 1e-3},        {"cm", Dim::Length, 1e-2},
+    {"km", Dim::Length, 1e3},       {"in", Dim::Length, 0.0254},      {"ft", Dim::Length, 0.3048},
+    {"yd", Dim::Length, 0.9144},    {"deg", Dim::Angle, kDeg},        {"rad", Dim::Angle, 1.0},
+    {"kg", Dim::Mass, 1.0},         {"g", Dim::Mass, 1e-3},           {"t", Dim::Mass, 1e3},
+    {"lb", Dim::Mass, 0.45359237},  {"s", Dim::Time, 1.0},            {"ms", Dim::Time, 1e-3},
+    {"min", Dim::Time, 60.0},       {"h", Dim::Time, 3600.0},         {"m/s", Dim::Velocity, 1.0},
+    {"mm/s", Dim::Velocity, 1e-3},  {"deg/s", Dim::AngularVelocity, kDeg},
+    {"rad/s", Dim::AngularVelocity, 1.0},                             {"Hz", Dim::Frequency, 1.0},
+    {"%", Dim::Fraction, 0.01},
+};
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+}  // namespace
+
+const char* dim_name(Dim dim) {
+  switch (dim) {
+    case Dim::None: return "number";
+    case Dim::Length: return "length";
+    case Dim::Angle: return "angle";
+    case Dim::Mass: return "mass";
+    case Dim::Time: return "time";
+    case Dim::Velocity: return "velocity";
+    case Dim::AngularVelocity: return "angular velocity";
+    case Dim::Frequency: return "frequency";
+    case Dim::Fraction: return "fraction";
+  }
+  return "?";
+}
+
+const char* file_unit(Dim dim) {
+  switch (dim) {
+    case Dim::None: return "";
+    case Dim::Length: return "m";
+    case Dim::Angle: return "deg";
+    case Dim::Mass: return "kg";
+    case Dim::Time: return "s";
+    case Dim::Velocity: return "m/s";
+    case Dim::AngularVelocity: return "deg/s";
+    case Dim::Frequency: return "Hz";
+    case Dim::Fraction: return "";
+  }
+  return "";
+}
+
+double file_unit_to_si(Dim dim) {
+  if (dim == Dim::Angle || dim == Dim::AngularVelocity) return kDeg;
+  return 1.0;
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  text = trim(text);
+  if (text.empty()) return std::nullopt;
+  if (text.front() == '+') text.remove_prefix(1);
+  double value = 0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
+  if (!std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+bool looks_like_nonfinite(std::string_view text) {
+  text = trim(text);
+  if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
+  for (std::string_view w : {".nan", ".NaN", ".NAN", "nan", "NaN", "NAN", ".inf", ".Inf", ".INF", "inf", "Inf",
+                             "INF", "infinity", "Infinity"})
+    if (text == w) return true;
+  // A number too large for a double ("1e999") overflows to inf.
+  double v = 0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  return ec == std::errc::result_out_of_range && ptr == text.data() + text.size();
+}
+
+std::optional<Quantity> parse_quantity(std::string_view text, std::string* unknown_unit) {
+  text = trim(text);
+  if (auto n = parse_number(text)) return Quantity{*n, Dim::None, false};
+  // Split the longest numeric prefix from the unit word.
+  std::string_view rest = text;
+  if (!rest.empty() && (rest.front() == '+' || rest.front() == '-')) rest.remove_prefix(1);
+  size_t i = 0;
+  while (i < rest.size() && ((rest[i] >= '0' && rest[i] <= '9') || rest[i] == '.' || rest[i] == 'e' ||
+                             rest[i] == 'E' || ((rest[i] == '-' || rest[i] == '+') && i > 0 &&
+                                                (rest[i - 1] == 'e' || rest[i - 1] == 'E'))))
+    ++i;
+  // "1e" followed by a unit such as "1 ex" is not a number: back off a dangling exponent.
+  while (i > 0 && (rest[i - 1] == 'e' || rest[i - 1] == 'E' || rest[i - 1] == '-' || rest[i - 1] == '+')) --i;
+  size_t number_len = (text.size() - rest.size()) + i;
+  auto number = parse_number(text.substr(0, number_len));
+  if (!number) return std::nullopt;
+  std::string_view word = trim(text.substr(number_len));
+  if (word.empty()) return std::nullopt;
+  for (const Unit& u : kUnits)
+    if (word == u.word) return Quantity{*number * u.to_si, u.dim, true};
+  // A number followed by a single word that is not an expression: an unknown unit.
+  bool is_word = std::all_of(word.begin(), word.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '/' || c == '%';
+  });
+  if (is_word && unknown_unit) *unknown_unit = std::string(word);
+  return std::nullopt;
+}
+
+std::string known_units(Dim dim) {
+  std::string out;
+  for (const Unit& u : kUnits)
+    if (dim == Dim::None || u.dim == dim) {
+      if (!out.empty()) out += ", ";
+      out += u.word;
+    }
+  return out;
+}
+
+}  // namespace sscs

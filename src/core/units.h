@@ -1,0 +1,52 @@
+#pragma once
+/// Physical dimensions, unit literals ("300 mm", "90 deg") and conversion to SI.
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sscs {
+
+enum class Dim : uint8_t {
+  None,             ///< a plain number
+  Length,           ///< m
+  Angle,            ///< rad
+  Mass,             ///< kg
+  Time,             ///< s
+  Velocity,         ///< m/s
+  AngularVelocity,  ///< rad/s
+  Frequency,        ///< Hz
+  Fraction,         ///< "50%" is 0.5
+};
+
+const char* dim_name(Dim dim);
+
+/// The unit a plain number means in a file, and the unit reports print: m, deg, kg, s, ...
+const char* file_unit(Dim dim);
+/// Factor from the file unit to SI: 1 for all but angles (deg -> rad) and fractions.
+double file_unit_to_si(Dim dim);
+
+/// A value converted to SI with the dimension its unit gave it.
+struct Quantity {
+  double si = 0;
+  Dim dim = Dim::None;
+  bool has_unit = false;  ///< written with a unit ("2 ft"), not a plain number
+};
+
+/// Parses a plain number ("1.5", "-2e3"). Rejects anything else, including inf and nan.
+std::optional<double> parse_number(std::string_view text);
+
+/// True when `text` looks like a number (finite or not): used to say "numbers must be finite".
+bool looks_like_nonfinite(std::string_view text);
+
+/// Parses "1.5", "300 mm", "90deg", "50%". A plain number has Dim::None and its value unchanged;
+/// the caller converts it with file_unit_to_si once it knows the dimension. nullopt when the text
+/// is neither; *unknown_unit is set when it is a number followed by a word that is no unit.
+std::optional<Quantity> parse_quantity(std::string_view text, std::string* unknown_unit = nullptr);
+
+/// The unit words sscs knows, for messages.
+std::string known_units(Dim dim);
+
+/// SI value -> the number printed in reports (in file units).
+inline double si_to_file(double si, Dim dim) { return si / file_unit_to_si(dim); }
+
+}  // namespace sscs

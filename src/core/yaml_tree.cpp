@@ -1,0 +1,284 @@
+#include "core/yaml_tree.h"
+
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/exceptions.h>
+#include <yaml-cpp/mark.h>
+#include <yaml-cpp/parser.h>
+
+#include <algorithm>
+#include <istream>
+#include <streambuf>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+namespace sscs::yaml {
+
+const char* kind_name(Kind kind) {
+  switch (kind) {
+    case Kind::Null: return "nothing";
+    case Kind::Scalar: return "a scalar";
+    case Kind::Sequence: return "a sequence";
+    case Kind::Map: return "a mapping";
+  }
+  return "?";
+}
+
+// ---- Node --------------------------------------------------------------------------------------
+
+Kind Node::kind() const { return doc_->nodes_[index_].kind; }
+
+SourceMark Node::mark() const {
+  const auto& r = doc_->nodes_[index_];
+  return {doc_->file_, r.line, r.column};
+}
+
+std::string_view Node::text() const {
+  const auto& r = doc_->nodes_[index_];
+  if (r.kind != Kind::Scalar) return {};
+  return std::string_view(doc_->text_).substr(r.a, r.b);
+}
+
+bool Node::quoted() const { return doc_->nodes_[index_].quoted; }
+
+size_t Node::size() const {
+  const auto& r = doc_->nodes_[index_];
+  if (r.kind == Kind::Sequence) return r.b;
+  if (r.kind == Kind::Map) return r.b / 2;
+  return 0;
+}
+
+Node Node::item(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + i]); }
+Node Node::key(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i]); }
+Node Node::value(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i + 1]); }
+
+Node Node::find(std::string_view k) const {
+  if (!is_map()) return {};
+  for (size_t i = 0, n = size(); i < n; ++i)
+    if (key(i).text() == k) return value(i);
+  return {};
+}
+
+std::string Node::describe() const {
+  switch (kind()) {
+    case Kind::Null: return "nothing";
+    case Kind::Map: return "a mapping";
+    case Kind::Sequence: return "a sequence";
+    case Kind::Scalar: {
+      std::string_view t = text();
+      if (t.size() > 40) return fmt::format("'{}...'", t.substr(0, 37));
+      return fmt::format("'{}'", t);
+    }
+  }
+  return "?";
+}
+
+// ---- Builder -----------------------------------------------------------------------------------
+
+namespace {
+
+/// A read-only streambuf over text we already hold, so the parser reads it without a copy.
+struct MemoryBuf : std::streambuf {
+  MemoryBuf(const char* begin, size_t size) {
+    char* b = const_cast<char*>(begin);  // never written through: get area only
+    setg(b, b, b + size);
+  }
+};
+
+/// The first byte that is not UTF-8 text (a NUL or a bad sequence), as a mark; or line 0.
+SourceMark find_binary(const std::string& text, uint32_t file) {
+  uint32_t line = 1, col = 1;
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  size_t n = text.size();
+  for (size_t i = 0; i < n;) {
+    unsigned char c = s[i];
+    size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool bad = len == 0 || c == 0 || i + len > n;
+    for (size_t k = 1; !bad && k < len; ++k) bad = (s[i + k] & 0xC0) != 0x80;
+    bool control = c < 0x20 && c != '\n' && c != '\r' && c != '\t';
+    if (bad || control) return {file, line, col};
+    if (c == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+    i += len;
+  }
+  return {file, 0, 0};
+}
+
+}  // namespace
+
+class Builder : public YAML::EventHandler {
+ public:
+  Builder(Document& doc, Diagnostics& diag, const Limits& limits) : doc_(doc), diag_(diag), limits_(limits) {}
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (documents_++ > 0)
+      throw InputError{to_mark(mark), "expected one YAML document in the file, found a second ('---')"};
+  }
+  void OnDocumentEnd() override {}
+
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    add_leaf({Kind::Null, false, line(mark), col(mark), 0, 0}, anchor);
+  }
+
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    auto it = anchors_.find(anchor);
+    if (it == anchors_.end() || open_.end() != std::find_if(open_.begin(), open_.end(), [&](const Open& o) {
+          return o.index == it->second;
+        }))
+      throw InputError{to_mark(mark), "alias refers to an anchor that is not complete here"};
+    // The alias shares the anchored node: no copy, but its expanded size counts.
+    attach(it->second);
+  }
+
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                const std::string& value) override {
+    auto offset = static_cast<uint32_t>(doc_.text_.size());
+    doc_.text_ += value;
+    bool quoted = tag != "?";
+    add_leaf({Kind::Scalar, quoted, line(mark), col(mark), offset, static_cast<uint32_t>(value.size())}, anchor);
+  }
+
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value) override {
+    open(Kind::Sequence, mark, anchor);
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value) override {
+    open(Kind::Map, mark, anchor);
+  }
+  void OnMapEnd() override { close(); }
+
+  uint32_t root() const { return root_; }
+
+ private:
+  struct Open {
+    uint32_t index;
+    size_t kids_begin;  // into pending_
+  };
+
+  static uint32_t line(const YAML::Mark& m) { return static_cast<uint32_t>(m.line + 1); }
+  static uint32_t col(const YAML::Mark& m) { return static_cast<uint32_t>(m.column + 1); }
+  SourceMark to_mark(const YAML::Mark& m) const { return {doc_.file_, line(m), col(m)}; }
+
+  uint32_t new_node(const Document::Rec& rec) {
+    doc_.nodes_.push_back(rec);
+    weight_.push_back(1);
+    return static_cast<uint32_t>(doc_.nodes_.size() - 1);
+  }
+
+  void add_leaf(const Document::Rec& rec, YAML::anchor_t anchor) {
+    uint32_t index = new_node(rec);
+    if (anchor) anchors_[anchor] = index;
+    attach(index);
+  }
+
+  void attach(uint32_t index) {
+    if (open_.empty()) {
+      root_ = index;
+      return;
+    }
+    pending_.push_back(index);
+  }
+
+  void open(Kind kind, const YAML::Mark& mark, YAML::anchor_t anchor) {
+    if (open_.size() >= limits_.max_depth)
+      throw InputError{to_mark(mark), fmt::format("nesting deeper than {} levels", limits_.max_depth)};
+    uint32_t index = new_node({kind, false, line(mark), col(mark), 0, 0});
+    if (anchor) anchors_[anchor] = index;
+    open_.push_back({index, pending_.size()});
+  }
+
+  void close() {
+    Open o = open_.back();
+    open_.pop_back();
+    auto& rec = doc_.nodes_[o.index];
+    rec.a = static_cast<uint32_t>(doc_.kids_.size());
+    rec.b = static_cast<uint32_t>(pending_.size() - o.kids_begin);
+    uint64_t weight = 1;
+    for (size_t i = o.kids_begin; i < pending_.size(); ++i) {
+      doc_.kids_.push_back(pending_[i]);
+      weight += weight_[pending_[i]];
+    }
+    pending_.resize(o.kids_begin);
+    weight_[o.index] = weight;
+    // Aliases share nodes; a document whose expansion is far larger than its text is an alias bomb.
+    if (weight > 4 * doc_.nodes_.size() + 100000)
+      throw InputError{SourceMark{doc_.file_, rec.line, rec.column},
+                       fmt::format("YAML aliases here expand to more than {} nodes (an alias bomb?)",
+                                   4 * doc_.nodes_.size() + 100000)};
+    if (rec.kind == Kind::Map) check_keys(o.index);
+    attach(o.index);
+  }
+
+  void check_keys(uint32_t map_index) {
+    const auto& rec = doc_.nodes_[map_index];
+    Node map(&doc_, map_index);
+    size_t n = map.size();
+    for (size_t i = 0; i < n; ++i) {
+      Node k = map.key(i);
+      if (!k.is_scalar()) {
+        diag_.error(k.mark(), fmt::format("expected a plain key, found {}", k.describe()));
+        return;
+      }
+    }
+    // Duplicate keys: yaml-cpp keeps the first silently, a reviewer would miss the second.
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t x, uint32_t y) { return map.key(x).text() < map.key(y).text(); });
+    for (size_t i = 1; i < n; ++i) {
+      Node a = map.key(order[i - 1]);
+      Node b = map.key(order[i]);
+      if (a.text() == b.text())
+        diag_.error(b.mark(), fmt::format("duplicate key '{}' (first given at line {})", b.text(), a.mark().line));
+    }
+    (void)rec;
+  }
+
+  Document& doc_;
+  Diagnostics& diag_;
+  Limits limits_;
+  int documents_ = 0;
+  uint32_t root_ = 0;
+  std::vector<Open> open_;
+  std::vector<uint32_t> pending_;
+  std::vector<uint64_t> weight_;
+  std::unordered_map<YAML::anchor_t, uint32_t> anchors_;
+};
+
+Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const Limits& limits) {
+  Document doc;
+  doc.file_ = file;
+  const std::string& text = sources.text(file);
+  try {
+    if (text.size() > limits.max_bytes)
+      throw InputError{{file, 1, 1}, fmt::format("file is larger than {} bytes", limits.max_bytes)};
+    SourceMark binary = find_binary(text, file);
+    if (binary.line != 0)
+      throw InputError{binary, "expected UTF-8 YAML text, found a binary byte (NUL, control or invalid UTF-8)"};
+    MemoryBuf buf(text.data(), text.size());
+    std::istream in(&buf);
+    YAML::Parser parser(in);
+    Builder builder(doc, diag, limits);
+    parser.HandleNextDocument(builder);
+    if (doc.nodes_.empty()) throw InputError{{file, 1, 1}, "expected a YAML document, found an empty file"};
+    doc.root_ = builder.root();
+    // A second document ends the parse with an error from OnDocumentStart.
+    parser.HandleNextDocument(builder);
+  } catch (const InputError& e) {
+    diag.error(e.mark, e.message);
+    return Document{};
+  } catch (const YAML::Exception& e) {
+    diag.error({file, static_cast<uint32_t>(e.mark.line + 1), static_cast<uint32_t>(e.mark.column + 1)},
+               "invalid YAML: " + e.msg);
+    return Document{};
+  }
+  return doc;
+}
+
+}  // namespace sscs::yaml

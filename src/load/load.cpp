@@ -1,0 +1,232 @@
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/names.h"
+#include "core/units.h"
+#include "load/load.h"
+#include "load/reader.h"
+
+namespace sscs {
+
+uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    diag.error(where, fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
+    return 0;
+  }
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) {
+    diag.error(where, fmt::format("cannot read '{}': read error", path));
+    return 0;
+  }
+  return sources.add(path, std::move(buf).str());
+}
+
+namespace load {
+
+MapReader::MapReader(yaml::Node node, std::string what, Diagnostics& diag)
+    : node_(node), what_(std::move(what)), diag_(diag) {
+  if (!node.valid()) return;
+  if (!node.is_map()) {
+    expected(diag, node, "a mapping", what_);
+    return;
+  }
+  ok_ = true;
+}
+
+yaml::Node MapReader::take(std::string_view key) {
+  known_.emplace_back(key);
+  return ok_ ? node_.find(key) : yaml::Node();
+}
+
+yaml::Node MapReader::require(std::string_view key) {
+  yaml::Node n = take(key);
+  if (ok_ && !n.valid()) diag_.error(node_.mark(), fmt::format("{} is missing the required key '{}'", what_, key));
+  return n;
+}
+
+std::vector<std::pair<yaml::Node, yaml::Node>> MapReader::rest() {
+  std::vector<std::pair<yaml::Node, yaml::Node>> out;
+  if (!ok_) return out;
+  for (size_t i = 0; i < node_.size(); ++i) {
+    std::string_view k = node_.key(i).text();
+    if (std::find(known_.begin(), known_.end(), k) == known_.end()) out.emplace_back(node_.key(i), node_.value(i));
+  }
+  return out;
+}
+
+void MapReader::finish() {
+  for (auto& [key, value] : rest()) {
+    diag_.error(key.mark(), fmt::format("unknown key '{}' in {}{}", key.text(), what_, did_you_mean(key.text(), known_)));
+  }
+}
+
+void expected(Diagnostics& diag, yaml::Node node, std::string_view expectation, std::string_view what) {
+  diag.error(node.mark(), fmt::format("expected {} for {}, found {}", expectation, what, node.describe()));
+}
+
+Scalar scalar(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  Scalar s;
+  if (!node.valid()) return s;
+  s.present = true;
+  s.mark = node.mark();
+  if (node.is_null()) {
+    s.null = true;
+    return s;
+  }
+  if (!node.is_scalar()) {
+    expected(diag, node, "a value", what);
+    s.null = true;
+    return s;
+  }
+  s.text = std::string(node.text());
+  s.quoted = node.quoted();
+  if (!s.quoted && looks_like_nonfinite(s.text))
+    diag.error(s.mark, fmt::format("expected a finite number for {}, found '{}'", what, s.text));
+  return s;
+}
+
+std::string text(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  if (!node.valid()) return {};
+  if (!node.is_scalar()) {
+    expected(diag, node, "a string", what);
+    return {};
+  }
+  return std::string(node.text());
+}
+
+std::string name(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  if (!node.valid()) return {};
+  if (!node.is_scalar()) {
+    expected(diag, node, "a name", what);
+    return {};
+  }
+  std::string n(node.text());
+  if (!is_valid_name(n)) {
+    diag.error(node.mark(), fmt::format("expected a name for {} (a letter, then letters, digits, '_' or '-'), found '{}'",
+                                        what, n));
+    return {};
+  }
+  return n;
+}
+
+bool boolean(yaml::Node node, std::string_view what, Diagnostics& diag, bool fallback) {
+  if (!node.valid()) return fallback;
+  if (node.is_scalar() && !node.quoted()) {
+    if (node.text() == "true") return true;
+    if (node.text() == "false") return false;
+  }
+  expected(diag, node, "true or false", what);
+  return fallback;
+}
+
+std::array<Scalar, 3> vec3(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  std::array<Scalar, 3> v;
+  if (!node.valid()) return v;
+  if (!node.is_sequence() || node.size() != 3) {
+    expected(diag, node, "a sequence of three values [x, y, z]", what);
+    return v;
+  }
+  for (size_t i = 0; i < 3; ++i) v[i] = scalar(node.item(i), what, diag);
+  return v;
+}
+
+PoseSpec pose(MapReader& reader, Diagnostics& diag) {
+  PoseSpec p;
+  p.xyz = vec3(reader.take("xyz"), "xyz", diag);
+  p.rpy = vec3(reader.take("rpy"), "rpy", diag);
+  return p;
+}
+
+std::vector<Scalar> scalar_list(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  std::vector<Scalar> out;
+  if (!node.valid()) return out;
+  if (node.is_sequence()) {
+    for (size_t i = 0; i < node.size(); ++i) out.push_back(scalar(node.item(i), what, diag));
+  } else {
+    out.push_back(scalar(node, what, diag));
+  }
+  return out;
+}
+
+std::vector<GeometrySpec> geometry_list(yaml::Node node, Diagnostics& diag) {
+  std::vector<GeometrySpec> out;
+  if (!node.valid()) return out;
+  if (!node.is_sequence()) {
+    expected(diag, node, "a sequence of shapes (box, cylinder, sphere, mesh)", "geometry");
+    return out;
+  }
+  static const std::vector<std::string> kShapes = {"box", "cylinder", "sphere", "mesh"};
+  for (size_t i = 0; i < node.size(); ++i) {
+    yaml::Node item = node.item(i);
+    if (!item.is_map() || item.size() != 1) {
+      expected(diag, item, "one shape: {box: ...}, {cylinder: ...}, {sphere: ...} or {mesh: ...}", "geometry");
+      continue;
+    }
+    std::string_view shape = item.key(0).text();
+    GeometrySpec g;
+    g.mark = item.mark();
+    MapReader r(item.value(0), fmt::format("{} geometry", shape), diag);
+    if (shape == "box") {
+      g.shape = BoxSpec{vec3(r.require("size"), "box size", diag)};
+    } else if (shape == "cylinder") {
+      g.shape = CylinderSpec{scalar(r.require("radius"), "cylinder radius", diag),
+                             scalar(r.require("length"), "cylinder length", diag)};
+    } else if (shape == "sphere") {
+      g.shape = SphereSpec{scalar(r.require("radius"), "sphere radius", diag)};
+    } else if (shape == "mesh") {
+      MeshSpec m;
+      m.file = scalar(r.require("file"), "mesh file", diag);
+      m.scale = vec3(r.take("scale"), "mesh scale", diag);
+      g.shape = std::move(m);
+    } else {
+      diag.error(item.key(0).mark(), fmt::format("unknown shape '{}'; expected box, cylinder, sphere or mesh{}", shape,
+                                                 did_you_mean(shape, kShapes)));
+      continue;
+    }
+    g.pose = pose(r, diag);
+    r.finish();
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+void check_version(MapReader& root, Diagnostics& diag) {
+  yaml::Node v = root.require("sscs");
+  if (v.valid() && !(v.is_scalar() && !v.quoted() && v.text() == "1"))
+    expected(diag, v, "format version 1", "sscs");
+}
+
+nlohmann::ordered_json to_json(yaml::Node node) {
+  switch (node.kind()) {
+    case yaml::Kind::Null: return nullptr;
+    case yaml::Kind::Scalar: {
+      if (!node.quoted()) {
+        if (node.text() == "true") return true;
+        if (node.text() == "false") return false;
+        if (auto n = parse_number(node.text())) return *n;
+      }
+      return std::string(node.text());
+    }
+    case yaml::Kind::Sequence: {
+      auto arr = nlohmann::ordered_json::array();
+      for (size_t i = 0; i < node.size(); ++i) arr.push_back(to_json(node.item(i)));
+      return arr;
+    }
+    case yaml::Kind::Map: {
+      auto obj = nlohmann::ordered_json::object();
+      for (size_t i = 0; i < node.size(); ++i) obj[std::string(node.key(i).text())] = to_json(node.value(i));
+      return obj;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace load
+}  // namespace sscs

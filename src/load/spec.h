@@ -1,0 +1,232 @@
+#pragma once
+/// What the user wrote: vault and type files as plain structs, every node with its source mark.
+/// The load stage fills these; the compile stage turns them into a Workcell. Values stay text here
+/// (numbers, unit literals and expressions alike) because their meaning depends on the type.
+#include <array>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/source.h"
+
+namespace sscs {
+
+/// A scalar as written. `null` for an explicit `~`/`null`/empty value.
+struct Scalar {
+  std::string text;
+  SourceMark mark;
+  bool quoted = false;
+  bool null = false;
+  bool present = false;  ///< false when the key was absent
+};
+
+enum class AttrType : uint8_t { Length, Angle, Mass, Time, Number, Integer, Boolean, String, Enum };
+const char* attr_type_name(AttrType t);
+std::optional<AttrType> attr_type_from(std::string_view word);
+
+enum class RelOp : uint8_t { LT, GT, EQ, LE, GE };
+const char* relop_name(RelOp op);
+const char* relop_symbol(RelOp op);
+std::optional<RelOp> relop_from(std::string_view word);
+
+enum class Severity : uint8_t { Error, Warning };
+
+/// `xyz`/`rpy` placement; absent components are zero.
+struct PoseSpec {
+  std::array<Scalar, 3> xyz;
+  std::array<Scalar, 3> rpy;
+};
+
+// ---- type files ----
+
+struct AttributeDecl {
+  std::string name;
+  SourceMark mark;
+  AttrType type = AttrType::Number;
+  Scalar default_value;
+  Scalar min;
+  Scalar max;
+  std::vector<std::string> values;  ///< enum values
+  std::string description;
+};
+
+struct BoxSpec {
+  std::array<Scalar, 3> size;
+};
+struct CylinderSpec {
+  Scalar radius;
+  Scalar length;
+};
+struct SphereSpec {
+  Scalar radius;
+};
+struct MeshSpec {
+  Scalar file;  ///< path relative to the file that names it
+  std::array<Scalar, 3> scale;
+};
+struct GeometrySpec {
+  std::variant<BoxSpec, CylinderSpec, SphereSpec, MeshSpec> shape;
+  PoseSpec pose;
+  SourceMark mark;
+};
+
+struct FrameSpec {
+  std::string name;
+  SourceMark mark;
+  PoseSpec pose;
+};
+
+enum class JointType : uint8_t { Revolute, Prismatic, Fixed };
+
+struct JointSpec {
+  std::string name;
+  SourceMark mark;
+  JointType type = JointType::Fixed;
+  std::array<Scalar, 3> axis;
+  PoseSpec origin;
+  Scalar min, max, velocity, acceleration, effort;
+};
+
+struct PartSpec {
+  std::string name;
+  SourceMark mark;
+  std::string parent;
+  SourceMark parent_mark;
+  std::optional<JointSpec> joint;
+  std::vector<GeometrySpec> geometry;
+  Scalar mass;
+  Scalar color;
+};
+
+struct DeviceSpec {
+  std::vector<PartSpec> parts;
+  std::string tool_part;
+  SourceMark tool_mark;
+  PoseSpec tool_pose;
+  std::vector<std::pair<std::string, Scalar>> home;  ///< joint name -> value
+  SourceMark home_mark;
+  bool kinematic = false;  ///< `driven: kinematic`
+  Scalar urdf;
+};
+
+struct TypeSpec {
+  std::string name;
+  SourceMark mark;
+  std::string path;  ///< the file, for resolving mesh paths
+  std::string extends;
+  SourceMark extends_mark;
+  std::string description;
+  std::vector<AttributeDecl> attributes;
+  std::vector<FrameSpec> frames;
+  std::vector<GeometrySpec> geometry;
+  bool has_geometry = false;
+  Scalar color;
+  std::optional<DeviceSpec> device;
+};
+
+// ---- vault files ----
+
+struct ParameterSpec {
+  std::string name;
+  SourceMark mark;
+  Scalar value;
+  std::optional<AttrType> type;
+  Scalar min;
+  Scalar max;
+};
+
+struct ArraySpec {
+  Scalar name_pattern;
+  std::vector<Scalar> count;
+  std::array<Scalar, 3> pitch;
+  SourceMark mark;
+};
+
+struct AttrValue {
+  std::string name;
+  SourceMark key_mark;
+  Scalar value;
+};
+
+struct ObjectSpec {
+  SourceMark mark;
+  std::string type;
+  SourceMark type_mark;
+  Scalar name;
+  Scalar parent;
+  std::array<Scalar, 3> location;
+  std::array<Scalar, 3> orientation;
+  Scalar geomodel;
+  Scalar color;
+  std::vector<AttrValue> attributes;
+  std::optional<ArraySpec> array;
+};
+
+/// A selector as written: names, globs, `*`, `type:T`, or a list of these.
+struct SelectorSpec {
+  std::vector<Scalar> items;
+  SourceMark mark;
+  bool allow_empty = false;
+};
+
+struct BoundSpec {
+  Scalar lhs, rhs, lhs_tol, rhs_tol, eps;
+  RelOp op = RelOp::LT;
+  SourceMark op_mark;
+};
+struct ExprSpec {
+  Scalar expr;
+};
+struct PluginSpec {
+  Scalar cls;
+  std::vector<Scalar> attributes;
+  nlohmann::ordered_json args;
+};
+struct ClearanceSpec {
+  Scalar a, b;
+  std::optional<SelectorSpec> objects;
+  Scalar min;
+};
+struct NoOverlapSpec {
+  SelectorSpec objects;
+};
+struct InsideSpec {
+  SelectorSpec objects;
+  Scalar container;
+};
+struct ReachSpec {
+  Scalar device;
+  SelectorSpec targets;
+  Scalar frame;
+  bool match_orientation = false;
+  PoseSpec offset;
+  Scalar position_tol, angle_tol;
+};
+
+using ConstraintKind = std::variant<BoundSpec, ExprSpec, PluginSpec, ClearanceSpec, NoOverlapSpec, InsideSpec, ReachSpec>;
+const char* constraint_kind_name(const ConstraintKind& kind);
+
+struct ConstraintSpec {
+  std::string name;
+  SourceMark mark;
+  std::string description;
+  Severity severity = Severity::Error;
+  ConstraintKind kind;
+};
+
+struct VaultSpec {
+  std::string name;
+  SourceMark mark;
+  std::string path;
+  std::string description;
+  std::vector<Scalar> library;  ///< extra type folders, relative to the vault file
+  std::vector<Scalar> plugins;
+  std::vector<ParameterSpec> parameters;
+  std::vector<ObjectSpec> objects;
+  std::vector<ConstraintSpec> constraints;
+};
+
+}  // namespace sscs

@@ -1,0 +1,183 @@
+// Type-library files: `sscs: 1`, `type: NAME`, attributes, frames, geometry, devices.
+#include <fmt/format.h>
+
+#include "core/names.h"
+#include "core/yaml_tree.h"
+#include "load/load.h"
+#include "load/reader.h"
+
+namespace sscs {
+
+using load::MapReader;
+
+namespace {
+
+AttributeDecl read_attribute(yaml::Node key, yaml::Node value, Diagnostics& diag) {
+  AttributeDecl a;
+  a.name = load::name(key, "an attribute", diag);
+  a.mark = key.mark();
+  static const std::vector<std::string> kTypes = {"length", "angle",   "mass",   "time", "number",
+                                                  "integer", "boolean", "string", "enum"};
+  MapReader r(value, fmt::format("attribute '{}'", a.name), diag);
+  yaml::Node type = r.require("type");
+  if (type.valid()) {
+    std::string word = load::text(type, "an attribute type", diag);
+    if (auto t = attr_type_from(word)) {
+      a.type = *t;
+    } else if (type.is_scalar()) {
+      diag.error(type.mark(), fmt::format("expected an attribute type ({}), found '{}'{}", fmt::join(kTypes, ", "), word,
+                                          did_you_mean(word, kTypes)));
+    }
+  }
+  a.default_value = load::scalar(r.take("default"), "default", diag);
+  a.min = load::scalar(r.take("min"), "min", diag);
+  a.max = load::scalar(r.take("max"), "max", diag);
+  a.description = load::text(r.take("description"), "description", diag);
+  yaml::Node values = r.take("values");
+  if (values.valid()) {
+    if (a.type != AttrType::Enum) diag.error(values.mark(), "'values' is only allowed for enum attributes");
+    if (!values.is_sequence() || values.size() == 0) {
+      load::expected(diag, values, "a non-empty sequence of names", "enum values");
+    } else {
+      for (size_t i = 0; i < values.size(); ++i) a.values.push_back(load::name(values.item(i), "an enum value", diag));
+    }
+  } else if (a.type == AttrType::Enum) {
+    diag.error(r.mark(), fmt::format("enum attribute '{}' needs 'values'", a.name));
+  }
+  r.finish();
+  return a;
+}
+
+JointSpec read_joint(yaml::Node node, Diagnostics& diag) {
+  JointSpec j;
+  MapReader r(node, "joint", diag);
+  j.mark = node.mark();
+  j.name = load::name(r.require("name"), "a joint", diag);
+  yaml::Node type = r.require("type");
+  std::string word = load::text(type, "joint type", diag);
+  if (word == "revolute") j.type = JointType::Revolute;
+  else if (word == "prismatic") j.type = JointType::Prismatic;
+  else if (word == "fixed") j.type = JointType::Fixed;
+  else if (type.valid()) load::expected(diag, type, "revolute, prismatic or fixed", "joint type");
+  j.axis = load::vec3(r.take("axis"), "joint axis", diag);
+  if (j.type != JointType::Fixed && !j.axis[0].present) diag.error(j.mark, fmt::format("joint '{}' needs an 'axis'", j.name));
+  j.origin = load::pose(r, diag);
+  MapReader limits(r.take("limits"), "joint limits", diag);
+  j.min = load::scalar(limits.take("min"), "joint min", diag);
+  j.max = load::scalar(limits.take("max"), "joint max", diag);
+  j.velocity = load::scalar(limits.take("velocity"), "joint velocity", diag);
+  j.acceleration = load::scalar(limits.take("acceleration"), "joint acceleration", diag);
+  j.effort = load::scalar(limits.take("effort"), "joint effort", diag);
+  if (limits.ok()) limits.finish();
+  r.finish();
+  return j;
+}
+
+DeviceSpec read_device(MapReader& root, Diagnostics& diag) {
+  DeviceSpec d;
+  yaml::Node parts = root.take("parts");
+  d.urdf = load::scalar(root.take("urdf"), "urdf", diag);
+  if (parts.valid() && d.urdf.present) diag.error(d.urdf.mark, "a device has either 'parts' or 'urdf', not both");
+  if (!parts.valid() && !d.urdf.present) diag.error(root.mark(), "a device needs 'parts' (or 'urdf')");
+  if (parts.valid() && (!parts.is_sequence() || parts.size() == 0))
+    load::expected(diag, parts, "a non-empty sequence of parts", "parts");
+  else if (parts.valid())
+    for (size_t i = 0; i < parts.size(); ++i) {
+      MapReader p(parts.item(i), "part", diag);
+      if (!p.ok()) continue;
+      PartSpec part;
+      part.mark = p.mark();
+      part.name = load::name(p.require("name"), "a part", diag);
+      yaml::Node parent = p.take("parent");
+      part.parent = load::name(parent, "a parent part", diag);
+      if (parent.valid()) part.parent_mark = parent.mark();
+      yaml::Node joint = p.take("joint");
+      if (joint.valid()) part.joint = read_joint(joint, diag);
+      if (joint.valid() && !parent.valid()) diag.error(joint.mark(), "the root part has no parent, so it has no joint");
+      if (!joint.valid() && parent.valid())
+        diag.error(part.mark, fmt::format("part '{}' has a parent but no joint (use type: fixed)", part.name));
+      part.geometry = load::geometry_list(p.take("geometry"), diag);
+      part.mass = load::scalar(p.take("mass"), "part mass", diag);
+      part.color = load::scalar(p.take("color"), "part color", diag);
+      p.finish();
+      d.parts.push_back(std::move(part));
+    }
+  yaml::Node tool = root.take("tool");
+  if (tool.valid()) {
+    MapReader t(tool, "tool", diag);
+    yaml::Node part = t.require("part");
+    d.tool_part = load::name(part, "the tool part", diag);
+    d.tool_mark = part.valid() ? part.mark() : tool.mark();
+    d.tool_pose = load::pose(t, diag);
+    t.finish();
+  }
+  yaml::Node home = root.take("home");
+  if (home.valid()) {
+    d.home_mark = home.mark();
+    MapReader h(home, "home", diag);
+    for (auto& [k, v] : h.rest()) d.home.emplace_back(load::name(k, "a joint", diag), load::scalar(v, "home value", diag));
+  }
+  yaml::Node driven = root.take("driven");
+  if (driven.valid()) {
+    std::string word = load::text(driven, "driven", diag);
+    if (word == "kinematic") d.kinematic = true;
+    else if (word != "motors") load::expected(diag, driven, "motors or kinematic", "driven");
+  }
+  return d;
+}
+
+}  // namespace
+
+std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
+  uint32_t file = read_source(path, sources, diag, where);
+  if (file == 0) return std::nullopt;
+  yaml::Document doc = yaml::parse(sources, file, diag);
+  if (doc.empty()) return std::nullopt;
+  MapReader root(doc.root(), "a type file", diag);
+  if (!root.ok()) return std::nullopt;
+  load::check_version(root, diag);
+  TypeSpec t;
+  t.path = path;
+  yaml::Node type = root.require("type");
+  t.name = load::name(type, "the type", diag);
+  t.mark = type.valid() ? type.mark() : root.mark();
+  yaml::Node extends = root.take("extends");
+  t.extends = load::name(extends, "extends", diag);
+  t.extends_mark = extends.valid() ? extends.mark() : t.mark;
+  if (t.extends == "object") t.extends.clear();
+  t.description = load::text(root.take("description"), "description", diag);
+  yaml::Node kind = root.take("kind");
+  bool device = false;
+  if (kind.valid()) {
+    std::string word = load::text(kind, "kind", diag);
+    if (word == "device") device = true;
+    else if (word != "object") load::expected(diag, kind, "object or device", "kind");
+  }
+  MapReader attrs(root.take("attributes"), "attributes", diag);
+  for (auto& [k, v] : attrs.rest()) t.attributes.push_back(read_attribute(k, v, diag));
+  MapReader frames(root.take("frames"), "frames", diag);
+  for (auto& [k, v] : frames.rest()) {
+    FrameSpec f;
+    f.name = load::name(k, "a frame", diag);
+    f.mark = k.mark();
+    MapReader fr(v, fmt::format("frame '{}'", f.name), diag);
+    f.pose = load::pose(fr, diag);
+    fr.finish();
+    t.frames.push_back(std::move(f));
+  }
+  yaml::Node geometry = root.take("geometry");
+  t.has_geometry = geometry.valid();
+  t.geometry = load::geometry_list(geometry, diag);
+  t.color = load::scalar(root.take("color"), "color", diag);
+  if (device) {
+    t.device = read_device(root, diag);
+  } else {
+    for (const char* key : {"parts", "tool", "home", "driven", "urdf"})
+      if (root.has(key)) diag.error(root.node().find(key).mark(), fmt::format("'{}' is only allowed with kind: device", key));
+    for (const char* key : {"parts", "tool", "home", "driven", "urdf"}) root.take(key);
+  }
+  root.finish();
+  return t;
+}
+
+}  // namespace sscs

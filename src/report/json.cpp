@@ -1,0 +1,58 @@
+#include <nlohmann/json.hpp>
+
+#include "report/report.h"
+
+namespace sscs {
+
+namespace {
+
+nlohmann::ordered_json number_or_null(const std::optional<double>& v) {
+  if (!v || !std::isfinite(*v)) return nullptr;
+  return stable(*v);
+}
+
+nlohmann::ordered_json vault_json(const VaultReport& vr, const Sources& sources) {
+  const Workcell& wc = *vr.workcell;
+  nlohmann::ordered_json j;
+  j["sscs"] = 1;
+  j["vault"] = wc.name;
+  j["file"] = vr.file;
+  j["passed"] = vr.report.passed;
+  j["failed"] = vr.report.failed;
+  j["warnings"] = vr.report.warnings;
+  auto results = nlohmann::ordered_json::array();
+  for (const CheckResult& r : vr.report.results) {
+    const Constraint& c = wc.constraints[r.constraint];
+    nlohmann::ordered_json e;
+    e["constraint"] = c.name;
+    e["kind"] = c.kind;
+    e["severity"] = c.severity == Severity::Warning ? "warning" : "error";
+    e["status"] = status_name(r.status);
+    auto subjects = nlohmann::ordered_json::array();
+    for (int s : r.subjects) subjects.push_back(wc.objects[s].name);
+    e["subject"] = std::move(subjects);
+    e["lhs"] = number_or_null(r.lhs);
+    e["rhs"] = number_or_null(r.rhs);
+    e["margin"] = number_or_null(r.margin);
+    e["unit"] = file_unit(r.dim);
+    e["message"] = r.message;
+    e["location"] = {{"file", sources.path(c.mark.file)}, {"line", c.mark.line}, {"column", c.mark.column}};
+    results.push_back(std::move(e));
+  }
+  j["results"] = std::move(results);
+  return j;
+}
+
+}  // namespace
+
+std::string format_json(const std::vector<VaultReport>& reports, const Sources& sources) {
+  if (reports.size() == 1) return vault_json(reports[0], sources).dump(2) + "\n";
+  nlohmann::ordered_json j;
+  j["sscs"] = 1;
+  auto all = nlohmann::ordered_json::array();
+  for (const VaultReport& vr : reports) all.push_back(vault_json(vr, sources));
+  j["reports"] = std::move(all);
+  return j.dump(2) + "\n";
+}
+
+}  // namespace sscs

@@ -1,0 +1,43 @@
+#include <fmt/format.h>
+
+#include "report/report.h"
+
+namespace sscs {
+
+std::string format_text(const std::vector<VaultReport>& reports, const Sources& sources, const TextOptions& options) {
+  const char* red = options.color ? "\033[1;31m" : "";
+  const char* yellow = options.color ? "\033[1;33m" : "";
+  const char* bold = options.color ? "\033[1m" : "";
+  const char* reset = options.color ? "\033[0m" : "";
+  std::string out;
+  size_t passed = 0, failed = 0, warnings = 0;
+  for (const VaultReport& vr : reports) {
+    const Workcell& wc = *vr.workcell;
+    for (const CheckResult& r : vr.report.results) {
+      if (r.status == Status::Pass || options.quiet) continue;
+      const Constraint& c = wc.constraints[r.constraint];
+      bool warning = c.severity == Severity::Warning;
+      const char* word = r.status == Status::Error ? "error" : warning ? "warning" : "fail";
+      std::string margin;
+      if (r.margin) {
+        const char* unit = file_unit(r.dim);
+        margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
+      }
+      std::string subjects = subject_names(wc, r);
+      out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}\n", bold, sources.path(c.mark.file), c.mark.line,
+                         c.mark.column, reset, warning && r.status != Status::Error ? yellow : red, word, reset, c.name,
+                         c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin);
+    }
+    passed += vr.report.passed;
+    failed += vr.report.failed;
+    warnings += vr.report.warnings;
+    if (reports.size() > 1)
+      out += fmt::format("{}: {} passed, {} failed, {} warnings\n", wc.name, vr.report.passed, vr.report.failed,
+                         vr.report.warnings);
+  }
+  out += fmt::format("{} passed, {} failed, {} warnings{}\n", passed, failed, warnings,
+                     options.strict && warnings > 0 ? " (warnings fail with --strict)" : "");
+  return out;
+}
+
+}  // namespace sscs

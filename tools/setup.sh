@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian (bookworm) packages sscs builds and tests with. Idempotent: it asks apt only
+# for the packages that are missing, and runs `apt-get update` only when something is missing.
+# This is the one place the package list lives; run-demo.sh and test.sh call it.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git python3 python3-jsonschema
+  libyaml-cpp-dev libeigen3-dev libode-dev libfcl-dev libassimp-dev libzip-dev libfmt-dev
+  libgtest-dev libgmock-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libmuparser-dev
+  libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+if [[ $(id -u) -ne 0 ]]; then
+  echo "setup.sh: missing packages: ${missing[*]}" >&2
+  echo "setup.sh: run as root (or install them with sudo apt-get install)" >&2
+  exit 1
+fi
+
+echo "setup.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
