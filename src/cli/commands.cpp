@@ -128,7 +128,6 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
   j["extends"] = t.base >= 0 ? types[t.base].name : "object";
   j["kind"] = t.device ? "device" : "object";
   j["description"] = t.description;
-  j["file"] = t.spec->path;
   auto attrs = nlohmann::ordered_json::array();
   for (const AttributeDef& a : t.attributes) {
     nlohmann::ordered_json aj;

@@ -38,6 +38,7 @@ uint32_t CompileState::new_slots(size_t n) {
   auto first = static_cast<uint32_t>(wc.values.size());
   wc.values.resize(wc.values.size() + n, 0.0);
   slot_pending.resize(wc.values.size(), -1);
+  slot_failed.resize(wc.values.size(), false);
   return first;
 }
 
@@ -126,6 +127,7 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
   std::string_view object_name = ref.substr(0, dot);
   std::string_view member = ref.substr(dot + 1);
   int obj = wc.find_object(object_name);
+  if (obj < 0 && unbuilt.count(std::string(object_name))) return std::nullopt;  // already reported
   if (obj < 0) {
     diag.error(mark, fmt::format("unknown object '{}' in reference '{}'{}", object_name, ref,
                                  did_you_mean(object_name, object_names())));
@@ -183,8 +185,8 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
   }
   const AttributeDef& def = type.attributes[a];
   if (def.type == AttrType::String || def.type == AttrType::Enum) {
-    diag.error(mark, fmt::format("'{}' is a {} attribute; expressions and bounds take numeric values", ref,
-                                 attr_type_name(def.type)));
+    diag.error(mark, fmt::format("'{}' is {} attribute; expressions and bounds take numeric values", ref,
+                                 def.type == AttrType::Enum ? "an enum" : "a string"));
     return std::nullopt;
   }
   op.slot = o.first_slot + kFirstAttributeSlot + a;
@@ -437,6 +439,7 @@ void expand_objects(CompileState& st) {
     auto t = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == o.type; });
     if (t == st.wc.types.end()) {
       st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, did_you_mean(o.type, type_names)));
+      if (o.name.present) st.unbuilt.insert(o.name.text);
       continue;
     }
     int type = static_cast<int>(t - st.wc.types.begin());
@@ -531,7 +534,7 @@ void resolve_object_links(CompileState& st) {
     const ObjectSpec& o = *st.object_spec[i];
     if (o.parent.present && !o.parent.null) {
       obj.parent = st.wc.find_object(o.parent.text);
-      if (obj.parent < 0) {
+      if (obj.parent < 0 && !st.unbuilt.count(o.parent.text)) {
         if (names.empty()) names = st.object_names();
         st.diag.error(o.parent.mark, fmt::format("unknown parent object '{}'{}", o.parent.text, did_you_mean(o.parent.text, names)));
       } else if (obj.parent == static_cast<int>(i)) {
@@ -599,8 +602,10 @@ void compile_values(CompileState& st) {
       }
       given[a] = true;
       const AttributeDef& def = type.attributes[a];
+      size_t errors = st.diag.count();
       assign(st, obj.first_slot + kFirstAttributeSlot + a, v.value, &def, def.dim, scope,
              fmt::format("attribute '{}' of '{}'", def.name, obj.name));
+      if (st.diag.count() > errors) st.slot_failed[obj.first_slot + kFirstAttributeSlot + a] = true;
     }
     for (size_t a = 0; a < type.attributes.size(); ++a) {
       if (given[a]) continue;
@@ -609,6 +614,7 @@ void compile_values(CompileState& st) {
         if (i == 0 || st.object_spec[i - 1] != &o)
           st.diag.error(o.mark, fmt::format("object '{}' (a {}) needs a value for '{}', which has no default", obj.name,
                                             type.name, def.name));
+        st.slot_failed[obj.first_slot + kFirstAttributeSlot + a] = true;
         continue;
       }
       // Type defaults may use the object's other attributes by their bare names.
@@ -629,7 +635,7 @@ void check_values(CompileState& st) {
     for (size_t a = 0; a < type.attributes.size(); ++a) {
       const AttributeDef& def = type.attributes[a];
       uint32_t slot = obj.first_slot + kFirstAttributeSlot + a;
-      if (st.slot_pending[slot] >= 0 && st.pending[st.slot_pending[slot]].state != 2) continue;
+      if (st.slot_failed[slot] || (st.slot_pending[slot] >= 0 && st.pending[st.slot_pending[slot]].state != 2)) continue;
       double v = st.wc.values[slot];
       auto written = std::find_if(o.attributes.begin(), o.attributes.end(), [&](const AttrValue& x) { return x.name == def.name; });
       SourceMark mark = written != o.attributes.end() ? written->value.mark : o.mark;
@@ -661,7 +667,7 @@ void check_values(CompileState& st) {
 }  // namespace
 
 std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources, Diagnostics& diag) {
-  CompileState st{spec, sources, diag, {}, {}, {}, {}, {}, {}, {}, {}};
+  CompileState st(spec, sources, diag);
   st.wc.name = spec.name;
   st.wc.path = spec.path;
   st.wc.description = spec.description;
@@ -679,13 +685,13 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);
   if (diag.has_errors()) return std::nullopt;
+  // Objects whose type is unknown are left out and later passes go on, so one run reports the
+  // errors of every object; references to left-out objects add no second error.
   expand_objects(st);
-  if (diag.has_errors()) return std::nullopt;
   resolve_object_links(st);
   compile_values(st);
   check_values(st);
-  if (diag.has_errors()) return std::nullopt;
-  compile_constraints(st);
+  if (!diag.full()) compile_constraints(st);
   if (diag.has_errors()) return std::nullopt;
   st.wc.texts.resize(st.wc.values.size());
   return std::move(st.wc);

@@ -71,6 +71,7 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
         if (glob_match(t, st.wc.objects[i].name)) out.push_back(static_cast<int>(i));
     } else {
       int o = st.wc.find_object(t);
+      if (o < 0 && st.unbuilt.count(t)) continue;
       if (o < 0) {
         if (names.empty()) names = st.object_names();
         st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
@@ -89,7 +90,7 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
 int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
   if (!s.present || s.null) return -1;
   int o = st.wc.find_object(s.text);
-  if (o < 0) st.diag.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, st.object_names())));
+  if (o < 0 && !st.unbuilt.count(s.text)) st.diag.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, st.object_names())));
   return o;
 }
 

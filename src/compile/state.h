@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "compile/compile.h"
@@ -30,6 +31,8 @@ struct ExprScope {
 };
 
 struct CompileState {
+  CompileState(const VaultSpec& s, Sources& src, Diagnostics& d) : spec(s), sources(src), diag(d) {}
+
   const VaultSpec& spec;
   Sources& sources;
   Diagnostics& diag;
@@ -38,8 +41,10 @@ struct CompileState {
   std::vector<const ObjectSpec*> object_spec;            ///< per object
   std::vector<std::array<int, 3>> array_index;           ///< per object, {0,0,0} when not in an array
   std::vector<std::array<double, 3>> array_offset;       ///< per object, SI
+  std::unordered_set<std::string> unbuilt;  ///< objects dropped by an earlier error: no second error for them
   std::vector<PendingValue> pending;
-  std::vector<int> slot_pending;                         ///< slot -> index into pending, or -1
+  std::vector<int> slot_pending;
+  std::vector<bool> slot_failed;                         ///< slot whose value could not be read: no range check                         ///< slot -> index into pending, or -1
   std::unordered_map<std::string, std::shared_ptr<const Expression>> expr_cache;  ///< by text
 
   uint32_t new_slots(size_t n);

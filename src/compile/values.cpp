@@ -17,7 +17,7 @@ Dim dim_of(AttrType type) {
 ParsedValue parse_value(const Scalar& s, Dim dim, std::string_view what, Diagnostics& diag, bool any_dim) {
   ParsedValue out;
   if (s.null || s.text.empty()) {
-    diag.error(s.mark, fmt::format("expected a {} for {}, found nothing", dim_name(dim), what));
+    diag.error(s.mark, fmt::format("expected {} for {}, found nothing", a_dim(dim), what));
     return out;
   }
   std::string unknown;
@@ -29,8 +29,8 @@ ParsedValue parse_value(const Scalar& s, Dim dim, std::string_view what, Diagnos
       return out;
     }
     if (q->dim != dim && !(any_dim && dim == Dim::None)) {
-      diag.error(s.mark, fmt::format("expected a {} for {}, found '{}' (a {})", dim_name(dim), what, s.text,
-                                     dim_name(q->dim)));
+      diag.error(s.mark, fmt::format("expected {} for {}, found '{}' ({})", a_dim(dim), what, s.text,
+                                     a_dim(q->dim)));
       return out;
     }
     out.kind = ParsedValue::Kind::Number;
@@ -52,7 +52,7 @@ std::optional<double> literal_si(const Scalar& s, Dim dim, std::string_view what
   ParsedValue v = parse_value(s, dim, what, diag);
   if (v.kind == ParsedValue::Kind::Number) return v.si;
   if (v.kind == ParsedValue::Kind::Expression)
-    diag.error(s.mark, fmt::format("expected a {} for {}, found '{}'", dim_name(dim), what, s.text));
+    diag.error(s.mark, fmt::format("expected {} for {}, found '{}'", a_dim(dim), what, s.text));
   return std::nullopt;
 }
 

@@ -4,6 +4,27 @@
 
 namespace sscs {
 
+namespace {
+/// The line with control bytes and bytes that are not UTF-8 shown as '?', so quoting binary
+/// input cannot garble the terminal. Column positions stay (one byte, one '?').
+std::string printable(std::string_view line) {
+  std::string out(line);
+  auto* s = reinterpret_cast<unsigned char*>(out.data());
+  for (size_t i = 0; i < out.size();) {
+    unsigned char c = s[i];
+    size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool ok = len != 0 && i + len <= out.size() && (c >= 0x20 || c == '\t');
+    for (size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
+    if (!ok) {
+      s[i++] = '?';
+      continue;
+    }
+    i += len;
+  }
+  return out;
+}
+}  // namespace
+
 void Diagnostics::error(SourceMark mark, std::string message) {
   ++count_;
   if (errors_.size() < limit_) errors_.push_back({mark, std::move(message)});
@@ -21,7 +42,7 @@ std::string Diagnostics::format(const Sources& sources, bool color) const {
                          d.mark.column, reset, red, reset, d.message);
       std::string_view line = sources.line(d.mark);
       if (!line.empty() && line.size() < 300) {
-        out += fmt::format("  {}\n", line);
+        out += fmt::format("  {}\n", printable(line));
         std::string caret(d.mark.column > 0 ? d.mark.column - 1 : 0, ' ');
         for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
           if (line[i] == '\t') caret[i] = '\t';

@@ -48,6 +48,11 @@ const char* dim_name(Dim dim) {
   return "?";
 }
 
+std::string a_dim(Dim dim) {
+  std::string n = dim_name(dim);
+  return (n[0] == 'a' || n[0] == 'e' || n[0] == 'i' || n[0] == 'o' || n[0] == 'u' ? "an " : "a ") + n;
+}
+
 const char* file_unit(Dim dim) {
   switch (dim) {
     case Dim::None: return "";

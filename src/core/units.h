@@ -19,6 +19,8 @@ enum class Dim : uint8_t {
 };
 
 const char* dim_name(Dim dim);
+/// "a length", "an angle": for messages.
+std::string a_dim(Dim dim);
 
 /// The unit a plain number means in a file, and the unit reports print: m, deg, kg, s, ...
 const char* file_unit(Dim dim);

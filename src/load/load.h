@@ -17,6 +17,9 @@ uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& dia
 /// spec, with every problem found reported to `diag`.
 std::optional<VaultSpec> load_vault(const std::string& path, Sources& sources, Diagnostics& diag);
 
+/// Loads a vault already registered in `sources` (tests load vaults from strings this way).
+std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics& diag);
+
 /// Loads one type-library file (`library/types/<type>.yaml`).
 std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag,
                                   SourceMark where = {});

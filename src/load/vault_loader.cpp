@@ -251,6 +251,11 @@ std::optional<ConstraintSpec> read_constraint(yaml::Node node, Diagnostics& diag
 std::optional<VaultSpec> load_vault(const std::string& path, Sources& sources, Diagnostics& diag) {
   uint32_t file = read_source(path, sources, diag);
   if (file == 0) return std::nullopt;
+  return load_vault(file, sources, diag);
+}
+
+std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics& diag) {
+  const std::string& path = sources.path(file);
   yaml::Document doc = yaml::parse(sources, file, diag);
   if (doc.empty()) return std::nullopt;
   MapReader root(doc.root(), "a vault file", diag);

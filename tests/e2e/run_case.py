@@ -1,0 +1,183 @@
+#!/usr/bin/env python3
+"""End-to-end test driver: runs the sscs binary and compares what it prints and writes.
+
+  run_case.py --sscs BIN --root REPO golden tests/golden/NAME.case
+      NAME.case holds `args: ...` (run from the repository root) and `exit: N`; the output
+      (stdout, or the --out file when the args name {out}) must equal NAME.out byte for byte.
+      SSCS_UPDATE_GOLDEN=1 rewrites NAME.out instead.
+  run_case.py ... bad tests/data/bad/NAME.expect
+      NAME.expect holds `exit: N` and `stderr: FRAGMENT` lines (and optionally `args: ...`,
+      default `check tests/data/bad/NAME.yaml`). The run must exit N, print every fragment on
+      stderr, print nothing on stdout and write no --out file.
+  run_case.py ... cli
+      command-line behaviour: formats, --out, --set, --strict, exit statuses, types.
+"""
+import argparse
+import json
+import os
+import shlex
+import subprocess
+import sys
+import tempfile
+
+
+def parse_case(path):
+    fields = {"stderr": [], "stdout": []}
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if not line.strip() or line.startswith("#"):
+                continue
+            key, _, value = line.partition(":")
+            value = value[1:] if value.startswith(" ") else value
+            if key in ("stderr", "stdout"):
+                fields[key].append(value)
+            else:
+                fields[key] = value
+    return fields
+
+
+def run(sscs, root, args, env=None):
+    proc = subprocess.run([sscs] + args, cwd=root, capture_output=True, text=True, errors="replace", timeout=300,
+                          env=dict(os.environ, **(env or {}), NO_COLOR="1"))
+    return proc
+
+
+def fail(msg, proc=None):
+    print("FAIL:", msg)
+    if proc is not None:
+        print("--- exit", proc.returncode)
+        print("--- stdout\n" + proc.stdout[-4000:])
+        print("--- stderr\n" + proc.stderr[-4000:])
+    sys.exit(1)
+
+
+def golden(sscs, root, case):
+    fields = parse_case(case)
+    expected_out = case[:-len(".case")] + ".out"
+    with tempfile.TemporaryDirectory() as tmp:
+        out_file = os.path.join(tmp, "report")
+        args = [a.replace("{out}", out_file) for a in shlex.split(fields["args"])]
+        proc = run(sscs, root, args)
+        if proc.returncode != int(fields["exit"]):
+            fail(f"exit status {proc.returncode}, expected {fields['exit']}", proc)
+        actual = open(out_file, encoding="utf-8").read() if "{out}" in fields["args"] else proc.stdout
+    if os.environ.get("SSCS_UPDATE_GOLDEN"):
+        with open(expected_out, "w", encoding="utf-8") as f:
+            f.write(actual)
+        print("updated", expected_out)
+        return
+    expected = open(expected_out, encoding="utf-8").read()
+    if actual != expected:
+        import difflib
+        diff = "".join(difflib.unified_diff(expected.splitlines(True), actual.splitlines(True), "expected", "actual"))
+        fail(f"output differs from {expected_out}:\n{diff[:6000]}")
+    print("ok", case)
+
+
+def bad(sscs, root, expect):
+    fields = parse_case(expect)
+    name = os.path.basename(expect)[:-len(".expect")]
+    args = shlex.split(fields.get("args", f"check tests/data/bad/{name}.yaml"))
+    if not fields["stderr"]:
+        fail(f"{expect} names no stderr fragment")
+    with tempfile.TemporaryDirectory() as tmp:
+        out_file = os.path.join(tmp, "report.json")
+        proc = run(sscs, root, args + ["--out", out_file] if args[0] == "check" else args)
+        if proc.returncode != int(fields["exit"]):
+            fail(f"exit status {proc.returncode}, expected {fields['exit']}", proc)
+        for fragment in fields["stderr"]:
+            if fragment not in proc.stderr:
+                fail(f"stderr lacks {fragment!r}", proc)
+        if proc.stdout.strip():
+            fail("an input error must print nothing on stdout", proc)
+        if os.listdir(tmp):
+            fail(f"an input error must write no output, found {os.listdir(tmp)}", proc)
+    print("ok", expect)
+
+
+def cli(sscs, root):
+    demo = "scenarios/demo/demo.yaml"
+    good = "tests/data/good/minimal.yaml"
+    with tempfile.TemporaryDirectory() as tmp:
+        # A passing vault exits 0 and says so.
+        p = run(sscs, root, ["check", good])
+        if p.returncode != 0 or p.stdout.strip().splitlines()[-1] != "3 passed, 0 failed, 0 warnings":
+            fail("minimal vault should pass", p)
+        # --set changes a parameter and so the result; a failing error constraint exits 1.
+        p = run(sscs, root, ["check", good, "--set", "gap=3 m"])
+        if p.returncode != 1 or "2 passed, 1 failed, 0 warnings" not in p.stdout:
+            fail("--set gap=3 m should fail one constraint", p)
+        # Warnings pass the gate unless --strict.
+        p = run(sscs, root, ["check", "tests/data/good/warning_only.yaml"])
+        if p.returncode != 0 or "1 passed, 0 failed, 1 warnings" not in p.stdout:
+            fail("a failing warning alone exits 0", p)
+        p = run(sscs, root, ["check", "tests/data/good/warning_only.yaml", "--strict"])
+        if p.returncode != 1:
+            fail("a failing warning with --strict exits 1", p)
+        # --out infers the format from the extension and writes the file atomically.
+        out = os.path.join(tmp, "r.json")
+        p = run(sscs, root, ["check", demo, "--out", out])
+        report = json.load(open(out))
+        if p.returncode != 1 or report["vault"] != "DemoStore" or report["failed"] != 3:
+            fail("--out r.json should write the JSON report", p)
+        if [f for f in os.listdir(tmp) if f.startswith(".")]:
+            fail("temporary file left behind")
+        xml = os.path.join(tmp, "r.xml")
+        run(sscs, root, ["check", demo, "--out", xml])
+        import xml.etree.ElementTree as ET
+        suites = ET.parse(xml).getroot()
+        suite = suites.find("testsuite")
+        if suites.tag != "testsuites" or suite.get("name") != "DemoStore" or suite.get("tests") != str(len(report["results"])):
+            fail("junit structure")
+        if len(suite.findall("testcase/failure")) != 2 or len(suite.findall("testcase/error")) != 1:
+            fail("junit should hold 2 failures and 1 error for the demo")
+        # Several vaults in one run: one JSON document with a report each.
+        p = run(sscs, root, ["check", good, demo, "--format", "json"])
+        both = json.loads(p.stdout)
+        if [r["vault"] for r in both["reports"]] != ["Minimal", "DemoStore"] or p.returncode != 1:
+            fail("two vaults", p)
+        # An unknown --set parameter is an input error with a suggestion.
+        p = run(sscs, root, ["check", good, "--set", "gapp=1"])
+        if p.returncode != 2 or "did you mean 'gap'" not in p.stderr:
+            fail("unknown --set", p)
+        # Usage errors exit 2; --version and --help exit 0.
+        if run(sscs, root, ["check"]).returncode != 2 or run(sscs, root, ["frobnicate"]).returncode != 2:
+            fail("usage errors exit 2")
+        p = run(sscs, root, ["--version"])
+        if p.returncode != 0 or not p.stdout.startswith("sscs "):
+            fail("--version", p)
+        if run(sscs, root, ["check", "--help"]).returncode != 0:
+            fail("check --help")
+        # types lists the standard library with attributes, in text and JSON.
+        p = run(sscs, root, ["types", "--format", "json"])
+        types = {t["name"]: t for t in json.loads(p.stdout)["types"]}
+        for t in ["room", "wall", "door", "rack", "shelf", "drum", "shipping_container", "pallet", "cart"]:
+            if t not in types:
+                fail(f"types lacks {t}", p)
+        drum = {a["name"]: a for a in types["drum"]["attributes"]}
+        if drum["diameter"]["default"] != "0.572" or drum["diameter"]["max"] != 2 or drum["lid"]["values"] != ["open", "closed"]:
+            fail("drum attributes", p)
+        p = run(sscs, root, ["types", "--library", "scenarios/demo/library"])
+        if "waste_drum (extends drum)" not in p.stdout or "fissile_mass" not in p.stdout:
+            fail("types --library", p)
+    print("ok cli")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sscs", required=True)
+    ap.add_argument("--root", required=True)
+    ap.add_argument("mode", choices=["golden", "bad", "cli"])
+    ap.add_argument("file", nargs="?")
+    a = ap.parse_args()
+    if a.mode == "golden":
+        golden(a.sscs, a.root, a.file)
+    elif a.mode == "bad":
+        bad(a.sscs, a.root, a.file)
+    else:
+        cli(a.sscs, a.root)
+
+
+if __name__ == "__main__":
+    main()

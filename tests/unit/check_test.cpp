@@ -1,0 +1,141 @@
+#include <cmath>
+
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+using Check = VaultTest;
+
+/// One bound between two drums' heights, returning the result.
+CheckResult bound_result(VaultTest& t, Workcell& keep, const std::string& lhs_h, const std::string& bound) {
+  keep = t.must_compile("objects:\n  - {type: drum, name: A, height: " + lhs_h +
+                        "}\n  - {type: drum, name: B, height: 1}\nconstraints:\n  - {name: c, bound: " + bound + "}\n");
+  CheckReport r = check(keep);
+  EXPECT_EQ(r.results.size(), 1u);
+  return r.results.empty() ? CheckResult{} : r.results[0];
+}
+
+TEST_F(Check, RelopsAndMargins) {
+  Workcell wc;
+  struct Case {
+    const char* lhs;
+    const char* bound;
+    Status status;
+    double margin;
+  } cases[] = {
+      {"0.9", "[A.height, LT, B.height]", Status::Pass, 0.1},
+      {"1", "[A.height, LT, B.height]", Status::Fail, 0.0},
+      {"1", "[A.height, <, B.height]", Status::Fail, 0.0},
+      {"1", "[A.height, LE, B.height]", Status::Pass, 0.0},
+      {"1.2", "[A.height, GT, B.height]", Status::Pass, 0.2},
+      {"1", "[A.height, \">=\", B.height]", Status::Pass, 0.0},  // YAML needs ">" quoted
+      {"0.8", "[A.height, GE, B.height]", Status::Fail, -0.2},
+      {"1", "[A.height, EQ, B.height]", Status::Pass, 1e-9},
+      {"1.5", "[A.height, ==, B.height]", Status::Fail, 1e-9 - 0.5},
+      {"0.5", "[A.height, LT, 600 mm]", Status::Pass, 0.1},
+      {"0.5", "[A.height, GT, 2 ft]", Status::Fail, 0.5 - 0.6096},
+  };
+  for (const Case& c : cases) {
+    CheckResult r = bound_result(*this, wc, c.lhs, c.bound);
+    EXPECT_EQ(r.status, c.status) << c.bound << " lhs " << c.lhs;
+    ASSERT_TRUE(r.margin) << c.bound;
+    EXPECT_NEAR(*r.margin, c.margin, 1e-12) << c.bound << " lhs " << c.lhs;
+  }
+}
+
+TEST_F(Check, TolerancesShiftBothSides) {
+  Workcell wc;
+  // lhs + lhs_tol OP rhs + rhs_tol: 0.7 + 0.2 <= 1 - 0.05
+  CheckResult r = bound_result(*this, wc, "0.7", "{lhs: A.height, lhs_tol: 200 mm, op: LE, rhs: B.height, rhs_tol: -0.05}");
+  EXPECT_EQ(r.status, Status::Pass);
+  EXPECT_NEAR(*r.margin, 0.05, 1e-12);
+  EXPECT_NEAR(*r.lhs, 0.7, 1e-12);  // reported values are the operands, tolerances in the margin
+  r = bound_result(*this, wc, "0.8", "{lhs: A.height, lhs_tol: 200 mm, op: LE, rhs: B.height, rhs_tol: -0.05}");
+  EXPECT_EQ(r.status, Status::Fail);
+  EXPECT_NEAR(*r.margin, -0.05, 1e-12);
+}
+
+TEST_F(Check, EpsilonMakesRoundingEqual) {
+  Workcell wc;
+  CheckResult r = bound_result(*this, wc, "\"1 + 1e-12\"", "[A.height, EQ, B.height]");
+  EXPECT_EQ(r.status, Status::Pass);
+  r = bound_result(*this, wc, "\"1 + 1e-12\"", "[A.height, LE, B.height]");
+  EXPECT_EQ(r.status, Status::Pass);  // LE holds within eps
+  r = bound_result(*this, wc, "1.004", "{lhs: A.height, op: EQ, rhs: B.height, eps: 5 mm}");
+  EXPECT_EQ(r.status, Status::Pass);
+  EXPECT_NEAR(*r.margin, 0.001, 1e-12);
+  r = bound_result(*this, wc, "1.006", "{lhs: A.height, op: EQ, rhs: B.height, eps: 5 mm}");
+  EXPECT_EQ(r.status, Status::Fail);
+}
+
+TEST_F(Check, AnglesReportInDegrees) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: drum, name: A, orientation: [0, 0, 30]}\n"
+      "constraints:\n  - {name: c, bound: [A.orientation.yaw, LT, 45]}\n");
+  CheckResult r = check(wc).results[0];
+  EXPECT_EQ(r.status, Status::Pass);
+  EXPECT_NEAR(*r.lhs, 30, 1e-9);
+  EXPECT_NEAR(*r.margin, 15, 1e-9);
+  EXPECT_EQ(r.dim, Dim::Angle);
+}
+
+TEST_F(Check, ExprResultsCarryMargins) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: door, name: D, height: 2}\n"
+      "constraints:\n"
+      "  - {name: ternary, expr: \"R.height > 3 ? D.height == 2 : D.height < 2\"}\n"
+      "  - {name: both, expr: \"R.width < R.length && D.height + 1 < R.height\"}\n"
+      "  - {name: either, expr: \"R.width > R.length || deg(atan2(D.height, R.width)) < 10\"}\n");
+  CheckReport rep = check(wc);
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass);
+  EXPECT_FALSE(rep.results[0].margin);  // a ternary has no margin
+  EXPECT_EQ(rep.results[1].status, Status::Pass);
+  EXPECT_NEAR(*rep.results[1].margin, 1.0, 1e-12);  // min(10 - 6, 4 - 3)
+  EXPECT_EQ(rep.results[2].status, Status::Fail);
+  EXPECT_NEAR(*rep.results[2].margin, -4.0, 1e-9);  // max(6 - 10, 10 - 18.43)
+  EXPECT_EQ(rep.passed, 2u);
+  EXPECT_EQ(rep.failed, 1u);
+}
+
+TEST_F(Check, WarningsAreCountedApart) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: drum, name: A}\n"
+      "constraints:\n  - {name: w, bound: [A.height, GT, 5], severity: warning}\n");
+  CheckReport rep = check(wc);
+  EXPECT_EQ(rep.failed, 0u);
+  EXPECT_EQ(rep.warnings, 1u);
+  EXPECT_FALSE(rep.violated(false));
+  EXPECT_TRUE(rep.violated(true));
+}
+
+TEST_F(Check, GeometricKindsAreErrorsUntilGeometryExists) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: drum, name: A}\n  - {type: drum, name: B, location: [2, 0, 0]}\n"
+      "constraints:\n  - {name: apart, clearance: {a: A, b: B, min: 0.5 m}}\n"
+      "  - {name: box, bound: [A.bbox.max.z, LT, 2]}\n");
+  CheckReport rep = check(wc);
+  ASSERT_EQ(rep.results.size(), 2u);
+  for (const CheckResult& r : rep.results) {
+    EXPECT_EQ(r.status, Status::Error);
+    EXPECT_NE(r.message.find("geometry"), std::string::npos);
+  }
+  EXPECT_EQ(rep.failed, 2u);  // never passed silently
+  EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{0, 1}));
+}
+
+TEST_F(Check, SelectorsExpandNamesGlobsAndTypes) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: drum, name: D1}\n  - {type: drum, name: D2}\n  - {type: pallet, name: P1}\n"
+      "constraints:\n  - {name: n1, no_overlap: {objects: [\"D*\", P1]}}\n"
+      "  - {name: n2, no_overlap: {objects: \"type:drum\"}}\n"
+      "  - {name: n3, no_overlap: {objects: \"X*\", allow_empty: true}}\n");
+  EXPECT_EQ(wc.constraints[0].subjects, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(wc.constraints[1].subjects, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(wc.constraints[2].subjects.empty());
+}
+
+}  // namespace
+}  // namespace sscs::testing

@@ -1,0 +1,142 @@
+#include <cmath>
+#include <numbers>
+
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+using Compile = VaultTest;
+
+TEST_F(Compile, UnitsConvertToSiAndDefaultsApply) {
+  Workcell wc = must_compile(
+      "objects:\n"
+      "  - {type: room, name: R, length: 30 ft, width: 5000 mm, height: 4, orientation: [0, 0, 90]}\n"
+      "  - {type: drum, name: D}\n");
+  EXPECT_NEAR(value(wc, "R.length"), 9.144, 1e-12);
+  EXPECT_NEAR(value(wc, "R.width"), 5.0, 1e-12);
+  EXPECT_NEAR(value(wc, "R.orientation.yaw"), std::numbers::pi / 2, 1e-12);  // plain angles are degrees
+  EXPECT_NEAR(value(wc, "D.diameter"), 0.572, 1e-12);
+  EXPECT_NEAR(value(wc, "D.height"), 0.851, 1e-12);
+}
+
+TEST_F(Compile, ExpressionsEvaluateInDependencyOrder) {
+  // C depends on B which depends on A, written in reverse order.
+  Workcell wc = must_compile(
+      "parameters:\n  gap: 250 mm\n  double_gap: \"2 * gap\"\n"
+      "objects:\n"
+      "  - {type: drum, name: C, location: [\"B.location.x + double_gap\", 0, 0]}\n"
+      "  - {type: drum, name: B, location: [\"A.location.x + A.diameter\", 0, 0], height: \"A.height * 2\"}\n"
+      "  - {type: drum, name: A, location: [1, 0, 0], diameter: 0.6}\n");
+  EXPECT_NEAR(value(wc, "B.location.x"), 1.6, 1e-12);
+  EXPECT_NEAR(value(wc, "C.location.x"), 2.1, 1e-12);
+  EXPECT_NEAR(value(wc, "B.height"), 1.702, 1e-12);
+}
+
+TEST_F(Compile, CyclesAreReportedWithTheirPath) {
+  std::string msg = first_error(
+      "objects:\n"
+      "  - {type: drum, name: A, height: \"B.height\"}\n"
+      "  - {type: drum, name: B, height: \"C.height\"}\n"
+      "  - {type: drum, name: C, height: \"A.height + 1\"}\n");
+  EXPECT_EQ(msg, "values depend on each other in a cycle: A.height -> B.height -> C.height -> A.height");
+}
+
+TEST_F(Compile, ParametersAndOverrides) {
+  const std::string body =
+      "parameters:\n  aisle: 1.5 m\n  rows: {value: 4, type: integer, min: 1, max: 40}\n"
+      "objects:\n  - type: drum\n    array: {name: \"D{i}\", count: [rows], pitch: [\"0.6 + aisle\", 0, 0]}\n";
+  Workcell wc = must_compile(body);
+  EXPECT_EQ(wc.objects.size(), 4u);
+  EXPECT_NEAR(value(wc, "D4.location.x"), 3 * 2.1, 1e-12);
+  options.overrides = {{"aisle", "500 mm"}, {"rows", "2"}};
+  Workcell wc2 = must_compile(body);
+  EXPECT_EQ(wc2.objects.size(), 2u);
+  EXPECT_NEAR(value(wc2, "D2.location.x"), 1.1, 1e-12);
+  options.overrides = {{"rows", "41"}};
+  EXPECT_EQ(first_error(body), "parameter 'rows' is 41, above its max 40 (from --set rows=41)");
+}
+
+TEST_F(Compile, ArraysExpandNamesAndLocations) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 20, width: 20, height: 5}\n"
+      "  - type: rack\n    parent: R\n    location: [2, 1, 0]\n"
+      "    array: {name: \"Rack_{i}_{j}\", count: [2, 3], pitch: [3, 1.2, 0]}\n"
+      "    levels: \"i + j\"\n");
+  ASSERT_EQ(wc.objects.size(), 7u);
+  EXPECT_EQ(wc.objects[1].name, "Rack_1_1");
+  EXPECT_EQ(wc.objects[6].name, "Rack_2_3");
+  EXPECT_NEAR(value(wc, "Rack_2_3.location.x"), 5.0, 1e-12);
+  EXPECT_NEAR(value(wc, "Rack_2_3.location.y"), 1 + 2 * 1.2, 1e-12);
+  EXPECT_EQ(value(wc, "Rack_2_3.levels"), 5);  // i and j are usable in member expressions
+  EXPECT_EQ(wc.objects[wc.find_object("Rack_1_2")].parent, 0);
+}
+
+TEST_F(Compile, ArrayNamesMustStayUnique) {
+  std::string msg = first_error(
+      "objects:\n  - type: drum\n    array: {name: \"D{i}\", count: [2, 2]}\n");
+  EXPECT_EQ(msg, "object name 'D1' is used twice (first at line 5)");
+}
+
+TEST_F(Compile, InheritanceMergesAndOverridesAttributes) {
+  options.library_dirs = {type_dir({
+      {"base_box", "sscs: 1\ntype: base_box\nattributes:\n  size: {type: length, default: 1, min: 0.5}\n"
+                   "  label: {type: string, default: none}\n"},
+      {"big_box", "sscs: 1\ntype: big_box\nextends: base_box\nattributes:\n  size: {type: length, default: 3}\n"
+                  "  count: {type: integer, default: \"size * 2\"}\n"},
+  })};
+  Workcell wc = must_compile("objects:\n  - {type: big_box, name: B}\n  - {type: base_box, name: S, label: small}\n");
+  const Object& b = wc.objects[wc.find_object("B")];
+  const ObjectType& t = wc.types[b.type];
+  ASSERT_EQ(t.attributes.size(), 3u);  // size, label inherited; count own
+  EXPECT_EQ(t.attributes[0].name, "size");
+  EXPECT_NEAR(value(wc, "B.size"), 3, 1e-12);
+  EXPECT_EQ(value(wc, "B.count"), 6);  // a type default may use the object's own attributes
+  EXPECT_EQ(wc.texts[wc.objects[wc.find_object("S")].first_slot + kFirstAttributeSlot + 1], "small");
+  EXPECT_TRUE(wc.is_a(b.type, wc.objects[wc.find_object("S")].type));
+}
+
+TEST_F(Compile, InheritanceCyclesAndUnknownBasesAreErrors) {
+  options.library_dirs = {type_dir({
+      {"a_type", "sscs: 1\ntype: a_type\nextends: b_type\n"},
+      {"b_type", "sscs: 1\ntype: b_type\nextends: a_type\n"},
+      {"c_type", "sscs: 1\ntype: c_type\nextends: drun\n"},
+  })};
+  compile_text("objects: []\n");
+  std::string all = diag.format(sources);
+  EXPECT_NE(all.find("type 'a_type' extends itself through a cycle"), std::string::npos) << all;
+  EXPECT_NE(all.find("type 'c_type' extends unknown type 'drun' (did you mean 'drum'?)"), std::string::npos) << all;
+}
+
+TEST_F(Compile, IntegerRangeIsChecked) {
+  EXPECT_EQ(first_error("objects:\n  - {type: rack, name: R, levels: -2147483649}\n"),
+            "integer attribute 'levels' of 'R' is -2147483649, outside the 32-bit range -2147483648 to 2147483647");
+}
+
+TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
+  compile_text(
+      "objects:\n  - {type: drumm, name: A}\n  - {type: drum, name: B, diamter: 1}\n  - {type: room, name: C}\n");
+  ASSERT_EQ(diag.count(), 5u) << diag.format(sources);  // and no range errors for the missing values
+  EXPECT_EQ(diag.errors()[0].message, "unknown type 'drumm' (did you mean 'drum'?)");
+  EXPECT_EQ(diag.errors()[1].message, "type 'drum' has no attribute 'diamter' (did you mean 'diameter'?)");
+  EXPECT_EQ(diag.errors()[2].message, "object 'C' (a room) needs a value for 'length', which has no default");
+}
+
+TEST_F(Compile, DeviceJointsAreAttributesWithLimits) {
+  options.library_dirs = {type_dir({
+      {"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
+                 "  - name: carriage\n    parent: base\n"
+                 "    joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 2 m}}\n"
+                 "  - name: arm\n    parent: carriage\n"
+                 "    joint: {name: turn, type: revolute, axis: [0, 0, 1], limits: {min: -90, max: 90}}\n"
+                 "tool: {part: arm, xyz: [0, 0, 0.1]}\nhome: {turn: 45}\n"},
+  })};
+  Workcell wc = must_compile("objects:\n  - {type: slider, name: S, x: 1.5}\n  - {type: slider, name: T}\n");
+  EXPECT_NEAR(value(wc, "S.x"), 1.5, 1e-12);
+  EXPECT_NEAR(value(wc, "T.turn"), std::numbers::pi / 4, 1e-12);  // home value is the default
+  EXPECT_EQ(first_error("objects:\n  - {type: slider, name: S, x: 3}\n"),
+            "'x' of 'S' is 3 m, above the max 2 m of type 'slider'");
+}
+
+}  // namespace
+}  // namespace sscs::testing

@@ -1,0 +1,39 @@
+#include <gtest/gtest.h>
+
+#include "core/names.h"
+
+namespace sscs {
+namespace {
+
+TEST(Names, Validity) {
+  for (const char* good : {"Room1", "a", "Rack_1_2", "door-east", "Z9_-"}) EXPECT_TRUE(is_valid_name(good)) << good;
+  for (const char* bad : {"", "1Room", "_x", "-x", "Room.1", "Room 1", "Räck"}) EXPECT_FALSE(is_valid_name(bad)) << bad;
+}
+
+TEST(Names, EditDistance) {
+  EXPECT_EQ(edit_distance("", ""), 0u);
+  EXPECT_EQ(edit_distance("Door1", "Door1"), 0u);
+  EXPECT_EQ(edit_distance("Dor1", "Door1"), 1u);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+}
+
+TEST(Names, DidYouMeanPicksTheClosePlausibleName) {
+  std::vector<std::string> names = {"Door1", "Room1", "Rack_1_1"};
+  EXPECT_EQ(did_you_mean("Dor1", names), " (did you mean 'Door1'?)");
+  EXPECT_EQ(closest_name("Rack_11", names), "Rack_1_1");
+  EXPECT_EQ(did_you_mean("Conveyor", names), "");  // nothing close: no suggestion
+}
+
+TEST(Names, Glob) {
+  EXPECT_TRUE(glob_match("Rack_*", "Rack_1_2"));
+  EXPECT_TRUE(glob_match("Drum_?_3", "Drum_2_3"));
+  EXPECT_FALSE(glob_match("Drum_?_3", "Drum_12_3"));
+  EXPECT_TRUE(glob_match("*", "anything"));
+  EXPECT_TRUE(glob_match("*_1", "Rack_1_1"));
+  EXPECT_FALSE(glob_match("Rack_*", "Room1"));
+  EXPECT_TRUE(glob_match("a*b*c", "aXXbYYc"));
+  EXPECT_FALSE(glob_match("a*b*c", "aXXbYY"));
+}
+
+}  // namespace
+}  // namespace sscs

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/units.h"
+
+namespace sscs {
+namespace {
+
+TEST(Units, PlainNumbersHaveNoDimension) {
+  auto q = parse_quantity("1.5");
+  ASSERT_TRUE(q);
+  EXPECT_DOUBLE_EQ(q->si, 1.5);
+  EXPECT_EQ(q->dim, Dim::None);
+  EXPECT_FALSE(q->has_unit);
+  EXPECT_DOUBLE_EQ(parse_quantity("-2e3")->si, -2000);
+  EXPECT_DOUBLE_EQ(parse_quantity("+.5")->si, 0.5);
+}
+
+TEST(Units, LiteralsConvertToSi) {
+  struct Case {
+    const char* text;
+    double si;
+    Dim dim;
+  } cases[] = {
+      {"300 mm", 0.3, Dim::Length},       {"2 ft", 0.6096, Dim::Length},        {"1.5 in", 0.0381, Dim::Length},
+      {"90 deg", std::numbers::pi / 2, Dim::Angle}, {"1.2 rad", 1.2, Dim::Angle}, {"500 ms", 0.5, Dim::Time},
+      {"20 lb", 9.0718474, Dim::Mass},    {"2 t", 2000, Dim::Mass},              {"0.25 m/s", 0.25, Dim::Velocity},
+      {"50%", 0.5, Dim::Fraction},        {"100 Hz", 100, Dim::Frequency},       {"-3cm", -0.03, Dim::Length},
+      {"1e3 mm", 1.0, Dim::Length},
+  };
+  for (const Case& c : cases) {
+    auto q = parse_quantity(c.text);
+    ASSERT_TRUE(q) << c.text;
+    EXPECT_NEAR(q->si, c.si, 1e-12) << c.text;
+    EXPECT_EQ(q->dim, c.dim) << c.text;
+    EXPECT_TRUE(q->has_unit) << c.text;
+  }
+}
+
+TEST(Units, UnknownUnitIsNamed) {
+  std::string unknown;
+  EXPECT_FALSE(parse_quantity("10 furlong", &unknown));
+  EXPECT_EQ(unknown, "furlong");
+  unknown.clear();
+  EXPECT_FALSE(parse_quantity("Room1.height - 2", &unknown));  // an expression, not a unit
+  EXPECT_EQ(unknown, "");
+  EXPECT_FALSE(parse_quantity("a + b", &unknown));
+  EXPECT_EQ(unknown, "");
+}
+
+TEST(Units, NonFiniteNumbersAreRejected) {
+  EXPECT_FALSE(parse_number("nan"));
+  EXPECT_FALSE(parse_number("inf"));
+  EXPECT_FALSE(parse_number("1e999"));
+  EXPECT_TRUE(looks_like_nonfinite(".nan"));
+  EXPECT_TRUE(looks_like_nonfinite("-.inf"));
+  EXPECT_TRUE(looks_like_nonfinite("1e999"));
+  EXPECT_FALSE(looks_like_nonfinite("1e99"));
+  EXPECT_FALSE(looks_like_nonfinite("banana"));
+}
+
+TEST(Units, FileUnitsAreDegreesForAngles) {
+  EXPECT_STREQ(file_unit(Dim::Length), "m");
+  EXPECT_STREQ(file_unit(Dim::Angle), "deg");
+  EXPECT_NEAR(si_to_file(std::numbers::pi, Dim::Angle), 180.0, 1e-12);
+  EXPECT_DOUBLE_EQ(si_to_file(2.5, Dim::Length), 2.5);
+  EXPECT_EQ(known_units(Dim::Angle), "deg, rad");
+}
+
+}  // namespace
+}  // namespace sscs

@@ -1,0 +1,100 @@
+#include <gtest/gtest.h>
+
+#include "core/yaml_tree.h"
+
+namespace sscs {
+namespace {
+
+struct Parsed {
+  Sources sources;
+  Diagnostics diag;
+  yaml::Document doc;
+};
+
+std::unique_ptr<Parsed> parse(const std::string& text) {
+  auto p = std::make_unique<Parsed>();
+  uint32_t file = p->sources.add("t.yaml", text);
+  p->doc = yaml::parse(p->sources, file, p->diag);
+  return p;
+}
+
+TEST(YamlTree, MarksAreOneBasedLineAndColumn) {
+  auto p = parse("a: 1\nb:\n  - x\n  - {c: \"q\"}\n");
+  ASSERT_FALSE(p->diag.has_errors());
+  yaml::Node root = p->doc.root();
+  ASSERT_TRUE(root.is_map());
+  EXPECT_EQ(root.size(), 2u);
+  yaml::Node b = root.find("b");
+  ASSERT_TRUE(b.is_sequence());
+  EXPECT_EQ(b.item(0).text(), "x");
+  EXPECT_EQ(b.item(0).mark().line, 3u);
+  EXPECT_EQ(b.item(0).mark().column, 5u);
+  yaml::Node c = b.item(1).find("c");
+  EXPECT_EQ(c.text(), "q");
+  EXPECT_TRUE(c.quoted());
+  EXPECT_FALSE(b.item(0).quoted());
+  EXPECT_EQ(c.mark().line, 4u);
+  EXPECT_EQ(c.mark().column, 9u);  // a quoted scalar's mark is its opening quote
+}
+
+TEST(YamlTree, NullsAreNodes) {
+  auto p = parse("a: ~\nb:\nc: null\n");
+  ASSERT_FALSE(p->diag.has_errors());
+  for (const char* k : {"a", "b", "c"}) EXPECT_TRUE(p->doc.root().find(k).is_null()) << k;
+}
+
+TEST(YamlTree, DuplicateKeysAreErrors) {
+  auto p = parse("a: 1\nb: 2\na: 3\n");
+  ASSERT_EQ(p->diag.count(), 1u);
+  EXPECT_EQ(p->diag.errors()[0].message, "duplicate key 'a' (first given at line 1)");
+  EXPECT_EQ(p->diag.errors()[0].mark.line, 3u);
+}
+
+TEST(YamlTree, AliasesShareNodesAndBombsAreStopped) {
+  auto p = parse("a: &x [1, 2]\nb: *x\n");
+  ASSERT_FALSE(p->diag.has_errors());
+  EXPECT_EQ(p->doc.root().find("b").item(1).text(), "2");
+  std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  std::string prev = "a";
+  for (char n = 'b'; n <= 'h'; ++n) {
+    bomb += std::string(1, n) + ": &" + n + " [";
+    for (int i = 0; i < 10; ++i) bomb += (i ? ", *" : "*") + prev;
+    bomb += "]\n";
+    prev = std::string(1, n);
+  }
+  auto q = parse(bomb);
+  ASSERT_TRUE(q->diag.has_errors());
+  EXPECT_NE(q->diag.errors()[0].message.find("alias bomb"), std::string::npos);
+  EXPECT_TRUE(q->doc.empty());
+}
+
+TEST(YamlTree, DeepNestingStops) {
+  auto p = parse("a: " + std::string(100, '[') + std::string(100, ']') + "\n");
+  ASSERT_TRUE(p->diag.has_errors());
+  EXPECT_EQ(p->diag.errors()[0].message, "nesting deeper than 64 levels");
+}
+
+TEST(YamlTree, BinaryIsRejectedWithItsPosition) {
+  auto p = parse(std::string("a: 1\nb: x\x01y\n"));
+  ASSERT_TRUE(p->diag.has_errors());
+  EXPECT_EQ(p->diag.errors()[0].mark.line, 2u);
+  EXPECT_EQ(p->diag.errors()[0].mark.column, 5u);
+  auto q = parse(std::string("a: caf\xc3\xa9\n"));  // valid UTF-8 passes
+  EXPECT_FALSE(q->diag.has_errors());
+}
+
+TEST(YamlTree, DiagnosticsQuoteTheLineWithACaret) {
+  auto p = parse("a: 1\nbb: 2\n  # note\nbb: 3\n");
+  ASSERT_TRUE(p->diag.has_errors());
+  EXPECT_EQ(p->diag.format(p->sources),
+            "t.yaml:4:1: error: duplicate key 'bb' (first given at line 2)\n"
+            "  bb: 3\n"
+            "  ^\n");
+  auto q = parse("a: 1\nb: [1, 2\n");
+  ASSERT_TRUE(q->diag.has_errors());
+  EXPECT_EQ(q->diag.format(q->sources).rfind("t.yaml:", 0), 0u);
+  EXPECT_NE(q->diag.format(q->sources).find("error: invalid YAML"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sscs

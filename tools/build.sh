@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Configures (once) and builds sscs incrementally in build/. Used by run-demo.sh and test.sh.
+# SSCS_BUILD_DIR overrides the folder; CI=true turns warnings into errors.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${SSCS_BUILD_DIR:-$root/build}
+werror=OFF
+[[ ${CI:-} == true ]] && werror=ON
+if [[ ! -f $build/CMakeCache.txt ]] || ! grep -q "SSCS_WERROR:BOOL=$werror" "$build/CMakeCache.txt"; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSCS_WERROR=$werror >/dev/null
+fi
+cmake --build "$build" -j"$(nproc)" >"$build/build.log" 2>&1 || { tail -n 60 "$build/build.log"; echo "build failed (full log: $build/build.log)" >&2; exit 1; }

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and checks the demo vault; prints where the reports are.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$root/tools/setup.sh"
+"$root/tools/build.sh"
+build=${SSCS_BUILD_DIR:-$root/build}
+sscs=$build/src/sscs
+out=$build/demo
+mkdir -p "$out"
+cd "$root"
+echo "== sscs check scenarios/demo/demo.yaml"
+status=0
+"$sscs" check scenarios/demo/demo.yaml || status=$?
+"$sscs" check scenarios/demo/demo.yaml --format json --out "$out/report.json" --quiet || true
+"$sscs" check scenarios/demo/demo.yaml --format junit --out "$out/report.xml" --quiet || true
+echo
+echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
+echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
