@@ -13,6 +13,7 @@
 
 #include "check/check.h"
 #include "compile/compile.h"
+#include "core/timer.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -95,8 +96,10 @@ int run_check(const Common& common, const CheckArgs& args) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;  // nothing written
   }
+  StageTimer timer;
   std::vector<VaultReport> reports;
   for (size_t i = 0; i < cells.size(); ++i) reports.push_back({&cells[i], args.vaults[i], check(cells[i])});
+  timer.lap("check");
   std::string output;
   if (format == "json") {
     output = format_json(reports, sources);
@@ -106,6 +109,7 @@ int run_check(const Common& common, const CheckArgs& args) {
     bool color = args.out.empty() && common.color_for(stdout);
     output = format_text(reports, sources, {color, common.quiet, args.strict});
   }
+  timer.lap("report");
   if (args.out.empty()) {
     std::cout << output << std::flush;
   } else {

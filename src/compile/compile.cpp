@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "compile/state.h"
+#include "core/timer.h"
 #include "compile/values.h"
 #include "core/names.h"
 #include "load/load.h"
@@ -699,9 +700,13 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
 
 std::optional<Workcell> compile_file(const std::string& path, const CompileOptions& options, Sources& sources,
                                      Diagnostics& diag) {
+  StageTimer timer;
   auto spec = load_vault(path, sources, diag);
+  timer.lap("load");
   if (!spec || diag.has_errors()) return std::nullopt;
-  return compile(*spec, options, sources, diag);
+  auto wc = compile(*spec, options, sources, diag);
+  timer.lap("compile");
+  return wc;
 }
 
 }  // namespace sscs

@@ -198,6 +198,7 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
 
 void compile_constraints(CompileState& st) {
   std::set<std::string> seen;
+  st.wc.constraints.reserve(st.spec.constraints.size());
   for (const ConstraintSpec& spec : st.spec.constraints) {
     if (!seen.insert(spec.name).second)
       st.diag.error(spec.mark, fmt::format("constraint name '{}' is used twice", spec.name));
@@ -212,12 +213,14 @@ void compile_constraints(CompileState& st) {
       compile_bound(st, *b, c);
     } else if (auto* e = std::get_if<ExprSpec>(&spec.kind)) {
       compile_expr(st, *e, c);
-    } else if (auto* p = std::get_if<PluginSpec>(&spec.kind)) {
+    } else if (auto* pbox = std::get_if<Boxed<PluginSpec>>(&spec.kind)) {
+      auto* p = &**pbox;
       for (const Scalar& ref : p->attributes)
         if (auto op = bound_operand(st, ref, "a plugin attribute"); op && op->object >= 0) c.subjects.push_back(op->object);
       c.body = DeferredCheck{fmt::format("plugin constraint class '{}' needs the plugin loader, which this sscs version "
                                          "does not have yet", p->cls.text), {}};
-    } else if (auto* cl = std::get_if<ClearanceSpec>(&spec.kind)) {
+    } else if (auto* clbox = std::get_if<Boxed<ClearanceSpec>>(&spec.kind)) {
+      auto* cl = &**clbox;
       if (cl->objects) {
         c.subjects = select(st, *cl->objects, "clearance objects");
       } else {
@@ -226,14 +229,17 @@ void compile_constraints(CompileState& st) {
       }
       literal_si(cl->min, Dim::Length, "clearance min", st.diag);
       c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
-    } else if (auto* n = std::get_if<NoOverlapSpec>(&spec.kind)) {
+    } else if (auto* nbox = std::get_if<Boxed<NoOverlapSpec>>(&spec.kind)) {
+      auto* n = &**nbox;
       c.subjects = select(st, n->objects, "no_overlap objects");
       c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
-    } else if (auto* in = std::get_if<InsideSpec>(&spec.kind)) {
+    } else if (auto* inbox = std::get_if<Boxed<InsideSpec>>(&spec.kind)) {
+      auto* in = &**inbox;
       c.subjects = select(st, in->objects, "inside objects");
       if (int o = object_ref(st, in->container, "inside container"); o >= 0) c.subjects.push_back(o);
       c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
-    } else if (auto* r = std::get_if<ReachSpec>(&spec.kind)) {
+    } else if (auto* rbox = std::get_if<Boxed<ReachSpec>>(&spec.kind)) {
+      auto* r = &**rbox;
       int device = object_ref(st, r->device, "reach device");
       if (device >= 0 && !st.wc.types[st.wc.objects[device].type].device)
         st.diag.error(r->device.mark, fmt::format("reach device '{}' is a {}, not a device", r->device.text,

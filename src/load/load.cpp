@@ -32,6 +32,7 @@ namespace load {
 
 MapReader::MapReader(yaml::Node node, std::string what, Diagnostics& diag)
     : node_(node), what_(std::move(what)), diag_(diag) {
+  known_.reserve(16);
   if (!node.valid()) return;
   if (!node.is_map()) {
     expected(diag, node, "a mapping", what_);
@@ -63,7 +64,8 @@ std::vector<std::pair<yaml::Node, yaml::Node>> MapReader::rest() {
 
 void MapReader::finish() {
   for (auto& [key, value] : rest()) {
-    diag_.error(key.mark(), fmt::format("unknown key '{}' in {}{}", key.text(), what_, did_you_mean(key.text(), known_)));
+    diag_.error(key.mark(), fmt::format("unknown key '{}' in {}{}", key.text(), what_,
+                                        did_you_mean(key.text(), std::vector<std::string>(known_.begin(), known_.end()))));
   }
 }
 

@@ -37,7 +37,7 @@ class MapReader {
   std::string what_;
   Diagnostics& diag_;
   bool ok_ = false;
-  std::vector<std::string> known_;
+  std::vector<std::string_view> known_;  ///< keys are string literals or static names
 };
 
 /// Reports "expected X for Y, found Z" at the node.

@@ -3,6 +3,7 @@
 /// The load stage fills these; the compile stage turns them into a Workcell. Values stay text here
 /// (numbers, unit literals and expressions alike) because their meaning depends on the type.
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -206,7 +207,21 @@ struct ReachSpec {
   Scalar position_tol, angle_tol;
 };
 
-using ConstraintKind = std::variant<BoundSpec, ExprSpec, PluginSpec, ClearanceSpec, NoOverlapSpec, InsideSpec, ReachSpec>;
+/// A value kept on the heap, so that rare, large alternatives do not make every variant large
+/// (a vault may hold 200,000 bounds and a handful of reach constraints).
+template <class T>
+class Boxed {
+ public:
+  Boxed(T value) : ptr_(std::make_unique<T>(std::move(value))) {}  // NOLINT: implicit on purpose
+  T& operator*() const { return *ptr_; }
+  T* operator->() const { return ptr_.get(); }
+
+ private:
+  std::unique_ptr<T> ptr_;
+};
+
+using ConstraintKind = std::variant<BoundSpec, ExprSpec, Boxed<PluginSpec>, Boxed<ClearanceSpec>, Boxed<NoOverlapSpec>,
+                                    Boxed<InsideSpec>, Boxed<ReachSpec>>;
 const char* constraint_kind_name(const ConstraintKind& kind);
 
 struct ConstraintSpec {

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "core/names.h"
+#include "core/timer.h"
 #include "core/yaml_tree.h"
 #include "load/load.h"
 #include "load/reader.h"
@@ -256,7 +257,9 @@ std::optional<VaultSpec> load_vault(const std::string& path, Sources& sources, D
 
 std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics& diag) {
   const std::string& path = sources.path(file);
+  StageTimer timer;
   yaml::Document doc = yaml::parse(sources, file, diag);
+  timer.lap("parse");
   if (doc.empty()) return std::nullopt;
   MapReader root(doc.root(), "a vault file", diag);
   if (!root.ok()) return std::nullopt;
@@ -273,14 +276,18 @@ std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics
   for (auto& [k, val] : params.rest()) v.parameters.push_back(read_parameter(k, val, diag));
   yaml::Node objects = root.take("objects");
   if (objects.valid() && !objects.is_sequence()) load::expected(diag, objects, "a sequence of objects", "objects");
-  else if (objects.valid())
+  else if (objects.valid()) {
+    v.objects.reserve(objects.size());
     for (size_t i = 0; i < objects.size() && !diag.full(); ++i) v.objects.push_back(read_object(objects.item(i), diag));
+  }
   yaml::Node constraints = root.take("constraints");
   if (constraints.valid() && !constraints.is_sequence())
     load::expected(diag, constraints, "a sequence of constraints", "constraints");
-  else if (constraints.valid())
+  else if (constraints.valid()) {
+    v.constraints.reserve(constraints.size());
     for (size_t i = 0; i < constraints.size() && !diag.full(); ++i)
       if (auto c = read_constraint(constraints.item(i), diag)) v.constraints.push_back(std::move(*c));
+  }
   root.finish();
   return v;
 }

@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""Benchmark of issue 3: `sscs check` on a generated 20,000-object, 200,000-constraint vault,
+side by side with bare yaml-cpp (YAML::LoadFile + a visit of every scalar) on the same file.
+
+Prints wall time and peak resident memory of both and the ratios (targets: time <= 0.6x,
+memory <= 0.25x). usage: check_vs_yaml.py [--build DIR] [--objects N] [--constraints M] [--runs K]
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def measure(cmd):
+    """Wall seconds and peak RSS (MiB) of one run of cmd."""
+    start = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - start
+    code = os.waitstatus_to_exitcode(status)
+    if code not in (0, 1):
+        sys.exit(f"{cmd[0]} exited {code}: {proc.stderr.read().decode()[:2000]}")
+    return wall, usage.ru_maxrss / 1024.0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--objects", type=int, default=20000)
+    ap.add_argument("--constraints", type=int, default=200000)
+    ap.add_argument("--runs", type=int, default=3)
+    a = ap.parse_args()
+    sscs = os.path.join(a.build, "src", "sscs")
+    bare = os.path.join(a.build, "tools", "bench", "bare_yaml_parse")
+    with tempfile.TemporaryDirectory() as tmp:
+        vault = os.path.join(tmp, "bench.yaml")
+        subprocess.run([sys.executable, os.path.join(ROOT, "tools", "bench", "gen_vault.py"), vault,
+                        "--objects", str(a.objects), "--constraints", str(a.constraints)], check=True)
+        size = os.path.getsize(vault) / 1e6
+        print(f"vault: {a.objects} objects, {a.constraints} constraints, {size:.1f} MB")
+        results = {"sscs check": [], "bare yaml-cpp": []}
+        for _ in range(a.runs):  # interleaved, so drift affects both alike
+            results["sscs check"].append(measure([sscs, "check", vault, "--quiet"]))
+            results["bare yaml-cpp"].append(measure([bare, vault]))
+    best = {k: (min(w for w, _ in v), max(m for _, m in v)) for k, v in results.items()}
+    for name, (wall, mem) in best.items():
+        print(f"{name:>14}: {wall:7.2f} s (best of {a.runs})  {mem:8.1f} MiB peak")
+    t = best["sscs check"][0] / best["bare yaml-cpp"][0]
+    m = best["sscs check"][1] / best["bare yaml-cpp"][1]
+    print(f"ratio time   {t:.3f}  (target <= 0.6)  {'met' if t <= 0.6 else 'MISSED'}")
+    print(f"ratio memory {m:.3f}  (target <= 0.25) {'met' if m <= 0.25 else 'MISSED'}")
+
+
+if __name__ == "__main__":
+    main()
