@@ -8,6 +8,7 @@
 
 #include "compile/compile.h"
 #include "compile/values.h"
+#include "core/expr.h"
 #include "core/names.h"
 #include "load/load.h"
 
@@ -111,6 +112,117 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
       diag.error(value.mark, fmt::format("home names '{}', which is not a joint of '{}'", joint, type.name));
 }
 
+/// Checks a value of a type's geometry, frames or parts: a number, a unit literal, or an
+/// expression over the type's own attributes.
+void check_shape_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+  if (!v.present) return;
+  ParsedValue parsed = parse_value(v, dim, what, diag);
+  if (parsed.kind != ParsedValue::Kind::Expression) return;
+  Expression::Error err;
+  auto expr = Expression::parse(v.text, &err);
+  if (!expr) {
+    diag.error(mark_at(v, err.position), fmt::format("cannot read '{}' as a value or expression for {}: {}", v.text, what, err.message));
+    return;
+  }
+  std::vector<std::string> names;
+  for (const AttributeDef& a : type.attributes) names.push_back(a.name);
+  for (const std::string& n : expr->names()) {
+    int a = type.find_attribute(n);
+    if (a < 0) {
+      diag.error(mark_at(v, v.text.find(n)), fmt::format("{} uses '{}', which is not an attribute of type '{}'{}", what, n,
+                                                         type.name, did_you_mean(n, names)));
+    } else if (type.attributes[a].type == AttrType::String || type.attributes[a].type == AttrType::Enum) {
+      diag.error(mark_at(v, v.text.find(n)), fmt::format("{} uses '{}', which is not numeric", what, n));
+    }
+  }
+}
+
+void check_pose(const PoseSpec& pose, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+  for (const Scalar& c : pose.xyz) check_shape_value(c, Dim::Length, type, fmt::format("{} xyz", what), diag);
+  for (const Scalar& c : pose.rpy) check_shape_value(c, Dim::Angle, type, fmt::format("{} rpy", what), diag);
+}
+
+void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType& type, const std::string& type_file,
+                    Diagnostics& diag) {
+  for (const GeometrySpec& g : geometry) {
+    std::visit(
+        [&](const auto& shape) {
+          using T = std::decay_t<decltype(shape)>;
+          if constexpr (std::is_same_v<T, BoxSpec>) {
+            for (const Scalar& c : shape.size) check_shape_value(c, Dim::Length, type, "box size", diag);
+          } else if constexpr (std::is_same_v<T, CylinderSpec>) {
+            check_shape_value(shape.radius, Dim::Length, type, "cylinder radius", diag);
+            check_shape_value(shape.length, Dim::Length, type, "cylinder length", diag);
+          } else if constexpr (std::is_same_v<T, SphereSpec>) {
+            check_shape_value(shape.radius, Dim::Length, type, "sphere radius", diag);
+          } else {
+            for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
+            fs::path file = fs::path(type_file).parent_path() / shape.file.text;
+            std::error_code ec;
+            // Mesh paths are relative to the library folder (the one holding types/), else to the file.
+            fs::path lib_file = fs::path(type_file).parent_path().parent_path() / shape.file.text;
+            if (shape.file.present && !fs::is_regular_file(file, ec) && !fs::is_regular_file(lib_file, ec))
+              diag.error(shape.file.mark, fmt::format("mesh file '{}' does not exist", shape.file.text));
+          }
+        },
+        g.shape);
+    check_pose(g.pose, type, "geometry", diag);
+  }
+}
+
+/// A device's parts form one tree: unique names, one root, known parents, no cycles, a real tool.
+void check_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file, Diagnostics& diag) {
+  std::map<std::string, const PartSpec*> parts;
+  std::vector<std::string> names;
+  std::map<std::string, SourceMark> joints;
+  for (const PartSpec& p : d.parts) {
+    if (!parts.emplace(p.name, &p).second) diag.error(p.mark, fmt::format("part name '{}' is used twice", p.name));
+    names.push_back(p.name);
+    if (p.joint && !joints.emplace(p.joint->name, p.joint->mark).second)
+      diag.error(p.joint->mark, fmt::format("joint name '{}' is used twice", p.joint->name));
+  }
+  const PartSpec* root = nullptr;
+  for (const PartSpec& p : d.parts) {
+    if (p.parent.empty()) {
+      if (root) diag.error(p.mark, fmt::format("device '{}' has two root parts ('{}' and '{}'); every other part needs a parent",
+                                               type.name, root->name, p.name));
+      else root = &p;
+    } else if (!parts.count(p.parent)) {
+      diag.error(p.parent_mark, fmt::format("part '{}' has unknown parent '{}'{}", p.name, p.parent, did_you_mean(p.parent, names)));
+    }
+    // Walk up: a cycle never reaches the root.
+    const PartSpec* cur = &p;
+    for (size_t steps = 0; cur && !cur->parent.empty(); ++steps) {
+      auto it = parts.find(cur->parent);
+      cur = it == parts.end() ? nullptr : it->second;
+      if (steps > d.parts.size()) {
+        diag.error(p.mark, fmt::format("parts of device '{}' form a cycle through '{}'", type.name, p.name));
+        break;
+      }
+    }
+    if (p.joint) {
+      const JointSpec& j = *p.joint;
+      if (j.type != JointType::Fixed && j.axis[0].present) {
+        double norm = 0;
+        bool numeric = true;
+        for (const Scalar& c : j.axis) {
+          auto v = parse_number(c.text);
+          if (!v) numeric = false;
+          else norm += *v * *v;
+        }
+        if (!numeric) diag.error(j.axis[0].mark, fmt::format("joint '{}' axis must be three numbers", j.name));
+        else if (norm < 1e-18) diag.error(j.axis[0].mark, fmt::format("joint '{}' has a zero axis", j.name));
+      }
+      check_pose(j.origin, type, fmt::format("joint '{}'", j.name), diag);
+    }
+    check_geometry(p.geometry, type, type_file, diag);
+  }
+  if (!d.parts.empty() && !root) diag.error(d.parts[0].mark, fmt::format("device '{}' has no root part (one part without a parent)", type.name));
+  if (!d.tool_part.empty() && !parts.count(d.tool_part))
+    diag.error(d.tool_mark, fmt::format("tool part '{}' is not a part of '{}'{}", d.tool_part, type.name, did_you_mean(d.tool_part, names)));
+  check_pose(d.tool_pose, type, "tool", diag);
+}
+
 }  // namespace
 
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
@@ -193,6 +305,11 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       }
     }
     if (spec.device) add_joint_attributes(spec, t, diag);
+    // Geometry, frames and parts are evaluated by later stages; their structure and the names
+    // their expressions use are checked now, so a typo fails at load, with its line.
+    check_geometry(spec.geometry, t, spec.path, diag);
+    for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), diag);
+    if (spec.device) check_device(*spec.device, t, spec.path, diag);
     state[i] = 2;
     return true;
   };
