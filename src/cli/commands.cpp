@@ -54,6 +54,7 @@ struct Common {
       options.overrides.emplace_back(s.substr(0, eq), s.substr(eq + 1));
     }
     options.library_dirs = library;
+    options.plugin_dirs = plugins;
     return true;
   }
 };
@@ -222,7 +223,7 @@ int run_cli(int argc, char** argv) {
         ->check(CLI::IsMember({"text", "json", "junit"}));
     check_cmd->add_option("--out", check_args.out, "write the report to this file (atomically)");
     check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too");
-    check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier JSON report");
+    check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier JSON report (not available in this version yet)");
     common.add_to(check_cmd);
 
     std::string types_format = "text";

@@ -682,6 +682,10 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
     if (!fs::is_directory(resolve_path(spec.path, dir.text), ec))
       diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
   }
+  for (const std::string& dir : options.plugin_dirs) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) diag.error({}, fmt::format("--plugins folder '{}' does not exist", dir));
+  }
 
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);

@@ -12,6 +12,7 @@ namespace sscs {
 
 struct CompileOptions {
   std::vector<std::string> library_dirs;  ///< extra type folders (--library), after the vault's own
+  std::vector<std::string> plugin_dirs;   ///< --plugins (checked to exist; loading comes with the plugin issue)
   std::vector<std::pair<std::string, std::string>> overrides;  ///< --set NAME=VALUE
 };
 
