@@ -18,8 +18,18 @@ const char* status_name(Status s) {
 
 namespace {
 
-double read(const Operand& op, const std::vector<double>& values) {
-  return op.kind == Operand::Kind::Slot ? values[op.slot] : op.constant_si;
+/// What the checker reads: slot values and geometry of one state of the workcell.
+struct State {
+  const std::vector<double>& values;
+  const GeometryModel& geometry;
+};
+
+double read(const Operand& op, const State& st) {
+  switch (op.kind) {
+    case Operand::Kind::Slot: return st.values[op.slot];
+    case Operand::Kind::BoundingBox: return bbox_value(st.geometry, op.object, op.slot);
+    default: return op.constant_si;
+  }
 }
 
 std::string with_unit(double si, Dim dim) {
@@ -27,8 +37,13 @@ std::string with_unit(double si, Dim dim) {
   return *unit ? fmt::format("{:g} {}", si_to_file(si, dim), unit) : fmt::format("{:g}", si_to_file(si, dim));
 }
 
-void check_bound(const BoundCheck& b, const std::vector<double>& values, CheckResult& r) {
+void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   double lhs = read(b.lhs, values), rhs = read(b.rhs, values);
+  if (std::isnan(lhs) || std::isnan(rhs)) {
+    r.status = Status::Error;
+    r.message = fmt::format("'{}' has no value: the object has no geometry", std::isnan(lhs) ? b.lhs.text : b.rhs.text);
+    return;
+  }
   double L = lhs + b.lhs_tol_si, R = rhs + b.rhs_tol_si;
   double margin = 0;
   bool pass = false;
@@ -45,7 +60,7 @@ void check_bound(const BoundCheck& b, const std::vector<double>& values, CheckRe
   r.margin = si_to_file(margin, b.dim);
   r.status = pass ? Status::Pass : Status::Fail;
   auto side = [&](const Operand& op, double value, double tol) {
-    std::string s = op.kind == Operand::Kind::Slot ? fmt::format("{} = {}", op.text, with_unit(value, b.dim))
+    std::string s = op.kind != Operand::Kind::Constant ? fmt::format("{} = {}", op.text, with_unit(value, b.dim))
                                                    : with_unit(value, b.dim);
     if (tol != 0) s += fmt::format(" {} {}", tol < 0 ? "-" : "+", with_unit(std::abs(tol), b.dim));
     return s;
@@ -54,14 +69,14 @@ void check_bound(const BoundCheck& b, const std::vector<double>& values, CheckRe
                           pass ? "holds" : "violated");
 }
 
-double evaluate(const Expression& e, const std::vector<Operand>& inputs, const std::vector<double>& values,
+double evaluate(const Expression& e, const std::vector<Operand>& inputs, const State& values,
                 std::vector<double>& scratch) {
   scratch.resize(inputs.size());
   for (size_t i = 0; i < inputs.size(); ++i) scratch[i] = read(inputs[i], values);
   return e.evaluate(scratch.data());
 }
 
-double margin_of(const ExprCheck::MarginNode& n, const std::vector<double>& values, std::vector<double>& scratch,
+double margin_of(const ExprCheck::MarginNode& n, const State& values, std::vector<double>& scratch,
                  double* lhs, double* rhs) {
   switch (n.op) {
     case MarginTree::Op::And:
@@ -90,7 +105,7 @@ double margin_of(const ExprCheck::MarginNode& n, const std::vector<double>& valu
   }
 }
 
-void check_expr(const ExprCheck& e, const std::vector<double>& values, CheckResult& r) {
+void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   std::vector<double> scratch;
   double v = evaluate(*e.expr, e.inputs, values, scratch);
   if (std::isnan(v)) {
@@ -111,16 +126,17 @@ void check_expr(const ExprCheck& e, const std::vector<double>& values, CheckResu
   }
   std::vector<std::string> parts;
   for (size_t i = 0; i < e.inputs.size(); ++i)
-    if (e.inputs[i].kind == Operand::Kind::Slot) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
+    if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
   r.message = fmt::format("{}: {}{}", e.expr->text(), pass ? "holds" : "violated",
                           parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
 }
 
 }  // namespace
 
-CheckReport check(const Workcell& wc) { return check(wc, wc.values); }
+CheckReport check(const Workcell& wc, const GeometryModel& geometry) { return check(wc, geometry, wc.values); }
 
-CheckReport check(const Workcell& wc, const std::vector<double>& values) {
+CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::vector<double>& slot_values) {
+  State values{slot_values, geometry};
   CheckReport report;
   report.results.reserve(wc.constraints.size());
   for (size_t i = 0; i < wc.constraints.size(); ++i) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "compile/workcell.h"
+#include "geometry/geometry.h"
 
 namespace sscs {
 
@@ -31,10 +32,10 @@ struct CheckReport {
   bool violated(bool strict) const { return failed > 0 || (strict && warnings > 0); }
 };
 
-/// Checks every constraint at the workcell's values.
-CheckReport check(const Workcell& wc);
+/// Checks every constraint at the workcell's values and geometry.
+CheckReport check(const Workcell& wc, const GeometryModel& geometry);
 
 /// Checks with another set of slot values (same layout as wc.values), e.g. during a motion.
-CheckReport check(const Workcell& wc, const std::vector<double>& values);
+CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::vector<double>& values);
 
 }  // namespace sscs

@@ -13,6 +13,7 @@
 
 #include "check/check.h"
 #include "compile/compile.h"
+#include "geometry/geometry.h"
 #include "core/timer.h"
 #include "report/report.h"
 
@@ -87,10 +88,14 @@ int run_check(const Common& common, const CheckArgs& args) {
   Sources sources;
   Diagnostics diag;
   std::vector<Workcell> cells;
+  std::vector<GeometryModel> geometry;
   cells.reserve(args.vaults.size());
   for (const std::string& path : args.vaults) {
     auto wc = compile_file(path, options, sources, diag);
-    if (wc) cells.push_back(std::move(*wc));
+    if (wc) {
+      geometry.push_back(build_geometry(*wc, diag));
+      cells.push_back(std::move(*wc));
+    }
     if (diag.full()) break;
   }
   if (diag.has_errors()) {
@@ -99,7 +104,7 @@ int run_check(const Common& common, const CheckArgs& args) {
   }
   StageTimer timer;
   std::vector<VaultReport> reports;
-  for (size_t i = 0; i < cells.size(); ++i) reports.push_back({&cells[i], args.vaults[i], check(cells[i])});
+  for (size_t i = 0; i < cells.size(); ++i) reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i])});
   timer.lap("check");
   std::string output;
   if (format == "json") {

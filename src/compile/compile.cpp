@@ -159,16 +159,22 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
   if (member.starts_with("bbox.")) {
     std::string_view rest = member.substr(5);
     bool ok = false;
+    uint32_t code = 0;
     for (const char* corner : {"min.", "max.", "size."})
-      for (const char* axis : {"x", "y", "z"})
-        if (rest == fmt::format("{}{}", corner, axis)) ok = true;
+      for (const char* axis : {"x", "y", "z"}) {
+        if (rest == fmt::format("{}{}", corner, axis)) {
+          ok = true;
+          op.slot = code;  // corner * 3 + axis, read by the checker from the geometry
+        }
+        ++code;
+      }
     if (!ok) {
       diag.error(mark, fmt::format("expected bbox.min|max|size.x|y|z in reference '{}'", ref));
       return std::nullopt;
     }
     if (!allow_bbox) {
-      diag.error(mark, fmt::format("'{}': bounding boxes need evaluated geometry, which this sscs version does not "
-                                   "have yet; they can be used in constraints (reported as errors until then)",
+      diag.error(mark, fmt::format("'{}': bounding boxes come from geometry, which is evaluated after attribute "
+                                   "values; use them in constraints, not in attribute values",
                                    ref));
       return std::nullopt;
     }

@@ -104,11 +104,6 @@ void finish_subjects(std::vector<int>& subjects) {
   subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
 }
 
-bool has_bbox(const std::vector<Operand>& ops) {
-  return std::any_of(ops.begin(), ops.end(), [](const Operand& o) { return o.kind == Operand::Kind::BoundingBox; });
-}
-
-const char* kBBoxReason = "bounding-box references need evaluated geometry, which this sscs version does not have yet";
 const char* kGeometryReason = "constraints of kind '{}' need evaluated geometry (FCL), which this sscs version does not have yet";
 
 std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string& text, const Scalar& whole) {
@@ -171,8 +166,7 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
     if (check.eps_si < 0) st.diag.error(b.eps.mark, "eps must not be negative");
   }
   add_subjects(c.subjects, {check.lhs, check.rhs});
-  if (has_bbox({check.lhs, check.rhs})) c.body = DeferredCheck{kBBoxReason, {}};
-  else c.body = std::move(check);
+  c.body = std::move(check);
 }
 
 void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
@@ -186,10 +180,6 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
   check.expr = expr;
   if (!st.resolve_inputs(*expr, e.expr, {}, check.inputs, /*allow_bbox=*/true)) return;
   add_subjects(c.subjects, check.inputs);
-  if (has_bbox(check.inputs)) {
-    c.body = DeferredCheck{kBBoxReason, {}};
-    return;
-  }
   if (auto tree = split_for_margin(e.expr.text)) check.margin = compile_margin(st, *tree, e.expr);
   c.body = std::move(check);
 }

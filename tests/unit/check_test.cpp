@@ -11,7 +11,7 @@ using Check = VaultTest;
 CheckResult bound_result(VaultTest& t, Workcell& keep, const std::string& lhs_h, const std::string& bound) {
   keep = t.must_compile("objects:\n  - {type: drum, name: A, height: " + lhs_h +
                         "}\n  - {type: drum, name: B, height: 1}\nconstraints:\n  - {name: c, bound: " + bound + "}\n");
-  CheckReport r = check(keep);
+  CheckReport r = check(keep, build_geometry(keep, t.diag));
   EXPECT_EQ(r.results.size(), 1u);
   return r.results.empty() ? CheckResult{} : r.results[0];
 }
@@ -73,7 +73,7 @@ TEST_F(Check, AnglesReportInDegrees) {
   Workcell wc = must_compile(
       "objects:\n  - {type: drum, name: A, orientation: [0, 0, 30]}\n"
       "constraints:\n  - {name: c, bound: [A.orientation.yaw, LT, 45]}\n");
-  CheckResult r = check(wc).results[0];
+  CheckResult r = check(wc, build_geometry(wc, diag)).results[0];
   EXPECT_EQ(r.status, Status::Pass);
   EXPECT_NEAR(*r.lhs, 30, 1e-9);
   EXPECT_NEAR(*r.margin, 15, 1e-9);
@@ -88,7 +88,7 @@ TEST_F(Check, ExprResultsCarryMargins) {
       "  - {name: ternary, expr: \"R.height > 3 ? D.height == 2 : D.height < 2\"}\n"
       "  - {name: both, expr: \"R.width < R.length && D.height + 1 < R.height\"}\n"
       "  - {name: either, expr: \"R.width > R.length || deg(atan2(D.height, R.width)) < 10\"}\n");
-  CheckReport rep = check(wc);
+  CheckReport rep = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(rep.results.size(), 3u);
   EXPECT_EQ(rep.results[0].status, Status::Pass);
   EXPECT_FALSE(rep.results[0].margin);  // a ternary has no margin
@@ -104,26 +104,41 @@ TEST_F(Check, WarningsAreCountedApart) {
   Workcell wc = must_compile(
       "objects:\n  - {type: drum, name: A}\n"
       "constraints:\n  - {name: w, bound: [A.height, GT, 5], severity: warning}\n");
-  CheckReport rep = check(wc);
+  CheckReport rep = check(wc, build_geometry(wc, diag));
   EXPECT_EQ(rep.failed, 0u);
   EXPECT_EQ(rep.warnings, 1u);
   EXPECT_FALSE(rep.violated(false));
   EXPECT_TRUE(rep.violated(true));
 }
 
-TEST_F(Check, GeometricKindsAreErrorsUntilGeometryExists) {
+TEST_F(Check, SpatialKindsAreErrorsUntilFclChecksExist) {
   Workcell wc = must_compile(
       "objects:\n  - {type: drum, name: A}\n  - {type: drum, name: B, location: [2, 0, 0]}\n"
-      "constraints:\n  - {name: apart, clearance: {a: A, b: B, min: 0.5 m}}\n"
-      "  - {name: box, bound: [A.bbox.max.z, LT, 2]}\n");
-  CheckReport rep = check(wc);
-  ASSERT_EQ(rep.results.size(), 2u);
-  for (const CheckResult& r : rep.results) {
-    EXPECT_EQ(r.status, Status::Error);
-    EXPECT_NE(r.message.find("geometry"), std::string::npos);
-  }
-  EXPECT_EQ(rep.failed, 2u);  // never passed silently
+      "constraints:\n  - {name: apart, clearance: {a: A, b: B, min: 0.5 m}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 1u);
+  EXPECT_EQ(rep.results[0].status, Status::Error);
+  EXPECT_NE(rep.results[0].message.find("geometry"), std::string::npos);
+  EXPECT_EQ(rep.failed, 1u);  // never passed silently
   EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{0, 1}));
+}
+
+TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {
+  // A drum on a pallet in a rotated room: bbox values are world-frame.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4, location: [100, 0, 0], orientation: [0, 0, 90]}\n"
+      "  - {type: drum, name: D, parent: R, location: [1, 2, 0.144]}\n"
+      "constraints:\n  - {name: top, bound: [D.bbox.max.z, LT, 1.5]}\n"
+      "  - {name: x, expr: \"D.bbox.min.x < 100\"}\n"
+      "  - {name: size, bound: [D.bbox.size.y, EQ, 0.572]}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass);
+  EXPECT_NEAR(*rep.results[0].lhs, 0.144 + 0.851, 1e-12);
+  // Room yawed 90 deg: local (1, 2) is world (100 - 2, 1); the drum spans x 98 -/+ 0.286.
+  EXPECT_EQ(rep.results[1].status, Status::Pass);
+  EXPECT_NEAR(*rep.results[1].lhs, 98 - 0.286, 1e-9);
+  EXPECT_EQ(rep.results[2].status, Status::Pass) << rep.results[2].message;
 }
 
 TEST_F(Check, SelectorsExpandNamesGlobsAndTypes) {

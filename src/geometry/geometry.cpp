@@ -1,0 +1,205 @@
+#include "geometry/geometry.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "compile/values.h"
+#include "core/expr.h"
+#include "geometry/mesh_io.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+Eigen::Matrix3d rpy_to_rotation(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
+  Eigen::AlignedBox3d box;
+  const Eigen::Matrix3d& R = X.linear();
+  const Eigen::Vector3d& p = X.translation();
+  switch (s.kind) {
+    case Shape::Kind::Box: {
+      // Extent of a rotated box: |R| * half extents.
+      Eigen::Vector3d half = R.cwiseAbs() * (s.box_size / 2);
+      box.extend(p - half);
+      box.extend(p + half);
+      break;
+    }
+    case Shape::Kind::Sphere:
+      box.extend(p - Eigen::Vector3d::Constant(s.radius));
+      box.extend(p + Eigen::Vector3d::Constant(s.radius));
+      break;
+    case Shape::Kind::Cylinder: {
+      // Exact bounds of a cylinder: its axis ends, widened by the disc's extent per world axis.
+      Eigen::Vector3d axis = R.col(2);
+      Eigen::Vector3d disc = (Eigen::Vector3d::Ones() - axis.cwiseProduct(axis)).cwiseMax(0).cwiseSqrt() * s.radius;
+      for (double end : {-s.length / 2, s.length / 2}) {
+        box.extend(p + axis * end - disc);
+        box.extend(p + axis * end + disc);
+      }
+      break;
+    }
+    case Shape::Kind::Mesh:
+      for (const Eigen::Vector3d& v : s.mesh->vertices) box.extend(X * v.cwiseProduct(s.scale));
+      break;
+  }
+  return box;
+}
+
+namespace {
+
+/// Evaluates one type-file value (number, unit literal or expression over the object's
+/// attributes) for one object. The type loader already checked names and units.
+class ShapeEvaluator {
+ public:
+  ShapeEvaluator(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag) {}
+
+  double value(const Scalar& s, Dim dim, int object, double fallback) {
+    if (!s.present) return fallback;
+    Diagnostics scratch;  // the type loader reported problems with the text already
+    ParsedValue v = parse_value(s, dim, "", scratch);
+    if (v.kind == ParsedValue::Kind::Number) return v.si;
+    const Expression* e = expression(s.text);
+    if (!e) return NAN;
+    const Object& o = wc_.objects[object];
+    const ObjectType& t = wc_.types[o.type];
+    inputs_.clear();
+    for (const std::string& n : e->names()) {
+      int a = t.find_attribute(n);
+      inputs_.push_back(a < 0 ? NAN : wc_.values[o.first_slot + kFirstAttributeSlot + a]);
+    }
+    return e->evaluate(inputs_.data());
+  }
+
+  Eigen::Vector3d vec(const std::array<Scalar, 3>& v, Dim dim, int object, double fallback) {
+    return {value(v[0], dim, object, fallback), value(v[1], dim, object, fallback), value(v[2], dim, object, fallback)};
+  }
+
+  Eigen::Isometry3d pose(const PoseSpec& p, int object) {
+    Eigen::Vector3d xyz = vec(p.xyz, Dim::Length, object, 0);
+    Eigen::Vector3d rpy = vec(p.rpy, Dim::Angle, object, 0);
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = rpy_to_rotation(rpy.x(), rpy.y(), rpy.z());
+    X.translation() = xyz;
+    return X;
+  }
+
+ private:
+  const Expression* expression(const std::string& text) {
+    auto it = cache_.find(text);
+    if (it != cache_.end()) return it->second.get();
+    auto e = Expression::parse(text, nullptr);
+    auto& slot = cache_[text];
+    if (e) slot = std::make_unique<Expression>(std::move(*e));
+    return slot.get();
+  }
+
+  const Workcell& wc_;
+  Diagnostics& diag_;
+  std::map<std::string, std::unique_ptr<Expression>> cache_;
+  std::vector<double> inputs_;
+};
+
+std::string mesh_path(const std::string& type_file, const std::string& rel) {
+  fs::path p(rel);
+  if (p.is_absolute()) return p.string();
+  fs::path beside = fs::path(type_file).parent_path() / p;
+  std::error_code ec;
+  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
+  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
+}
+
+}  // namespace
+
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
+  GeometryModel model;
+  model.objects.resize(wc.objects.size());
+  ShapeEvaluator eval(wc, diag);
+  MeshCache meshes;
+  // Local poses first; world poses follow the parent chain (parents may come later in the file).
+  std::vector<Eigen::Isometry3d> local(wc.objects.size());
+  for (size_t i = 0; i < wc.objects.size(); ++i) {
+    const Object& o = wc.objects[i];
+    const double* v = &wc.values[o.first_slot];
+    local[i].setIdentity();
+    local[i].linear() = rpy_to_rotation(v[kOrientationSlot], v[kOrientationSlot + 1], v[kOrientationSlot + 2]);
+    local[i].translation() = Eigen::Vector3d(v[kLocationSlot], v[kLocationSlot + 1], v[kLocationSlot + 2]);
+  }
+  std::vector<char> done(wc.objects.size(), 0);
+  for (size_t i = 0; i < wc.objects.size(); ++i) {
+    std::vector<int> chain;
+    for (int k = static_cast<int>(i); k >= 0 && !done[k]; k = wc.objects[k].parent) chain.push_back(k);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      int k = *it, p = wc.objects[k].parent;
+      model.objects[k].X_world_object = p >= 0 ? model.objects[p].X_world_object * local[k] : local[k];
+      done[k] = 1;
+    }
+  }
+  for (size_t i = 0; i < wc.objects.size(); ++i) {
+    const Object& o = wc.objects[i];
+    const TypeSpec& spec = *wc.types[o.type].spec;
+    ObjectGeometry& g = model.objects[i];
+    int obj = static_cast<int>(i);
+    auto check_positive = [&](double v, const Scalar& s, const char* what) {
+      if (!(std::isfinite(v) && v > 0))
+        diag.error(s.mark.valid() ? s.mark : o.mark,
+                   fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
+      return v;
+    };
+    if (!o.geomodel.empty()) {
+      Shape s;
+      s.kind = Shape::Kind::Mesh;
+      s.mesh = meshes.load(o.geomodel, o.mark, diag);
+      if (s.mesh) g.shapes.push_back(std::move(s));
+    } else {
+      for (const GeometrySpec& gs : spec.geometry) {
+        Shape s;
+        s.X_object_shape = eval.pose(gs.pose, obj);
+        std::visit(
+            [&](const auto& shape) {
+              using T = std::decay_t<decltype(shape)>;
+              if constexpr (std::is_same_v<T, BoxSpec>) {
+                s.kind = Shape::Kind::Box;
+                s.box_size = eval.vec(shape.size, Dim::Length, obj, 0);
+                for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], shape.size[k], "box size");
+              } else if constexpr (std::is_same_v<T, CylinderSpec>) {
+                s.kind = Shape::Kind::Cylinder;
+                s.radius = check_positive(eval.value(shape.radius, Dim::Length, obj, 0), shape.radius, "cylinder radius");
+                s.length = check_positive(eval.value(shape.length, Dim::Length, obj, 0), shape.length, "cylinder length");
+              } else if constexpr (std::is_same_v<T, SphereSpec>) {
+                s.kind = Shape::Kind::Sphere;
+                s.radius = check_positive(eval.value(shape.radius, Dim::Length, obj, 0), shape.radius, "sphere radius");
+              } else {
+                s.kind = Shape::Kind::Mesh;
+                s.scale = eval.vec(shape.scale, Dim::None, obj, 1);
+                s.mesh = meshes.load(mesh_path(spec.path, shape.file.text), shape.file.mark, diag);
+              }
+            },
+            gs.shape);
+        if (s.kind != Shape::Kind::Mesh || s.mesh) g.shapes.push_back(std::move(s));
+      }
+    }
+    for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
+  }
+  return model;
+}
+
+double bbox_value(const GeometryModel& geometry, int object, uint32_t corner_axis) {
+  const Eigen::AlignedBox3d& b = geometry.objects[object].bbox_world;
+  if (b.isEmpty()) return NAN;
+  int axis = static_cast<int>(corner_axis % 3);
+  switch (corner_axis / 3) {
+    case 0: return b.min()[axis];
+    case 1: return b.max()[axis];
+    default: return b.sizes()[axis];
+  }
+}
+
+}  // namespace sscs

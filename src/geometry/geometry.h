@@ -1,0 +1,58 @@
+#pragma once
+/// The geometry stage: every object's shapes evaluated at its attribute values, placed in the
+/// world through the `parent` chain, with world-frame bounding boxes and named frames.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "compile/workcell.h"
+#include "core/diagnostics.h"
+
+namespace sscs {
+
+/// Rotation of `orientation: [roll, pitch, yaw]` (radians): Rz(yaw) * Ry(pitch) * Rx(roll).
+Eigen::Matrix3d rpy_to_rotation(double roll, double pitch, double yaw);
+
+/// A triangle mesh in its file's units, before the shape's scale.
+struct TriangleMesh {
+  std::string path;
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+};
+
+/// One primitive of an object, in SI, placed in the object's frame.
+struct Shape {
+  enum class Kind : uint8_t { Box, Cylinder, Sphere, Mesh } kind = Kind::Box;
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  ///< full extents
+  double radius = 0;
+  double length = 0;                                    ///< cylinder, along local z
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();      ///< mesh
+  std::shared_ptr<const TriangleMesh> mesh;
+  Eigen::Isometry3d X_object_shape = Eigen::Isometry3d::Identity();
+};
+
+struct ObjectGeometry {
+  Eigen::Isometry3d X_world_object = Eigen::Isometry3d::Identity();
+  std::vector<Shape> shapes;
+  Eigen::AlignedBox3d bbox_world;  ///< empty when the object has no shapes
+};
+
+/// Geometry of a whole workcell, indexed like Workcell::objects. Immutable once built.
+struct GeometryModel {
+  std::vector<ObjectGeometry> objects;
+};
+
+/// World-frame axis-aligned bounds of one shape placed at X_world_shape.
+Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);
+
+/// Builds the geometry of every object. Mesh files that cannot be read, and values that are not
+/// finite or not positive, are input errors at the line that names them.
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag);
+
+/// A bounding-box operand's value (SI) from Operand::slot = corner * 3 + axis (corner 0 min,
+/// 1 max, 2 size); NaN when the object has no geometry.
+double bbox_value(const GeometryModel& geometry, int object, uint32_t corner_axis);
+
+}  // namespace sscs

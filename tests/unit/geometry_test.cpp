@@ -1,0 +1,100 @@
+#include <cmath>
+#include <numbers>
+
+#include "geometry/geometry.h"
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+using Geometry = VaultTest;
+constexpr double kPi = std::numbers::pi;
+
+TEST(GeometryMath, RpyIsZYXAsInUrdf) {
+  // yaw 90 deg maps +x to +y; pitch 90 deg maps +x to -z; roll 90 deg maps +y to +z.
+  EXPECT_TRUE((rpy_to_rotation(0, 0, kPi / 2) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE((rpy_to_rotation(0, kPi / 2, 0) * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE((rpy_to_rotation(kPi / 2, 0, 0) * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ()));
+  // R = Rz(yaw) Ry(pitch) Rx(roll): roll applies first.
+  Eigen::Matrix3d R = rpy_to_rotation(0.1, 0.2, 0.3);
+  Eigen::Matrix3d expected = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
+                              Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  EXPECT_TRUE(R.isApprox(expected));
+}
+
+TEST(GeometryMath, BoundsOfRotatedShapes) {
+  Shape box;
+  box.kind = Shape::Kind::Box;
+  box.box_size = {2, 1, 1};
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = rpy_to_rotation(0, 0, kPi / 4);
+  Eigen::AlignedBox3d b = shape_bounds(box, X);
+  double half = (2 + 1) / 2.0 / std::sqrt(2.0);  // |R| * (1, 0.5, 0.5)
+  EXPECT_NEAR(b.max().x(), half, 1e-12);
+  EXPECT_NEAR(b.max().y(), half, 1e-12);
+  EXPECT_NEAR(b.max().z(), 0.5, 1e-12);
+
+  Shape cyl;
+  cyl.kind = Shape::Kind::Cylinder;
+  cyl.radius = 0.5;
+  cyl.length = 2;
+  X.linear() = rpy_to_rotation(0, kPi / 2, 0);  // axis along world x
+  b = shape_bounds(cyl, X);
+  EXPECT_NEAR(b.max().x(), 1.0, 1e-12);
+  EXPECT_NEAR(b.max().y(), 0.5, 1e-12);
+  EXPECT_NEAR(b.max().z(), 0.5, 1e-12);
+}
+
+TEST_F(Geometry, ParentChainsComposeWorldPoses) {
+  Workcell wc = must_compile(
+      "objects:\n"
+      "  - {type: pallet, name: C, parent: B, location: [0, 1, 0]}\n"  // before its parent in the file
+      "  - {type: room, name: A, length: 10, width: 10, height: 3, location: [5, 0, 0], orientation: [0, 0, 90]}\n"
+      "  - {type: pallet, name: B, parent: A, location: [1, 0, 0.5], orientation: [0, 0, 90]}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  ASSERT_FALSE(diag.has_errors());
+  // A at (5,0,0) yawed 90; B at A-local (1,0,0.5) -> world (5,1,0.5), yawed 180; C at B-local (0,1,0) -> world (5,0,0.5).
+  Eigen::Vector3d c = g.objects[wc.find_object("C")].X_world_object.translation();
+  EXPECT_TRUE(c.isApprox(Eigen::Vector3d(5, 0, 0.5), 1e-12)) << c.transpose();
+  // The pallet box of C (1.2 x 0.8, yawed 180 deg) spans x 5-1.2..5, y -0.8..0.
+  const Eigen::AlignedBox3d& b = g.objects[wc.find_object("C")].bbox_world;
+  EXPECT_NEAR(b.min().x(), 3.8, 1e-12);
+  EXPECT_NEAR(b.max().y(), 0.0, 1e-12);
+  EXPECT_NEAR(b.max().z(), 0.5 + 0.144, 1e-12);
+}
+
+TEST_F(Geometry, ShapeValuesFollowAttributes) {
+  Workcell wc = must_compile("objects:\n  - {type: drum, name: D, diameter: 1 m, height: 2 m}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  const ObjectGeometry& d = g.objects[0];
+  ASSERT_EQ(d.shapes.size(), 1u);
+  EXPECT_EQ(d.shapes[0].kind, Shape::Kind::Cylinder);
+  EXPECT_DOUBLE_EQ(d.shapes[0].radius, 0.5);
+  EXPECT_DOUBLE_EQ(d.shapes[0].length, 2.0);
+  EXPECT_NEAR(d.bbox_world.max().z(), 2.0, 1e-12);
+}
+
+TEST_F(Geometry, MeshesLoadThroughAssimp) {
+  std::string dir = type_dir({{"wedge", "sscs: 1\ntype: wedge\ngeometry:\n  - mesh: {file: wedge.obj, scale: [2, 1, 1]}\n"}});
+  std::ofstream(std::filesystem::path(dir) / "wedge.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n";
+  options.library_dirs = {dir};
+  Workcell wc = must_compile("objects:\n  - {type: wedge, name: W, location: [1, 0, 0]}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  ASSERT_EQ(g.objects[0].shapes.size(), 1u);
+  EXPECT_EQ(g.objects[0].shapes[0].mesh->triangles.size(), 4u);
+  EXPECT_NEAR(g.objects[0].bbox_world.max().x(), 3.0, 1e-12);  // 1 + 2 * 1
+}
+
+TEST_F(Geometry, CorruptMeshIsAnInputError) {
+  std::string dir = type_dir({{"blob", "sscs: 1\ntype: blob\ngeometry:\n  - mesh: {file: blob.stl}\n"}});
+  std::ofstream(std::filesystem::path(dir) / "blob.stl") << "solid x\nthis is not an stl\n";
+  options.library_dirs = {dir};
+  Workcell wc = must_compile("objects:\n  - {type: blob, name: B}\n");
+  build_geometry(wc, diag);
+  ASSERT_TRUE(diag.has_errors());
+  EXPECT_EQ(diag.errors()[0].mark.line, 4u);  // the line of the type file that names the mesh
+}
+
+}  // namespace
+}  // namespace sscs::testing
