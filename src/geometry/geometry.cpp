@@ -144,7 +144,10 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
   }
   for (size_t i = 0; i < wc.objects.size(); ++i) {
     const Object& o = wc.objects[i];
-    const TypeSpec& spec = *wc.types[o.type].spec;
+    // A type without its own geometry inherits its base type's.
+    int t = o.type;
+    while (!wc.types[t].spec->has_geometry && wc.types[t].base >= 0) t = wc.types[t].base;
+    const TypeSpec& spec = *wc.types[t].spec;
     ObjectGeometry& g = model.objects[i];
     int obj = static_cast<int>(i);
     auto check_positive = [&](double v, const Scalar& s, const char* what) {
