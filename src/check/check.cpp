@@ -1,5 +1,7 @@
 #include "check/check.h"
 
+#include "geometry/collision.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -131,6 +133,102 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
                           parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
 }
 
+constexpr double kTouch = 1e-6;  // touching within this is not overlap
+
+std::string pair_text(const Workcell& wc, int a, int b) {
+  return fmt::format("{} and {}", wc.objects[a].name, wc.objects[b].name);
+}
+
+/// clearance, no_overlap and inside: failing members one result each; when none fails, one
+/// passing result with the smallest margin seen.
+void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryModel& geometry, CollisionWorld& world,
+                   int index, std::vector<CheckResult>& out) {
+  auto result = [&](std::vector<int> subjects, Status status, std::optional<double> lhs, std::optional<double> rhs,
+                    std::optional<double> margin, std::string message) {
+    CheckResult r;
+    r.constraint = index;
+    r.subjects = std::move(subjects);
+    r.status = status;
+    r.lhs = lhs;
+    r.rhs = rhs;
+    r.margin = margin;
+    r.dim = Dim::Length;
+    r.message = std::move(message);
+    out.push_back(std::move(r));
+  };
+  size_t first = out.size();
+  std::optional<double> smallest;
+  std::optional<std::pair<int, int>> closest;
+  auto note = [&](double margin, int a, int b) {
+    if (!smallest || margin < *smallest) {
+      smallest = margin;
+      closest = {a, b};
+    }
+  };
+  switch (sc.kind) {
+    case SpatialCheck::Kind::ClearancePair: {
+      if (sc.objects.size() != 2) return;
+      int a = sc.objects[0], b = sc.objects[1];
+      auto d = world.distance(a, b);
+      if (!d) {
+        result({a, b}, Status::Error, {}, {}, {}, fmt::format("{}: one of them has no geometry", pair_text(wc, a, b)));
+        return;
+      }
+      double margin = *d - sc.min_si;
+      result({a, b}, margin >= 0 ? Status::Pass : Status::Fail, *d, sc.min_si, margin,
+             fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(sc.min_si)));
+      return;
+    }
+    case SpatialCheck::Kind::ClearanceSet:
+    case SpatialCheck::Kind::NoOverlap: {
+      bool overlap = sc.kind == SpatialCheck::Kind::NoOverlap;
+      double min = overlap ? 0.0 : sc.min_si;
+      for (auto [a, b] : world.candidate_pairs(sc.objects, overlap ? kTouch : sc.min_si)) {
+        if (wc.related(a, b)) continue;  // a rack stands inside its room
+        auto d = world.distance(a, b);
+        if (!d) continue;
+        double margin = *d - min;
+        note(margin, a, b);
+        bool fails = overlap ? *d < -kTouch : margin < 0;
+        if (!fails) continue;
+        if (overlap)
+          result({a, b}, Status::Fail, *d, 0.0, *d,
+                 fmt::format("{} overlap by {:g} m", pair_text(wc, a, b), stable(-*d)));
+        else
+          result({a, b}, Status::Fail, *d, min, margin,
+                 fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(min)));
+      }
+      break;
+    }
+    case SpatialCheck::Kind::Inside: {
+      if (sc.container < 0) return;
+      for (int o : sc.objects) {
+        std::string why;
+        auto m = inside_margin(geometry, o, sc.container, &why);
+        if (!m) {
+          result({o, sc.container}, Status::Error, {}, {}, {}, fmt::format("{} in {}: {}", wc.objects[o].name,
+                                                                            wc.objects[sc.container].name, why));
+          continue;
+        }
+        note(*m, o, sc.container);
+        if (*m < -1e-9)
+          result({o, sc.container}, Status::Fail, {}, {}, *m,
+                 fmt::format("{} sticks out of {} by {:g} m", wc.objects[o].name, wc.objects[sc.container].name, stable(-*m)));
+      }
+      break;
+    }
+  }
+  if (out.size() > first) return;
+  // Nothing failed: one passing result for the whole set.
+  std::vector<int> subjects = sc.objects;
+  if (sc.container >= 0) subjects.push_back(sc.container);
+  std::sort(subjects.begin(), subjects.end());
+  std::string where = closest ? fmt::format("; closest: {}", pair_text(wc, closest->first, closest->second)) : "";
+  result(subjects, Status::Pass, {}, {}, smallest,
+         fmt::format("{} objects checked{}", sc.objects.size(),
+                     smallest ? where : (sc.kind == SpatialCheck::Kind::Inside ? "" : "; no pair within reach of the limit")));
+}
+
 }  // namespace
 
 CheckReport check(const Workcell& wc, const GeometryModel& geometry) { return check(wc, geometry, wc.values); }
@@ -139,6 +237,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
   State values{slot_values, geometry};
   CheckReport report;
   report.results.reserve(wc.constraints.size());
+  CollisionWorld world(geometry);
   for (size_t i = 0; i < wc.constraints.size(); ++i) {
     const Constraint& c = wc.constraints[i];
     auto tally = [&](const CheckResult& r) {
@@ -156,6 +255,12 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
         tally(r);
         report.results.push_back(std::move(r));
       }
+      continue;
+    }
+    if (const auto* sc = std::get_if<SpatialCheck>(&c.body)) {
+      size_t first = report.results.size();
+      check_spatial(wc, *sc, geometry, world, static_cast<int>(i), report.results);
+      for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
       continue;
     }
     CheckResult r;

@@ -33,6 +33,14 @@ bool Workcell::is_a(int t, int ancestor) const {
   return false;
 }
 
+bool Workcell::related(int a, int b) const {
+  for (int p = a; p >= 0; p = objects[p].parent)
+    if (p == b) return true;
+  for (int p = b; p >= 0; p = objects[p].parent)
+    if (p == a) return true;
+  return false;
+}
+
 // ---- CompileState helpers -----------------------------------------------------------------------
 
 uint32_t CompileState::new_slots(size_t n) {

@@ -104,7 +104,6 @@ void finish_subjects(std::vector<int>& subjects) {
   subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
 }
 
-const char* kGeometryReason = "constraints of kind '{}' need evaluated geometry (FCL), which this sscs version does not have yet";
 
 std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string& text, const Scalar& whole) {
   Scalar s = whole;
@@ -211,23 +210,35 @@ void compile_constraints(CompileState& st) {
                                          "does not have yet", p->cls.text), {}};
     } else if (auto* clbox = std::get_if<Boxed<ClearanceSpec>>(&spec.kind)) {
       auto* cl = &**clbox;
+      SpatialCheck sc;
       if (cl->objects) {
-        c.subjects = select(st, *cl->objects, "clearance objects");
+        sc.kind = SpatialCheck::Kind::ClearanceSet;
+        sc.objects = select(st, *cl->objects, "clearance objects");
       } else {
+        sc.kind = SpatialCheck::Kind::ClearancePair;
         for (const Scalar* s : {&cl->a, &cl->b})
-          if (int o = object_ref(st, *s, "clearance"); o >= 0) c.subjects.push_back(o);
+          if (int o = object_ref(st, *s, "clearance"); o >= 0) sc.objects.push_back(o);
       }
-      literal_si(cl->min, Dim::Length, "clearance min", st.diag);
-      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+      sc.min_si = literal_si(cl->min, Dim::Length, "clearance min", st.diag).value_or(0);
+      c.subjects = sc.objects;
+      c.body = std::move(sc);
     } else if (auto* nbox = std::get_if<Boxed<NoOverlapSpec>>(&spec.kind)) {
-      auto* n = &**nbox;
-      c.subjects = select(st, n->objects, "no_overlap objects");
-      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+      SpatialCheck sc;
+      sc.kind = SpatialCheck::Kind::NoOverlap;
+      sc.objects = select(st, (*nbox)->objects, "no_overlap objects");
+      c.subjects = sc.objects;
+      c.body = std::move(sc);
     } else if (auto* inbox = std::get_if<Boxed<InsideSpec>>(&spec.kind)) {
       auto* in = &**inbox;
-      c.subjects = select(st, in->objects, "inside objects");
-      if (int o = object_ref(st, in->container, "inside container"); o >= 0) c.subjects.push_back(o);
-      c.body = DeferredCheck{fmt::format(fmt::runtime(kGeometryReason), c.kind), {}};
+      SpatialCheck sc;
+      sc.kind = SpatialCheck::Kind::Inside;
+      sc.objects = select(st, in->objects, "inside objects");
+      sc.container = object_ref(st, in->container, "inside container");
+      // The container is never checked against itself.
+      sc.objects.erase(std::remove(sc.objects.begin(), sc.objects.end(), sc.container), sc.objects.end());
+      c.subjects = sc.objects;
+      if (sc.container >= 0) c.subjects.push_back(sc.container);
+      c.body = std::move(sc);
     } else if (auto* rbox = std::get_if<Boxed<ReachSpec>>(&spec.kind)) {
       auto* r = &**rbox;
       int device = object_ref(st, r->device, "reach device");

@@ -95,6 +95,14 @@ struct DeferredCheck {
   std::vector<std::vector<int>> members;  ///< objects of each member check (one, or a pair)
 };
 
+/// clearance, no_overlap and inside: evaluated on the geometry with FCL.
+struct SpatialCheck {
+  enum class Kind : uint8_t { ClearancePair, ClearanceSet, NoOverlap, Inside } kind = Kind::NoOverlap;
+  std::vector<int> objects;  ///< the selected set, or the pair {a, b}
+  int container = -1;        ///< inside
+  double min_si = 0;         ///< clearance
+};
+
 struct Constraint {
   std::string name;
   std::string description;
@@ -102,7 +110,7 @@ struct Constraint {
   Severity severity = Severity::Error;
   std::string kind;  ///< bound, expr, clearance, ...
   std::vector<int> subjects;  ///< objects it reads
-  std::variant<BoundCheck, ExprCheck, DeferredCheck> body;
+  std::variant<BoundCheck, ExprCheck, SpatialCheck, DeferredCheck> body;
 };
 
 struct Parameter {
@@ -130,6 +138,8 @@ struct Workcell {
   int find_object(std::string_view name) const;
   /// Whether type `t` is `ancestor` or derives from it.
   bool is_a(int t, int ancestor) const;
+  /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.
+  bool related(int a, int b) const;
 };
 
 }  // namespace sscs

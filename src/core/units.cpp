@@ -1,6 +1,8 @@
 #include "core/units.h"
 
 #include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <algorithm>
 #include <numbers>
@@ -122,6 +124,14 @@ std::optional<Quantity> parse_quantity(std::string_view text, std::string* unkno
   });
   if (is_word && unknown_unit) *unknown_unit = std::string(word);
   return std::nullopt;
+}
+
+double stable(double v) {
+  if (!std::isfinite(v) || v == 0) return v;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  double r = std::strtod(buf, nullptr);
+  return r == 0 ? 0.0 : r;  // no "-0"
 }
 
 std::string known_units(Dim dim) {

@@ -48,6 +48,9 @@ std::optional<Quantity> parse_quantity(std::string_view text, std::string* unkno
 /// The unit words sscs knows, for messages.
 std::string known_units(Dim dim);
 
+/// Rounds to 12 significant digits so reports stay stable across compilers and diff well.
+double stable(double v);
+
 /// SI value -> the number printed in reports (in file units).
 inline double si_to_file(double si, Dim dim) { return si / file_unit_to_si(dim); }
 

@@ -21,11 +21,6 @@ std::string subject_names(const Workcell& wc, const CheckResult& r, const char* 
   return out;
 }
 
-double stable(double v) {
-  if (!std::isfinite(v) || v == 0) return v;
-  double r = std::stod(fmt::format("{:.12g}", v));
-  return r == 0 ? 0.0 : r;  // no "-0"
-}
 
 std::string write_file_atomic(const std::string& path, const std::string& content) {
   namespace fs = std::filesystem;

@@ -6,6 +6,7 @@
 #include "check/check.h"
 #include "compile/workcell.h"
 #include "core/source.h"
+#include "core/units.h"
 
 namespace sscs {
 
@@ -31,8 +32,6 @@ std::string format_junit(const std::vector<VaultReport>& reports, const Sources&
 /// "Rack_1 Rack_2": the subject names of a result.
 std::string subject_names(const Workcell& wc, const CheckResult& r, const char* separator = ", ");
 
-/// Rounds to 12 significant digits so reports stay stable across compilers and diff well.
-double stable(double v);
 
 /// Writes `content` to `path` through a temporary file and a rename, so a reader never sees a
 /// half-written file. Returns an error message, or "" on success.

@@ -111,15 +111,21 @@ TEST_F(Check, WarningsAreCountedApart) {
   EXPECT_TRUE(rep.violated(true));
 }
 
-TEST_F(Check, SpatialKindsAreErrorsUntilFclChecksExist) {
+TEST_F(Check, KindsWithoutAStageYetAreErrors) {
+  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
+                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0]}}\n"
+                                                "tool: {part: c}\n"}})};
   Workcell wc = must_compile(
-      "objects:\n  - {type: drum, name: A}\n  - {type: drum, name: B, location: [2, 0, 0]}\n"
-      "constraints:\n  - {name: apart, clearance: {a: A, b: B, min: 0.5 m}}\n");
+      "objects:\n  - {type: drum, name: A}\n  - {type: slider, name: S}\n"
+      "constraints:\n  - {name: r, reach: {device: S, targets: A}}\n"
+      "  - {name: p, plugin: {class: seismic_gap, attributes: [A.height]}}\n");
   CheckReport rep = check(wc, build_geometry(wc, diag));
-  ASSERT_EQ(rep.results.size(), 1u);
+  ASSERT_EQ(rep.results.size(), 2u);
   EXPECT_EQ(rep.results[0].status, Status::Error);
-  EXPECT_NE(rep.results[0].message.find("geometry"), std::string::npos);
-  EXPECT_EQ(rep.failed, 1u);  // never passed silently
+  EXPECT_NE(rep.results[0].message.find("kinematics"), std::string::npos);
+  EXPECT_EQ(rep.results[1].status, Status::Error);
+  EXPECT_NE(rep.results[1].message.find("plugin"), std::string::npos);
+  EXPECT_EQ(rep.failed, 2u);  // never passed silently
   EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{0, 1}));
 }
 

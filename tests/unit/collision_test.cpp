@@ -1,0 +1,116 @@
+#include <cmath>
+
+#include "geometry/collision.h"
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+using Collision = VaultTest;
+
+struct Built {
+  Workcell wc;
+  GeometryModel geometry;
+};
+
+Built build(VaultTest& t, const std::string& objects, const std::vector<std::pair<std::string, std::string>>& types = {}) {
+  if (!types.empty()) t.options.library_dirs = {t.type_dir(types)};
+  Built b{t.must_compile("objects:\n" + objects), {}};
+  b.geometry = build_geometry(b.wc, t.diag);
+  EXPECT_FALSE(t.diag.has_errors()) << t.diag.format(t.sources);
+  return b;
+}
+
+const std::vector<std::pair<std::string, std::string>> kShapes = {
+    {"cube", "sscs: 1\ntype: cube\nattributes:\n  side: {type: length, default: 1}\n"
+             "geometry:\n  - box: {size: [side, side, side]}\n"},
+    {"ball", "sscs: 1\ntype: ball\nattributes:\n  r: {type: length, default: 0.5}\ngeometry:\n  - sphere: {radius: r}\n"},
+    {"rod", "sscs: 1\ntype: rod\ngeometry:\n  - cylinder: {radius: 0.5, length: 2}\n"},
+};
+
+TEST_F(Collision, BoxBoxDistanceAndPenetration) {
+  Built b = build(*this, "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [3, 0, 0]}\n"
+                         "  - {type: cube, name: C, location: [0.75, 0, 0]}\n", kShapes);
+  CollisionWorld w(b.geometry);
+  EXPECT_NEAR(*w.distance(0, 1), 2.0, 1e-6);
+  EXPECT_NEAR(*w.distance(0, 2), -0.25, 1e-6);  // overlapping by 0.25 along x
+}
+
+TEST_F(Collision, RotatedBoxes) {
+  // B yawed 45 deg: its corner reaches sqrt(2)/2 from its centre towards A.
+  Built b = build(*this, "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [2, 0, 0], orientation: [0, 0, 45]}\n",
+                  kShapes);
+  CollisionWorld w(b.geometry);
+  EXPECT_NEAR(*w.distance(0, 1), 2 - 0.5 - std::sqrt(0.5), 1e-6);
+}
+
+TEST_F(Collision, BoxCylinderAndSphere) {
+  Built b = build(*this,
+                  "  - {type: cube, name: A}\n  - {type: rod, name: R, location: [0, 3, 0]}\n"
+                  "  - {type: ball, name: S, location: [0, 0, 2]}\n", kShapes);
+  CollisionWorld w(b.geometry);
+  EXPECT_NEAR(*w.distance(0, 1), 3 - 0.5 - 0.5, 1e-6);  // rod along z, radius 0.5
+  EXPECT_NEAR(*w.distance(0, 2), 2 - 0.5 - 0.5, 1e-6);
+}
+
+TEST_F(Collision, SphereAgainstMesh) {
+  auto types = kShapes;
+  types.push_back({"tri", "sscs: 1\ntype: tri\ngeometry:\n  - mesh: {file: tri.obj}\n"});
+  options.library_dirs = {type_dir(types)};
+  std::ofstream(std::filesystem::path(options.library_dirs[0]) / "tri.obj")
+      << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";  // a 2 x 2 square in z = 0
+  Built b{must_compile("objects:\n  - {type: tri, name: M}\n  - {type: ball, name: S, location: [0, 0, 1.5]}\n"), {}};
+  b.geometry = build_geometry(b.wc, diag);
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  CollisionWorld w(b.geometry);
+  EXPECT_NEAR(*w.distance(0, 1), 1.0, 1e-6);
+}
+
+TEST_F(Collision, BroadphaseFindsOnlyNearPairs) {
+  Built b = build(*this,
+                  "  - type: cube\n    array: {name: \"C{i}\", count: [10], pitch: [1.5, 0, 0]}\n", kShapes);
+  CollisionWorld w(b.geometry);
+  std::vector<int> all(10);
+  for (int i = 0; i < 10; ++i) all[i] = i;
+  EXPECT_TRUE(w.candidate_pairs(all, 0.2).empty());  // gaps of 0.5
+  auto pairs = w.candidate_pairs(all, 0.3);          // grown by 0.3 each: neighbours touch
+  ASSERT_EQ(pairs.size(), 9u);
+  EXPECT_EQ(pairs[0], std::make_pair(0, 1));
+}
+
+TEST_F(Collision, InsideMarginsOfBoxAndRotatedCylinder) {
+  Built b = build(*this,
+                  "  - {type: room, name: R, length: 10, width: 4, height: 3, orientation: [0, 0, 30]}\n"
+                  "  - {type: rod, name: Up, parent: R, location: [1, 1, 1.5]}\n"
+                  "  - {type: rod, name: Lying, parent: R, location: [5, 3.8, 0.5], orientation: [90, 0, 0]}\n",
+                  kShapes);
+  std::string why;
+  // Upright rod: 0.5 from each of its ends to floor and ceiling, 0.5 from the walls at x=0, y=0.
+  EXPECT_NEAR(*inside_margin(b.geometry, 1, 0, &why), 0.5, 1e-9);
+  // Rod lying along room y (roll 90): spans y 2.8..4.8, sticks out of y = 4 by 0.8.
+  EXPECT_NEAR(*inside_margin(b.geometry, 2, 0, &why), -0.8, 1e-9);
+  EXPECT_FALSE(inside_margin(b.geometry, 0, 1, &why));  // a rod is no box container
+  EXPECT_EQ(why, "the container must have exactly one box shape (its inside)");
+}
+
+TEST_F(Collision, ConstraintsReportFailingPairs) {
+  options.library_dirs = {type_dir(kShapes)};
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 10, height: 3}\n"
+      "  - {type: cube, name: A, parent: R, location: [1, 1, 0.5]}\n"
+      "  - {type: cube, name: B, parent: R, location: [1.9, 1, 0.5]}\n"
+      "  - {type: cube, name: C, parent: R, location: [5, 5, 0.5]}\n"
+      "constraints:\n  - {name: o, no_overlap: {objects: \"*\"}}\n"
+      "  - {name: c, clearance: {objects: [A, C], min: 1 m}}\n"
+      "  - {name: touching, no_overlap: {objects: [A, C]}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Fail);  // A and B overlap; the room holds them and is not compared
+  EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{1, 2}));
+  EXPECT_NEAR(*rep.results[0].margin, -0.1, 1e-6);
+  EXPECT_EQ(rep.results[1].status, Status::Pass);
+  EXPECT_EQ(rep.results[2].status, Status::Pass);
+}
+
+}  // namespace
+}  // namespace sscs::testing
