@@ -13,6 +13,7 @@
 
 #include "check/check.h"
 #include "compile/compile.h"
+#include "geometry/export.h"
 #include "geometry/geometry.h"
 #include "core/timer.h"
 #include "report/report.h"
@@ -212,6 +213,26 @@ int run_types(const Common& common, const std::string& format) {
   return kOk;
 }
 
+int run_export(const Common& common, const std::string& vault, const std::string& out) {
+  CompileOptions options;
+  if (!common.overrides(options)) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  auto wc = compile_file(vault, options, sources, diag);
+  GeometryModel geometry;
+  if (wc) geometry = build_geometry(*wc, diag);
+  if (diag.has_errors()) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;
+  }
+  if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
+    std::cerr << "sscs: error: " << err << "\n";
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("wrote {} ({} objects)\n", out, wc->objects.size());
+  return kOk;
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -236,6 +257,12 @@ int run_cli(int argc, char** argv) {
     types_cmd->add_option("--format", types_format, "text or json")->check(CLI::IsMember({"text", "json"}));
     common.add_to(types_cmd);
 
+    std::string export_vault, export_out;
+    CLI::App* export_cmd = app.add_subcommand("export", "the composed workcell as one 3D file (glb, gltf, obj, stl)");
+    export_cmd->add_option("VAULT", export_vault, "vault file")->required();
+    export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
+    common.add_to(export_cmd);
+
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -244,6 +271,7 @@ int run_cli(int argc, char** argv) {
     }
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
+    if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
     return kInputError;
   } catch (const std::exception& e) {
     std::cerr << "sscs: internal error: " << e.what() << "\n";

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "geometry/geometry.h"
@@ -94,6 +95,64 @@ TEST_F(Geometry, CorruptMeshIsAnInputError) {
   build_geometry(wc, diag);
   ASSERT_TRUE(diag.has_errors());
   EXPECT_EQ(diag.errors()[0].mark.line, 4u);  // the line of the type file that names the mesh
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+
+#include "geometry/export.h"
+
+namespace sscs::testing {
+namespace {
+
+/// World bounds of every mesh under each named node, as a viewer would place them.
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
+             std::map<std::string, Eigen::AlignedBox3d>& boxes, Eigen::AlignedBox3d& all) {
+  aiMatrix4x4 world = parent * node->mTransformation;
+  for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      aiVector3D p = world * mesh->mVertices[v];
+      boxes[node->mName.C_Str()].extend(Eigen::Vector3d(p.x, p.y, p.z));
+      all.extend(Eigen::Vector3d(p.x, p.y, p.z));
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], world, boxes, all);
+}
+
+TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: Room1, length: 6, width: 4, height: 3, location: [1, 2, 0], orientation: [0, 0, 30]}\n"
+      "  - {type: drum, name: Drum1, parent: Room1, location: [1, 1, 0]}\n"
+      "  - {type: rack, name: Rack1, parent: Room1, location: [3, 1, 0], orientation: [0, 0, 90]}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  Eigen::AlignedBox3d expected;
+  for (const ObjectGeometry& o : g.objects) expected.extend(o.bbox_world);
+  auto dir = std::filesystem::temp_directory_path() / "sscs_export_test";
+  std::filesystem::create_directories(dir);
+  for (const char* ext : {"glb", "gltf", "obj", "stl"}) {
+    std::string path = (dir / (std::string("w.") + ext)).string();
+    ASSERT_EQ(export_workcell(wc, g, path), "") << ext;
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(path, 0);
+    ASSERT_TRUE(scene) << ext << ": " << importer.GetErrorString();
+    std::map<std::string, Eigen::AlignedBox3d> boxes;
+    Eigen::AlignedBox3d all;
+    collect(scene, scene->mRootNode, aiMatrix4x4(), boxes, all);
+    // The cylinder is tessellated with 32 segments: its bounds are exact along its own axes.
+    EXPECT_TRUE(all.min().isApprox(expected.min(), 1e-4)) << ext << " " << all.min().transpose();
+    EXPECT_TRUE(all.max().isApprox(expected.max(), 1e-4)) << ext << " " << all.max().transpose();
+    if (std::string(ext) == "stl") continue;  // STL has no nodes
+    for (size_t i = 0; i < wc.objects.size(); ++i) {
+      ASSERT_TRUE(boxes.count(wc.objects[i].name)) << ext << " lacks node " << wc.objects[i].name;
+      const Eigen::AlignedBox3d& b = boxes[wc.objects[i].name];
+      EXPECT_LT((b.min() - g.objects[i].bbox_world.min()).norm(), 0.02) << ext << " " << wc.objects[i].name;
+      EXPECT_LT((b.max() - g.objects[i].bbox_world.max()).norm(), 0.02) << ext << " " << wc.objects[i].name;
+    }
+  }
 }
 
 }  // namespace

@@ -1,0 +1,189 @@
+#include "geometry/export.h"
+
+#include <assimp/Exporter.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include <fmt/format.h>
+
+namespace sscs {
+
+namespace {
+
+void add_quad(TriangleMesh& m, int a, int b, int c, int d) {
+  m.triangles.emplace_back(a, b, c);
+  m.triangles.emplace_back(a, c, d);
+}
+
+TriangleMesh box_mesh(const Eigen::Vector3d& size) {
+  TriangleMesh m;
+  Eigen::Vector3d h = size / 2;
+  for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+  // Outward-facing (counter-clockwise seen from outside).
+  add_quad(m, 0, 2, 3, 1);  // -z
+  add_quad(m, 4, 5, 7, 6);  // +z
+  add_quad(m, 0, 1, 5, 4);  // -y
+  add_quad(m, 2, 6, 7, 3);  // +y
+  add_quad(m, 0, 4, 6, 2);  // -x
+  add_quad(m, 1, 3, 7, 5);  // +x
+  return m;
+}
+
+TriangleMesh cylinder_mesh(double r, double length, int n = 32) {
+  TriangleMesh m;
+  for (int i = 0; i < n; ++i) {
+    double a = 2 * std::numbers::pi * i / n;
+    m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), -length / 2);
+    m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), length / 2);
+  }
+  int bottom = static_cast<int>(m.vertices.size());
+  m.vertices.emplace_back(0, 0, -length / 2);
+  m.vertices.emplace_back(0, 0, length / 2);
+  for (int i = 0; i < n; ++i) {
+    int j = (i + 1) % n;
+    add_quad(m, 2 * i, 2 * j, 2 * j + 1, 2 * i + 1);
+    m.triangles.emplace_back(bottom, 2 * j, 2 * i);
+    m.triangles.emplace_back(bottom + 1, 2 * i + 1, 2 * j + 1);
+  }
+  return m;
+}
+
+TriangleMesh sphere_mesh(double r, int n = 32) {
+  TriangleMesh m;
+  int rings = n / 2;
+  for (int i = 0; i <= rings; ++i) {
+    double phi = std::numbers::pi * i / rings;
+    for (int j = 0; j < n; ++j) {
+      double theta = 2 * std::numbers::pi * j / n;
+      m.vertices.emplace_back(r * std::sin(phi) * std::cos(theta), r * std::sin(phi) * std::sin(theta), r * std::cos(phi));
+    }
+  }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < n; ++j) {
+      int a = i * n + j, b = i * n + (j + 1) % n;
+      add_quad(m, a, a + n, b + n, b);
+    }
+  return m;
+}
+
+aiColor4D parse_color(const std::string& hex) {
+  if (hex.size() != 7) return {0.7f, 0.7f, 0.7f, 1.0f};
+  auto channel = [&](int i) { return static_cast<float>(std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16)) / 255.0f; };
+  return {channel(0), channel(1), channel(2), 1.0f};
+}
+
+aiMatrix4x4 to_ai(const Eigen::Isometry3d& X) {
+  const Eigen::Matrix4d& M = X.matrix();
+  return aiMatrix4x4(static_cast<ai_real>(M(0, 0)), static_cast<ai_real>(M(0, 1)), static_cast<ai_real>(M(0, 2)),
+                     static_cast<ai_real>(M(0, 3)), static_cast<ai_real>(M(1, 0)), static_cast<ai_real>(M(1, 1)),
+                     static_cast<ai_real>(M(1, 2)), static_cast<ai_real>(M(1, 3)), static_cast<ai_real>(M(2, 0)),
+                     static_cast<ai_real>(M(2, 1)), static_cast<ai_real>(M(2, 2)), static_cast<ai_real>(M(2, 3)), 0, 0, 0, 1);
+}
+
+}  // namespace
+
+TriangleMesh tessellate(const Shape& s) {
+  TriangleMesh m;
+  switch (s.kind) {
+    case Shape::Kind::Box: m = box_mesh(s.box_size); break;
+    case Shape::Kind::Cylinder: m = cylinder_mesh(s.radius, s.length); break;
+    case Shape::Kind::Sphere: m = sphere_mesh(s.radius); break;
+    case Shape::Kind::Mesh:
+      m = *s.mesh;
+      for (Eigen::Vector3d& v : m.vertices) v = v.cwiseProduct(s.scale);
+      break;
+  }
+  for (Eigen::Vector3d& v : m.vertices) v = s.X_object_shape * v;
+  return m;
+}
+
+std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, const std::string& path) {
+  namespace fs = std::filesystem;
+  std::string ext = fs::path(path).extension().string();
+  std::string format = ext == ".glb" ? "glb2" : ext == ".gltf" ? "gltf2" : ext == ".obj" ? "obj" : ext == ".stl" ? "stlb" : "";
+  if (format.empty()) return fmt::format("cannot export '{}': expected a .glb, .gltf, .obj or .stl file", path);
+
+  aiScene scene;  // owns everything below; its destructor frees the arrays
+  scene.mRootNode = new aiNode(wc.name);
+  size_t n = wc.objects.size();
+  scene.mNumMaterials = static_cast<unsigned>(n ? n : 1);
+  scene.mMaterials = new aiMaterial*[scene.mNumMaterials];
+  for (unsigned i = 0; i < scene.mNumMaterials; ++i) {
+    scene.mMaterials[i] = new aiMaterial();
+    aiString name(i < n ? wc.objects[i].name : "default");
+    scene.mMaterials[i]->AddProperty(&name, AI_MATKEY_NAME);
+    aiColor4D color = parse_color(i < n ? wc.objects[i].color : "");
+    scene.mMaterials[i]->AddProperty(&color, 1, AI_MATKEY_COLOR_DIFFUSE);
+  }
+  std::vector<aiMesh*> meshes;
+  std::vector<aiNode*> nodes;
+  for (size_t i = 0; i < n; ++i) {
+    auto* node = new aiNode(wc.objects[i].name);
+    node->mTransformation = to_ai(geometry.objects[i].X_world_object);
+    node->mParent = scene.mRootNode;
+    std::vector<unsigned> own;
+    for (const Shape& s : geometry.objects[i].shapes) {
+      TriangleMesh tm = tessellate(s);
+      auto* mesh = new aiMesh();
+      mesh->mName = aiString(wc.objects[i].name);  // OBJ groups are named after meshes
+      mesh->mMaterialIndex = static_cast<unsigned>(i);
+      mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+      mesh->mNumVertices = static_cast<unsigned>(tm.vertices.size());
+      mesh->mVertices = new aiVector3D[mesh->mNumVertices];
+      for (size_t v = 0; v < tm.vertices.size(); ++v)
+        mesh->mVertices[v] = aiVector3D(static_cast<ai_real>(tm.vertices[v].x()), static_cast<ai_real>(tm.vertices[v].y()),
+                                        static_cast<ai_real>(tm.vertices[v].z()));
+      mesh->mNumFaces = static_cast<unsigned>(tm.triangles.size());
+      mesh->mFaces = new aiFace[mesh->mNumFaces];
+      for (size_t f = 0; f < tm.triangles.size(); ++f) {
+        aiFace& face = mesh->mFaces[f];
+        face.mNumIndices = 3;
+        face.mIndices = new unsigned[3]{static_cast<unsigned>(tm.triangles[f].x()), static_cast<unsigned>(tm.triangles[f].y()),
+                                        static_cast<unsigned>(tm.triangles[f].z())};
+      }
+      own.push_back(static_cast<unsigned>(meshes.size()));
+      meshes.push_back(mesh);
+    }
+    node->mNumMeshes = static_cast<unsigned>(own.size());
+    if (!own.empty()) {
+      node->mMeshes = new unsigned[own.size()];
+      std::copy(own.begin(), own.end(), node->mMeshes);
+    }
+    nodes.push_back(node);
+  }
+  scene.mRootNode->mNumChildren = static_cast<unsigned>(nodes.size());
+  if (!nodes.empty()) {
+    scene.mRootNode->mChildren = new aiNode*[nodes.size()];
+    std::copy(nodes.begin(), nodes.end(), scene.mRootNode->mChildren);
+  }
+  scene.mNumMeshes = static_cast<unsigned>(meshes.size());
+  if (!meshes.empty()) {
+    scene.mMeshes = new aiMesh*[meshes.size()];
+    std::copy(meshes.begin(), meshes.end(), scene.mMeshes);
+  }
+
+  // STL has no nodes: bake the world transforms into the vertices.
+  unsigned steps = format == "stlb" ? static_cast<unsigned>(aiProcess_PreTransformVertices) : 0u;
+  fs::path target(path);
+  std::string tmp = (target.parent_path() / fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), ext)).string();
+  Assimp::Exporter exporter;
+  if (exporter.Export(&scene, format, tmp, steps) != AI_SUCCESS) {
+    std::remove(tmp.c_str());
+    return fmt::format("cannot export '{}': {}", path, exporter.GetErrorString());
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    return fmt::format("cannot write '{}': {}", path, ec.message());
+  }
+  return "";
+}
+
+}  // namespace sscs
