@@ -159,7 +159,7 @@ def cli(sscs, root):
         if drum["diameter"]["default"] != "0.572" or drum["diameter"]["max"] != 2 or drum["lid"]["values"] != ["open", "closed"]:
             fail("drum attributes", p)
         p = run(sscs, root, ["types", "--library", "scenarios/demo/library"])
-        if "waste_drum (extends drum)" not in p.stdout or "fissile_mass" not in p.stdout:
+        if "waste_drum (extends drum_hooped)" not in p.stdout or "fissile_mass" not in p.stdout:
             fail("types --library", p)
     print("ok cli")
 
