@@ -105,6 +105,7 @@ TEST_F(Geometry, CorruptMeshIsAnInputError) {
 #include <assimp/scene.h>
 
 #include "geometry/export.h"
+#include "geometry/mesh_io.h"
 
 namespace sscs::testing {
 namespace {
@@ -153,6 +154,44 @@ TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
       EXPECT_LT((b.min() - g.objects[i].bbox_world.min()).norm(), 0.02) << ext << " " << wc.objects[i].name;
       EXPECT_LT((b.max() - g.objects[i].bbox_world.max()).norm(), 0.02) << ext << " " << wc.objects[i].name;
     }
+  }
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+TEST_F(Geometry, MeshFormatsLoadAlike) {
+  // One tetrahedron in every format the library documents: OBJ and PLY written here, STL, glTF
+  // and GLB written by our exporter from the OBJ.
+  std::string dir = type_dir({});
+  auto at = [&](const std::string& f) { return (std::filesystem::path(dir) / f).string(); };
+  std::ofstream(at("t.obj")) << "v 0 0 0\nv 1 0 0\nv 0 2 0\nv 0 0 3\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::ofstream(at("t.ply")) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n1 0 0\n0 2 0\n0 0 3\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  MeshCache cache;
+  auto obj = cache.load(at("t.obj"), {}, diag);
+  ASSERT_TRUE(obj);
+  Workcell wc;
+  wc.name = "T";
+  wc.objects.push_back(Object{"Tet", 0, -1, 0, {}, "", ""});
+  GeometryModel g;
+  g.objects.resize(1);
+  Shape s;
+  s.kind = Shape::Kind::Mesh;
+  s.mesh = obj;
+  g.objects[0].shapes.push_back(s);
+  for (const char* ext : {"stl", "gltf", "glb"}) ASSERT_EQ(export_workcell(wc, g, at(std::string("t.") + ext)), "");
+  for (const char* ext : {"obj", "ply", "stl", "gltf", "glb"}) {
+    auto mesh = cache.load(at(std::string("t.") + ext), {}, diag);
+    ASSERT_TRUE(mesh) << ext << diag.format(sources);
+    EXPECT_EQ(mesh->triangles.size(), 4u) << ext;
+    Eigen::AlignedBox3d b;
+    for (const auto& v : mesh->vertices) b.extend(v);
+    EXPECT_TRUE(b.max().isApprox(Eigen::Vector3d(1, 2, 3), 1e-6)) << ext << " " << b.max().transpose();
   }
 }
 
