@@ -1,5 +1,6 @@
 #include "geometry/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -190,8 +191,24 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
       }
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
+    // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
+    std::vector<int> chain;
+    for (int k = o.type; k >= 0; k = wc.types[k].base) chain.insert(chain.begin(), k);
+    for (int k : chain)
+      for (const FrameSpec& f : wc.types[k].spec->frames) {
+        Eigen::Isometry3d X = g.X_world_object * eval.pose(f.pose, obj);
+        auto same = std::find_if(g.frames_world.begin(), g.frames_world.end(), [&](const auto& e) { return e.first == f.name; });
+        if (same != g.frames_world.end()) same->second = X;
+        else g.frames_world.emplace_back(f.name, X);
+      }
   }
   return model;
+}
+
+const Eigen::Isometry3d* ObjectGeometry::frame(std::string_view name) const {
+  for (const auto& [n, X] : frames_world)
+    if (n == name) return &X;
+  return nullptr;
 }
 
 double bbox_value(const GeometryModel& geometry, int object, uint32_t corner_axis) {

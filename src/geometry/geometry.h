@@ -37,6 +37,10 @@ struct ObjectGeometry {
   Eigen::Isometry3d X_world_object = Eigen::Isometry3d::Identity();
   std::vector<Shape> shapes;
   Eigen::AlignedBox3d bbox_world;  ///< empty when the object has no shapes
+  /// Named frames of the type (and its base types) in the world, in declaration order.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> frames_world;
+  /// The world pose of frame `name`; nullptr when the type has no such frame.
+  const Eigen::Isometry3d* frame(std::string_view name) const;
 };
 
 /// Geometry of a whole workcell, indexed like Workcell::objects. Immutable once built.

@@ -93,6 +93,21 @@ TEST_F(Collision, InsideMarginsOfBoxAndRotatedCylinder) {
   EXPECT_EQ(why, "the container must have exactly one box shape (its inside)");
 }
 
+TEST_F(Collision, InsideEdgeCases) {
+  Built b = build(*this,
+                  "  - {type: room, name: R, length: 4, width: 4, height: 3}\n"
+                  "  - {type: cube, name: Corner, parent: R, location: [0.5, 0.5, 0.5]}\n"      // touches three faces
+                  "  - {type: cube, name: Out, parent: R, location: [10, 10, 10]}\n"            // wholly outside
+                  "  - {type: cube, name: Tilted, parent: R, location: [2, 2, 1.5], orientation: [45, 0, 0]}\n"
+                  "  - {type: ball, name: Ball, location: [2, 2, 2.6]}\n",                     // no parent: world frame
+                  kShapes);
+  std::string why;
+  EXPECT_NEAR(*inside_margin(b.geometry, 1, 0, &why), 0.0, 1e-12);
+  EXPECT_NEAR(*inside_margin(b.geometry, 2, 0, &why), -(10.5 - 3), 1e-12);  // the largest protrusion: above the ceiling
+  EXPECT_NEAR(*inside_margin(b.geometry, 3, 0, &why), 1.5 - std::sqrt(0.5), 1e-12);  // rolled 45 deg: corners reach sqrt(2)/2
+  EXPECT_NEAR(*inside_margin(b.geometry, 4, 0, &why), -0.1, 1e-12);
+}
+
 TEST_F(Collision, ConstraintsReportFailingPairs) {
   options.library_dirs = {type_dir(kShapes)};
   Workcell wc = must_compile(

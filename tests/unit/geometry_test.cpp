@@ -197,3 +197,24 @@ TEST_F(Geometry, MeshFormatsLoadAlike) {
 
 }  // namespace
 }  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+TEST_F(Geometry, NamedFramesFollowAttributesAndInheritance) {
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 10, height: 4, location: [10, 0, 0], orientation: [0, 0, 90]}\n"
+      "  - {type: drum_hooped, name: D, parent: R, location: [1, 2, 0], height: 1 m}\n"
+      "  - {type: rack, name: K, parent: R, location: [3, 3, 0], level_pitch: 2 m}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  const Eigen::Isometry3d* top = g.objects[1].frame("top");  // inherited from drum
+  ASSERT_TRUE(top);
+  EXPECT_TRUE(top->translation().isApprox(Eigen::Vector3d(10 - 2, 1, 1), 1e-12)) << top->translation().transpose();
+  const Eigen::Isometry3d* slot = g.objects[2].frame("slot_2");
+  ASSERT_TRUE(slot);
+  EXPECT_NEAR(slot->translation().z(), 0.15 + 2, 1e-12);
+  EXPECT_FALSE(g.objects[2].frame("slot_9"));
+}
+
+}  // namespace
+}  // namespace sscs::testing
