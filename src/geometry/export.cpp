@@ -1,5 +1,7 @@
 #include "geometry/export.h"
 
+#include "core/files.h"
+
 #include <assimp/Exporter.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -170,20 +172,13 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
 
   // STL has no nodes: bake the world transforms into the vertices.
   unsigned steps = format == "stlb" ? static_cast<unsigned>(aiProcess_PreTransformVertices) : 0u;
-  fs::path target(path);
-  std::string tmp = (target.parent_path() / fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), ext)).string();
+  std::string tmp = temp_path_for(path);
   Assimp::Exporter exporter;
   if (exporter.Export(&scene, format, tmp, steps) != AI_SUCCESS) {
     std::remove(tmp.c_str());
     return fmt::format("cannot export '{}': {}", path, exporter.GetErrorString());
   }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return fmt::format("cannot write '{}': {}", path, ec.message());
-  }
-  return "";
+  return commit_file(tmp, path);
 }
 
 }  // namespace sscs

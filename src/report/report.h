@@ -5,6 +5,7 @@
 
 #include "check/check.h"
 #include "compile/workcell.h"
+#include "core/files.h"
 #include "core/source.h"
 #include "core/units.h"
 
@@ -33,8 +34,5 @@ std::string format_junit(const std::vector<VaultReport>& reports, const Sources&
 std::string subject_names(const Workcell& wc, const CheckResult& r, const char* separator = ", ");
 
 
-/// Writes `content` to `path` through a temporary file and a rename, so a reader never sees a
-/// half-written file. Returns an error message, or "" on success.
-std::string write_file_atomic(const std::string& path, const std::string& content);
 
 }  // namespace sscs

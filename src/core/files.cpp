@@ -1,0 +1,47 @@
+#include "core/files.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+namespace sscs {
+
+namespace fs = std::filesystem;
+
+std::string temp_path_for(const std::string& path) {
+  fs::path target(path);
+  return (target.parent_path() /
+          fmt::format(".{}.tmp{}{}", target.stem().string(), getpid(), target.extension().string()))
+      .string();
+}
+
+std::string commit_file(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (!ec) return "";
+  std::remove(tmp.c_str());
+  return fmt::format("cannot write '{}': {}", path, ec.message());
+}
+
+std::string write_file_atomic(const std::string& path, const std::string& content) {
+  std::string tmp = temp_path_for(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return fmt::format("cannot write '{}': {}", path, std::strerror(errno));
+    out << content;
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      return fmt::format("cannot write '{}': {}", path, std::strerror(errno));
+    }
+  }
+  return commit_file(tmp, path);
+}
+
+}  // namespace sscs
