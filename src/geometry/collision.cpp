@@ -1,5 +1,7 @@
 #include "geometry/collision.h"
 
+#include "geometry/export.h"
+
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
@@ -125,10 +127,68 @@ std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vect
   return pairs;
 }
 
+namespace {
+
+/// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c) {
+  Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  Eigen::Vector3d bp = p - b;
+  double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  Eigen::Vector3d cp = p - c;
+  double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// Whether p is inside a closed triangle mesh: the parity of crossings of a ray (Moller-Trumbore).
+bool inside_mesh(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& tris) {
+  // An irrational-looking direction avoids rays through edges and vertices of regular meshes.
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.5773, 0.5774, 0.5775).normalized();
+  int crossings = 0;
+  for (const Eigen::Vector3i& t : tris) {
+    Eigen::Vector3d e1 = v[t.y()] - v[t.x()], e2 = v[t.z()] - v[t.x()];
+    Eigen::Vector3d h = dir.cross(e2);
+    double det = e1.dot(h);
+    if (std::abs(det) < 1e-14) continue;
+    Eigen::Vector3d s = p - v[t.x()];
+    double u = s.dot(h) / det;
+    if (u < 0 || u > 1) continue;
+    Eigen::Vector3d q = s.cross(e1);
+    double w = dir.dot(q) / det;
+    if (w < 0 || u + w > 1) continue;
+    if (e2.dot(q) / det > 0) ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+/// Points of a shape that decide containment: box corners and mesh vertices (exact for convex
+/// containers), tessellation vertices for cylinders and spheres (within 0.5% of the radius).
+std::vector<Eigen::Vector3d> hull_points(const Shape& s, const Eigen::Isometry3d& X) {
+  std::vector<Eigen::Vector3d> out;
+  Shape local = s;
+  local.X_object_shape.setIdentity();
+  TriangleMesh m = tessellate(local);
+  for (const Eigen::Vector3d& p : m.vertices) out.push_back(X * p);
+  return out;
+}
+
+}  // namespace
+
 std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why) {
   const ObjectGeometry& c = geometry.objects[container];
-  if (c.shapes.size() != 1 || c.shapes[0].kind != Shape::Kind::Box) {
-    *why = "the container must have exactly one box shape (its inside)";
+  if (c.shapes.size() != 1 || c.shapes[0].kind == Shape::Kind::Sphere) {
+    *why = "the container must have exactly one box, cylinder or mesh shape (its inside)";
     return std::nullopt;
   }
   const ObjectGeometry& g = geometry.objects[object];
@@ -136,15 +196,58 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
     *why = "the object has no geometry";
     return std::nullopt;
   }
-  // Bounds of the object in the container box's own frame are exact for boxes, cylinders and
-  // spheres (and vertex-exact for meshes); the box is axis-aligned there.
-  Eigen::Isometry3d X_box_world = (c.X_world_object * c.shapes[0].X_object_shape).inverse();
-  Eigen::Vector3d half = c.shapes[0].box_size / 2;
-  Eigen::AlignedBox3d b;
-  for (const Shape& s : g.shapes) b.extend(shape_bounds(s, X_box_world * g.X_world_object * s.X_object_shape));
+  const Shape& cs = c.shapes[0];
+  Eigen::Isometry3d X_c_world = (c.X_world_object * cs.X_object_shape).inverse();
   double margin = INFINITY;
-  for (int k = 0; k < 3; ++k) margin = std::min({margin, b.min()[k] + half[k], half[k] - b.max()[k]});
-  return margin;
+  switch (cs.kind) {
+    case Shape::Kind::Box: {
+      // Bounds in the box's own frame are exact for boxes, cylinders and spheres at any rotation.
+      Eigen::Vector3d half = cs.box_size / 2;
+      Eigen::AlignedBox3d b;
+      for (const Shape& s : g.shapes) b.extend(shape_bounds(s, X_c_world * g.X_world_object * s.X_object_shape));
+      for (int k = 0; k < 3; ++k) margin = std::min({margin, b.min()[k] + half[k], half[k] - b.max()[k]});
+      return margin;
+    }
+    case Shape::Kind::Cylinder: {
+      // Along the axis: exact bounds; radially: the farthest point from the axis.
+      double half = cs.length / 2;
+      for (const Shape& s : g.shapes) {
+        Eigen::Isometry3d X = X_c_world * g.X_world_object * s.X_object_shape;
+        Eigen::AlignedBox3d b = shape_bounds(s, X);
+        margin = std::min({margin, b.min().z() + half, half - b.max().z()});
+        double radial = 0;
+        if (s.kind == Shape::Kind::Sphere) {
+          radial = X.translation().head<2>().norm() + s.radius;
+        } else {
+          for (const Eigen::Vector3d& p : hull_points(s, X)) radial = std::max(radial, p.head<2>().norm());
+        }
+        margin = std::min(margin, cs.radius - radial);
+      }
+      return margin;
+    }
+    case Shape::Kind::Mesh: {
+      // Every point of the object's hull inside the closed mesh; margin: the distance from the
+      // nearest point to the surface, or minus the farthest outside point's distance.
+      std::vector<Eigen::Vector3d> v;
+      for (const Eigen::Vector3d& p : cs.mesh->vertices) v.push_back(p.cwiseProduct(cs.scale));
+      const auto& tris = cs.mesh->triangles;
+      double worst_outside = 0;
+      bool any_outside = false;
+      for (const Shape& s : g.shapes)
+        for (const Eigen::Vector3d& p : hull_points(s, X_c_world * g.X_world_object * s.X_object_shape)) {
+          double d = INFINITY;
+          for (const Eigen::Vector3i& t : tris) d = std::min(d, (p - closest_on_triangle(p, v[t.x()], v[t.y()], v[t.z()])).norm());
+          if (inside_mesh(p, v, tris)) {
+            margin = std::min(margin, d);
+          } else {
+            any_outside = true;
+            worst_outside = std::max(worst_outside, d);
+          }
+        }
+      return any_outside ? -worst_outside : margin;
+    }
+    default: return std::nullopt;
+  }
 }
 
 }  // namespace sscs
