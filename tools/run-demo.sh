@@ -14,6 +14,8 @@ status=0
 "$sscs" check scenarios/demo/demo.yaml || status=$?
 "$sscs" check scenarios/demo/demo.yaml --format json --out "$out/report.json" --quiet || true
 "$sscs" check scenarios/demo/demo.yaml --format junit --out "$out/report.xml" --quiet || true
+"$sscs" export scenarios/demo/demo.yaml --out "$out/demo.glb" --quiet
 echo
 echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
 echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
+echo "3D model: $out/demo.glb (open in Blender or any glTF viewer)"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -56,27 +57,23 @@ Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
 
 namespace {
 
-/// Evaluates one type-file value (number, unit literal or expression over the object's
-/// attributes) for one object. The type loader already checked names and units.
+/// Evaluates type-file values (numbers, unit literals or expressions over the object's
+/// attributes) for objects. Each written value is read once and kept by its address: a subtype
+/// lists its base's attributes first and in the same order, so attribute indices carry over.
+/// The type loader already reported problems with the text.
 class ShapeEvaluator {
  public:
-  ShapeEvaluator(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag) {}
+  explicit ShapeEvaluator(const Workcell& wc) : wc_(wc) {}
 
   double value(const Scalar& s, Dim dim, int object, double fallback) {
     if (!s.present) return fallback;
-    Diagnostics scratch;  // the type loader reported problems with the text already
-    ParsedValue v = parse_value(s, dim, "", scratch);
-    if (v.kind == ParsedValue::Kind::Number) return v.si;
-    const Expression* e = expression(s.text);
-    if (!e) return NAN;
+    const Compiled& c = compiled(s, dim, wc_.objects[object].type);
+    if (!c.expr) return c.value;
     const Object& o = wc_.objects[object];
-    const ObjectType& t = wc_.types[o.type];
-    inputs_.clear();
-    for (const std::string& n : e->names()) {
-      int a = t.find_attribute(n);
-      inputs_.push_back(a < 0 ? NAN : wc_.values[o.first_slot + kFirstAttributeSlot + a]);
-    }
-    return e->evaluate(inputs_.data());
+    inputs_.resize(c.attributes.size());
+    for (size_t k = 0; k < c.attributes.size(); ++k)
+      inputs_[k] = c.attributes[k] < 0 ? NAN : wc_.values[o.first_slot + kFirstAttributeSlot + c.attributes[k]];
+    return c.expr->evaluate(inputs_.data());
   }
 
   Eigen::Vector3d vec(const std::array<Scalar, 3>& v, Dim dim, int object, double fallback) {
@@ -93,18 +90,31 @@ class ShapeEvaluator {
   }
 
  private:
-  const Expression* expression(const std::string& text) {
-    auto it = cache_.find(text);
-    if (it != cache_.end()) return it->second.get();
-    auto e = Expression::parse(text, nullptr);
-    auto& slot = cache_[text];
-    if (e) slot = std::make_unique<Expression>(std::move(*e));
-    return slot.get();
+  struct Compiled {
+    double value = NAN;
+    std::unique_ptr<Expression> expr;
+    std::vector<int> attributes;  ///< attribute index per expr->names()
+  };
+
+  const Compiled& compiled(const Scalar& s, Dim dim, int type) {
+    auto [it, fresh] = cache_.try_emplace(&s);
+    if (!fresh) return it->second;
+    Compiled& c = it->second;
+    Diagnostics scratch;
+    ParsedValue v = parse_value(s, dim, "", scratch);
+    if (v.kind == ParsedValue::Kind::Number) {
+      c.value = v.si;
+      return c;
+    }
+    if (auto e = Expression::parse(s.text, nullptr)) {
+      c.expr = std::make_unique<Expression>(std::move(*e));
+      for (const std::string& n : c.expr->names()) c.attributes.push_back(wc_.types[type].find_attribute(n));
+    }
+    return c;
   }
 
   const Workcell& wc_;
-  Diagnostics& diag_;
-  std::map<std::string, std::unique_ptr<Expression>> cache_;
+  std::unordered_map<const Scalar*, Compiled> cache_;  // lookups only
   std::vector<double> inputs_;
 };
 
@@ -122,7 +132,7 @@ std::string mesh_path(const std::string& type_file, const std::string& rel) {
 GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
   GeometryModel model;
   model.objects.resize(wc.objects.size());
-  ShapeEvaluator eval(wc, diag);
+  ShapeEvaluator eval(wc);
   MeshCache meshes;
   // Local poses first; world poses follow the parent chain (parents may come later in the file).
   std::vector<Eigen::Isometry3d> local(wc.objects.size());
