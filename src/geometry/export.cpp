@@ -172,13 +172,28 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
 
   // STL has no nodes: bake the world transforms into the vertices.
   unsigned steps = format == "stlb" ? static_cast<unsigned>(aiProcess_PreTransformVertices) : 0u;
-  std::string tmp = temp_path_for(path);
+  // glTF writes a .bin and OBJ a .mtl beside the file, named after it: export into a fresh
+  // folder under the final names, then move every file into place.
+  fs::path target(path);
+  fs::path stage = temp_path_for((target.parent_path() / "export").string());
+  std::error_code ec;
+  fs::create_directories(stage, ec);
+  if (ec) return fmt::format("cannot write '{}': {}", path, ec.message());
   Assimp::Exporter exporter;
-  if (exporter.Export(&scene, format, tmp, steps) != AI_SUCCESS) {
-    std::remove(tmp.c_str());
-    return fmt::format("cannot export '{}': {}", path, exporter.GetErrorString());
+  std::string error;
+  if (exporter.Export(&scene, format, (stage / target.filename()).string(), steps) != AI_SUCCESS)
+    error = fmt::format("cannot export '{}': {}", path, exporter.GetErrorString());
+  // The main file last, so that once it appears its companions are there.
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(stage, ec))
+    if (entry.path().filename() != target.filename()) files.push_back(entry.path());
+  files.push_back(stage / target.filename());
+  for (const fs::path& f : files) {
+    if (!error.empty()) break;
+    error = commit_file(f.string(), (target.parent_path() / f.filename()).string());
   }
-  return commit_file(tmp, path);
+  fs::remove_all(stage, ec);
+  return error;
 }
 
 }  // namespace sscs

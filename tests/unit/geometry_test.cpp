@@ -134,6 +134,7 @@ TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
   Eigen::AlignedBox3d expected;
   for (const ObjectGeometry& o : g.objects) expected.extend(o.bbox_world);
   auto dir = std::filesystem::temp_directory_path() / "sscs_export_test";
+  std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   for (const char* ext : {"glb", "gltf", "obj", "stl"}) {
     std::string path = (dir / (std::string("w.") + ext)).string();
@@ -148,6 +149,9 @@ TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
     EXPECT_TRUE(all.min().isApprox(expected.min(), 1e-4)) << ext << " " << all.min().transpose();
     EXPECT_TRUE(all.max().isApprox(expected.max(), 1e-4)) << ext << " " << all.max().transpose();
     if (std::string(ext) == "stl") continue;  // STL has no nodes
+    if (std::string(ext) == "gltf") EXPECT_TRUE(std::filesystem::exists(dir / "w.bin"));  // its buffer, named after it
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      EXPECT_NE(entry.path().filename().string()[0], '.') << "temporary left behind: " << entry.path();
     for (size_t i = 0; i < wc.objects.size(); ++i) {
       ASSERT_TRUE(boxes.count(wc.objects[i].name)) << ext << " lacks node " << wc.objects[i].name;
       const Eigen::AlignedBox3d& b = boxes[wc.objects[i].name];
