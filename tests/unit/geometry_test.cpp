@@ -149,7 +149,9 @@ TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
     EXPECT_TRUE(all.min().isApprox(expected.min(), 1e-4)) << ext << " " << all.min().transpose();
     EXPECT_TRUE(all.max().isApprox(expected.max(), 1e-4)) << ext << " " << all.max().transpose();
     if (std::string(ext) == "stl") continue;  // STL has no nodes
-    if (std::string(ext) == "gltf") EXPECT_TRUE(std::filesystem::exists(dir / "w.bin"));  // its buffer, named after it
+    if (std::string(ext) == "gltf") {
+      EXPECT_TRUE(std::filesystem::exists(dir / "w.bin"));  // its buffer, named after it
+    }
     for (const auto& entry : std::filesystem::directory_iterator(dir))
       EXPECT_NE(entry.path().filename().string()[0], '.') << "temporary left behind: " << entry.path();
     for (size_t i = 0; i < wc.objects.size(); ++i) {
