@@ -24,6 +24,7 @@ namespace {
 struct State {
   const std::vector<double>& values;
   const GeometryModel& geometry;
+  bool describe_passes;
 };
 
 double read(const Operand& op, const State& st) {
@@ -61,6 +62,7 @@ void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   r.rhs = si_to_file(rhs, b.dim);
   r.margin = si_to_file(margin, b.dim);
   r.status = pass ? Status::Pass : Status::Fail;
+  if (pass && !values.describe_passes) return;
   auto side = [&](const Operand& op, double value, double tol) {
     std::string s = op.kind != Operand::Kind::Constant ? fmt::format("{} = {}", op.text, with_unit(value, b.dim))
                                                    : with_unit(value, b.dim);
@@ -126,6 +128,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
       r.rhs = rhs;
     }
   }
+  if (pass && !values.describe_passes) return;
   std::vector<std::string> parts;
   for (size_t i = 0; i < e.inputs.size(); ++i)
     if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
@@ -231,10 +234,13 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
 
 }  // namespace
 
-CheckReport check(const Workcell& wc, const GeometryModel& geometry) { return check(wc, geometry, wc.values); }
+CheckReport check(const Workcell& wc, const GeometryModel& geometry, const CheckOptions& options) {
+  return check(wc, geometry, wc.values, options);
+}
 
-CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::vector<double>& slot_values) {
-  State values{slot_values, geometry};
+CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::vector<double>& slot_values,
+                  const CheckOptions& options) {
+  State values{slot_values, geometry, options.describe_passes};
   CheckReport report;
   report.results.reserve(wc.constraints.size());
   CollisionWorld world(geometry);

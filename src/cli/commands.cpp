@@ -105,7 +105,10 @@ int run_check(const Common& common, const CheckArgs& args) {
   }
   StageTimer timer;
   std::vector<VaultReport> reports;
-  for (size_t i = 0; i < cells.size(); ++i) reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i])});
+  CheckOptions check_options;
+  check_options.describe_passes = format != "text";  // the text report prints failures only
+  for (size_t i = 0; i < cells.size(); ++i)
+    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options)});
   timer.lap("check");
   std::string output;
   if (format == "json") {

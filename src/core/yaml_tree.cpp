@@ -112,9 +112,7 @@ SourceMark find_binary(const std::string& text, uint32_t file) {
 
 class Builder : public YAML::EventHandler {
  public:
-  Builder(Document& doc, Diagnostics& diag, const Limits& limits) : doc_(doc), diag_(diag), limits_(limits) {
-    weight_.reserve(doc.nodes_.capacity());
-  }
+  Builder(Document& doc, Diagnostics& diag, const Limits& limits) : doc_(doc), diag_(diag), limits_(limits) {}
 
   void OnDocumentStart(const YAML::Mark& mark) override {
     if (documents_++ > 0)
@@ -263,11 +261,6 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
     SourceMark binary = find_binary(text, file);
     if (binary.line != 0)
       throw InputError{binary, "expected UTF-8 YAML text, found a binary byte (NUL, control or invalid UTF-8)"};
-    // Reserve from the file size (about one node per 6 bytes of YAML) so the arrays are not
-    // copied as they grow; pages never touched cost no memory.
-    doc.nodes_.reserve(text.size() / 5 + 16);
-    doc.kids_.reserve(text.size() / 5 + 16);
-    doc.text_.reserve(text.size() / 2 + 16);
     MemoryBuf buf(text.data(), text.size());
     std::istream in(&buf);
     YAML::Parser parser(in);
