@@ -252,15 +252,13 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
       else ++report.failed;
     };
     if (const auto* d = std::get_if<DeferredCheck>(&c.body)) {
-      for (const auto& member : d->members) {
-        CheckResult r;
-        r.constraint = static_cast<int>(i);
-        r.status = Status::Error;
-        r.subjects = member;
-        r.message = d->reason;
-        tally(r);
-        report.results.push_back(std::move(r));
-      }
+      CheckResult r;
+      r.constraint = static_cast<int>(i);
+      r.status = Status::Error;
+      r.subjects = c.subjects;
+      r.message = d->reason;
+      tally(r);
+      report.results.push_back(std::move(r));
       continue;
     }
     if (const auto* sc = std::get_if<SpatialCheck>(&c.body)) {

@@ -19,6 +19,10 @@ struct CompileOptions {
 /// The standard library folder: $SSCS_LIBRARY, else <exe>/../share/sscs/library, else the source tree's.
 std::string standard_library_dir();
 
+/// Where a type file's mesh reference points: beside the type file if it exists there, else
+/// relative to its library folder (the one holding types/), as `meshes/drum.obj` is written.
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
+
 /// Loads every type file of the standard library and of `dirs`, resolving inheritance.
 /// `where` marks the reference to a folder that does not exist.
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,

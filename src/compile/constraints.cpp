@@ -200,7 +200,7 @@ void compile_constraints(CompileState& st) {
     c.mark = spec.mark;
     c.severity = spec.severity;
     c.kind = constraint_kind_name(spec.kind);
-    c.body = DeferredCheck{"not compiled", {}};
+    c.body = DeferredCheck{"not compiled"};
     if (auto* b = std::get_if<BoundSpec>(&spec.kind)) {
       compile_bound(st, *b, c);
     } else if (auto* e = std::get_if<ExprSpec>(&spec.kind)) {
@@ -210,7 +210,7 @@ void compile_constraints(CompileState& st) {
       for (const Scalar& ref : p->attributes)
         if (auto op = bound_operand(st, ref, "a plugin attribute"); op && op->object >= 0) c.subjects.push_back(op->object);
       c.body = DeferredCheck{fmt::format("plugin constraint class '{}' needs the plugin loader, which this sscs version "
-                                         "does not have yet", p->cls.text), {}};
+                                         "does not have yet", p->cls.text)};
     } else if (auto* clbox = std::get_if<Boxed<ClearanceSpec>>(&spec.kind)) {
       auto* cl = &**clbox;
       SpatialCheck sc;
@@ -252,10 +252,9 @@ void compile_constraints(CompileState& st) {
       for (int t : select(st, r->targets, "reach targets")) c.subjects.push_back(t);
       if (r->position_tol.present) literal_si(r->position_tol, Dim::Length, "position_tol", st.diag);
       if (r->angle_tol.present) literal_si(r->angle_tol, Dim::Angle, "angle_tol", st.diag);
-      c.body = DeferredCheck{"reach constraints need kinematics (inverse kinematics), which this sscs version does not have yet", {}};
+      c.body = DeferredCheck{"reach constraints need kinematics (inverse kinematics), which this sscs version does not have yet"};
     }
     finish_subjects(c.subjects);
-    if (auto* d = std::get_if<DeferredCheck>(&c.body); d && d->members.empty()) d->members.push_back(c.subjects);
     st.wc.constraints.push_back(std::move(c));
     if (st.diag.full()) return;
   }

@@ -33,6 +33,15 @@ std::string standard_library_dir() {
   return SSCS_SOURCE_LIBRARY_DIR;
 }
 
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
+  fs::path p(rel);
+  if (p.is_absolute()) return p.string();
+  fs::path beside = fs::path(type_file).parent_path() / p;
+  std::error_code ec;
+  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
+  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
+}
+
 namespace {
 
 std::vector<std::string> type_files(const std::string& dir) {
@@ -157,11 +166,8 @@ void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType&
             check_shape_value(shape.radius, Dim::Length, type, "sphere radius", diag);
           } else {
             for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
-            fs::path file = fs::path(type_file).parent_path() / shape.file.text;
             std::error_code ec;
-            // Mesh paths are relative to the library folder (the one holding types/), else to the file.
-            fs::path lib_file = fs::path(type_file).parent_path().parent_path() / shape.file.text;
-            if (shape.file.present && !fs::is_regular_file(file, ec) && !fs::is_regular_file(lib_file, ec))
+            if (shape.file.present && !fs::is_regular_file(resolve_mesh_path(type_file, shape.file.text), ec))
               diag.error(shape.file.mark, fmt::format("mesh file '{}' does not exist", shape.file.text));
           }
         },

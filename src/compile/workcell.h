@@ -92,7 +92,6 @@ struct ExprCheck {
 /// plugins). It is reported with status `error` and this reason, never passed silently.
 struct DeferredCheck {
   std::string reason;
-  std::vector<std::vector<int>> members;  ///< objects of each member check (one, or a pair)
 };
 
 /// clearance, no_overlap and inside: evaluated on the geometry with FCL.

@@ -216,7 +216,6 @@ class Builder : public YAML::EventHandler {
   }
 
   void check_keys(uint32_t map_index) {
-    const auto& rec = doc_.nodes_[map_index];
     Node map(&doc_, map_index);
     size_t n = map.size();
     for (size_t i = 0; i < n; ++i) {
@@ -237,7 +236,6 @@ class Builder : public YAML::EventHandler {
       if (a.text() == b.text())
         diag_.error(b.mark(), fmt::format("duplicate key '{}' (first given at line {})", b.text(), a.mark().line));
     }
-    (void)rec;
   }
 
   Document& doc_;

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "compile/compile.h"
 #include "compile/values.h"
 #include "core/expr.h"
 #include "geometry/mesh_io.h"
@@ -118,15 +119,6 @@ class ShapeEvaluator {
   std::vector<double> inputs_;
 };
 
-std::string mesh_path(const std::string& type_file, const std::string& rel) {
-  fs::path p(rel);
-  if (p.is_absolute()) return p.string();
-  fs::path beside = fs::path(type_file).parent_path() / p;
-  std::error_code ec;
-  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
-  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
-}
-
 }  // namespace
 
 GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
@@ -193,7 +185,7 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
               } else {
                 s.kind = Shape::Kind::Mesh;
                 s.scale = eval.vec(shape.scale, Dim::None, obj, 1);
-                s.mesh = meshes.load(mesh_path(spec.path, shape.file.text), shape.file.mark, diag);
+                s.mesh = meshes.load(resolve_mesh_path(spec.path, shape.file.text), shape.file.mark, diag);
               }
             },
             gs.shape);
