@@ -1,6 +1,7 @@
 #include "check/check.h"
 
 #include "geometry/collision.h"
+#include "kinematics/ik.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,7 +137,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
                           parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
 }
 
-constexpr double kTouch = 1e-6;  // touching within this is not overlap
+constexpr double kTouch = kTouchTolerance;  // touching within this is not overlap
 
 std::string pair_text(const Workcell& wc, int a, int b) {
   return fmt::format("{} and {}", wc.objects[a].name, wc.objects[b].name);
@@ -201,6 +202,16 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
           result({a, b}, Status::Fail, *d, min, margin,
                  fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(min)));
       }
+      // A device in the set must not collide with itself: its non-adjacent parts.
+      if (overlap)
+        for (int o : sc.objects) {
+          if (!geometry.objects[o].device) continue;
+          const Device& dev = *geometry.objects[o].device;
+          for (const Collision& c : world.self_collisions(o))
+            result({o}, Status::Fail, -c.depth, 0.0, -c.depth,
+                   fmt::format("{}: parts {} and {} overlap by {:g} m (self-collision)", wc.objects[o].name,
+                               dev.parts[c.part].name, dev.parts[c.other_part].name, stable(c.depth)));
+        }
       break;
     }
     case SpatialCheck::Kind::Inside: {
@@ -230,6 +241,122 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
   result(subjects, Status::Pass, {}, {}, smallest,
          fmt::format("{} objects checked{}", sc.objects.size(),
                      smallest ? where : (sc.kind == SpatialCheck::Kind::Inside ? "" : "; no pair within reach of the limit")));
+}
+
+std::string collision_text(const Workcell& wc, const GeometryModel& geometry, int device, const Collision& c) {
+  const Device& d = *geometry.objects[device].device;
+  if (c.other < 0)
+    return fmt::format("parts {} and {} collide by {:g} m", d.parts[c.part].name, d.parts[c.other_part].name, stable(c.depth));
+  std::string other = wc.objects[c.other].name;
+  if (c.other_part >= 0 && geometry.objects[c.other].device)
+    other += "." + geometry.objects[c.other].device->parts[c.other_part].name;
+  return fmt::format("part {} hits {} by {:g} m", d.parts[c.part].name, other, stable(c.depth));
+}
+
+/// The world pose of a reach target.
+Eigen::Isometry3d target_pose(const ReachCheck::Target& t, const GeometryModel& geometry) {
+  if (t.object < 0) return t.pose;
+  const ObjectGeometry& g = geometry.objects[t.object];
+  if (t.frame == "origin") return g.X_world_object;
+  if (const Eigen::Isometry3d* X = g.frame(t.frame)) return *X;
+  // `top` of a type without a `top` frame: the centre of the top of its bounds, in its orientation.
+  Eigen::Isometry3d X = g.X_world_object;
+  if (!g.bbox_world.isEmpty()) {
+    Eigen::Vector3d c = g.bbox_world.center();
+    X.translation() = Eigen::Vector3d(c.x(), c.y(), g.bbox_world.max().z());
+  }
+  return X;
+}
+
+/// reach: inverse kinematics for every target from the instance's joint values; a solution
+/// must be within limits and collision-free. Failing targets one result each, else one pass.
+void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, CollisionWorld& world, int index,
+                 std::vector<CheckResult>& out) {
+  if (rc.device < 0) return;
+  const ObjectGeometry& g = st.geometry.objects[rc.device];
+  const Device& d = *g.device;
+  const Object& o = wc.objects[rc.device];
+  const Chain chain(d);
+  const Eigen::VectorXd q0 = d.joint_values(&st.values[o.first_slot + kFirstAttributeSlot]);
+  const Eigen::VectorXd seed = chain.from_device(q0);
+  const Eigen::Isometry3d X_root_world = g.X_world_object.inverse();
+  IkOptions opt;
+  opt.orientation = rc.match_orientation;
+  opt.position_tol = rc.position_tol_si;
+  opt.angle_tol = rc.angle_tol_si;
+  opt.iterations_per_attempt = 60;
+  opt.max_attempts = 100;
+  opt.time_limit = 2.0;  // a backstop only: the iteration budget ends a solve, deterministically
+  // Objects the device may touch: the ones it stands in or on (its parent chain).
+  std::vector<int> related;
+  for (size_t k = 0; k < wc.objects.size(); ++k)
+    if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k))) related.push_back(static_cast<int>(k));
+  size_t first = out.size();
+  std::optional<double> smallest;
+  std::string closest;
+  for (const ReachCheck::Target& t : rc.targets) {
+    Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
+    if (rc.match_orientation) X_world_target = X_world_target * rc.offset;
+    std::vector<int> ignore = related;
+    if (t.object >= 0) ignore.push_back(t.object);  // the tool meets its target
+    std::optional<Collision> hit;
+    auto accept = [&](const Eigen::VectorXd& chain_q) {
+      Eigen::VectorXd q = q0;
+      chain.to_device(chain_q, q);
+      std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+      for (auto& x : X) x = g.X_world_object * x;
+      auto c = world.device_collision(rc.device, X, ignore);
+      if (c && (!hit || c->depth < hit->depth)) hit = c;
+      return !c;
+    };
+    IkResult ik = solve_ik(chain, X_root_world * X_world_target, seed, opt, accept);
+    CheckResult r;
+    r.constraint = index;
+    r.subjects = {rc.device};
+    if (t.object >= 0) r.subjects.push_back(t.object);
+    r.dim = Dim::Length;
+    r.lhs = ik.position_error;
+    r.rhs = rc.position_tol_si;
+    std::string angle = rc.match_orientation ? fmt::format(", angle error {:g} deg", stable(si_to_file(ik.angle_error, Dim::Angle))) : "";
+    switch (ik.status) {
+      case IkResult::Status::Reached: {
+        double margin = rc.position_tol_si - ik.position_error;
+        if (!smallest || margin < *smallest) {
+          smallest = margin;
+          closest = t.text;
+        }
+        continue;
+      }
+      case IkResult::Status::Unreachable:
+        r.status = Status::Fail;
+        r.margin = -ik.position_error;
+        r.message = fmt::format("{} cannot reach {} within its joint limits: best position error {:g} m{}", o.name, t.text,
+                                stable(ik.position_error), angle);
+        break;
+      case IkResult::Status::Rejected:
+        r.status = Status::Fail;
+        r.margin = hit ? -hit->depth : 0.0;
+        r.message = fmt::format("{} reaches {} only in collision: {}", o.name, t.text,
+                                hit ? collision_text(wc, st.geometry, rc.device, *hit) : "?");
+        break;
+    }
+    out.push_back(std::move(r));
+  }
+  if (out.size() > first) return;
+  CheckResult r;
+  r.constraint = index;
+  r.subjects = {rc.device};
+  for (const auto& t : rc.targets)
+    if (t.object >= 0) r.subjects.push_back(t.object);
+  std::sort(r.subjects.begin(), r.subjects.end());
+  r.subjects.erase(std::unique(r.subjects.begin(), r.subjects.end()), r.subjects.end());
+  r.status = Status::Pass;
+  r.dim = Dim::Length;
+  r.margin = smallest;
+  if (st.describe_passes)
+    r.message = fmt::format("{} reaches all {} targets{}", o.name, rc.targets.size(),
+                            smallest ? fmt::format("; closest to its tolerance: {}", closest) : "");
+  out.push_back(std::move(r));
 }
 
 }  // namespace
@@ -264,6 +391,12 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
     if (const auto* sc = std::get_if<SpatialCheck>(&c.body)) {
       size_t first = report.results.size();
       check_spatial(wc, *sc, geometry, world, static_cast<int>(i), report.results);
+      for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
+      continue;
+    }
+    if (const auto* rc = std::get_if<ReachCheck>(&c.body)) {
+      size_t first = report.results.size();
+      check_reach(wc, *rc, values, world, static_cast<int>(i), report.results);
       for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
       continue;
     }

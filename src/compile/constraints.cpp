@@ -8,6 +8,7 @@
 #include "compile/state.h"
 #include "compile/values.h"
 #include "core/names.h"
+#include "core/pose.h"
 
 namespace sscs {
 
@@ -186,6 +187,106 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
 
 }  // namespace
 
+namespace {
+
+/// The frames a target of type `t` offers: origin, top, the type's named frames (its bases'
+/// too), and for devices their parts and tool.
+std::vector<std::string> frame_names(const Workcell& wc, int t) {
+  std::vector<std::string> names = {"origin", "top"};
+  for (int k = t; k >= 0; k = wc.types[k].base) {
+    const TypeSpec& spec = *wc.types[k].spec;
+    for (const FrameSpec& f : spec.frames) names.push_back(f.name);
+    if (spec.device) {
+      names.push_back("tool");
+      for (const PartSpec& p : spec.device->parts) names.push_back(p.name);
+    }
+  }
+  std::sort(names.begin() + 2, names.end());
+  names.erase(std::unique(names.begin() + 2, names.end()), names.end());
+  return names;
+}
+
+Eigen::Isometry3d literal_pose(CompileState& st, const PoseSpec& p, std::string_view what) {
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (p.xyz[k].present) xyz[k] = literal_si(p.xyz[k], Dim::Length, fmt::format("{} xyz", what), st.diag).value_or(0);
+    if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, fmt::format("{} rpy", what), st.diag).value_or(0);
+  }
+  return make_pose(xyz, rpy);
+}
+
+ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
+  ReachCheck rc;
+  rc.device = object_ref(st, r.device, "reach device");
+  if (rc.device >= 0 && !st.wc.types[st.wc.objects[rc.device].type].device) {
+    st.diag.error(r.device.mark, fmt::format("reach device '{}' is a {}, not a device", r.device.text,
+                                              st.wc.types[st.wc.objects[rc.device].type].name));
+    rc.device = -1;
+  }
+  std::string default_frame = r.frame.present && !r.frame.null ? r.frame.text : "origin";
+  // `Drum_3.top` and `Drum_*.top` name a frame; other items use `frame:`.
+  SelectorSpec plain = r.targets;
+  plain.items.clear();
+  std::vector<std::pair<Scalar, std::string>> framed;
+  for (const Scalar& item : r.targets.items) {
+    auto dot = item.text.rfind('.');
+    if (dot == std::string::npos || item.text.starts_with("type:")) {
+      plain.items.push_back(item);
+      continue;
+    }
+    Scalar sel = item;
+    sel.text = item.text.substr(0, dot);
+    framed.emplace_back(sel, item.text.substr(dot + 1));
+  }
+  auto add = [&](const std::vector<int>& objects, const std::string& frame, const Scalar& where) {
+    for (int o : objects) {
+      if (o == rc.device) continue;  // "*" selects the device too
+      auto names = frame_names(st.wc, st.wc.objects[o].type);
+      if (std::find(names.begin(), names.end(), frame) == names.end()) {
+        st.diag.error(where.mark, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
+                                              st.wc.objects[o].name, st.wc.types[st.wc.objects[o].type].name,
+                                              fmt::join(names, ", "), did_you_mean(frame, names)));
+        return;
+      }
+      rc.targets.push_back({o, frame, Eigen::Isometry3d::Identity(),
+                            frame == "origin" ? st.wc.objects[o].name : st.wc.objects[o].name + "." + frame});
+    }
+  };
+  bool any = !r.poses.empty();
+  if (!plain.items.empty()) {
+    SelectorSpec sel = plain;
+    sel.allow_empty = true;
+    auto objects = select(st, sel, "reach targets");
+    any = any || !objects.empty();
+    add(objects, default_frame, r.frame.present ? r.frame : plain.items.front());
+  }
+  for (const auto& [sel_text, frame] : framed) {
+    SelectorSpec sel{{sel_text}, sel_text.mark, true};
+    auto objects = select(st, sel, "reach targets");
+    any = any || !objects.empty();
+    add(objects, frame, sel_text);
+  }
+  if (!any && !r.targets.allow_empty && !st.diag.has_errors())
+    st.diag.error(r.targets.mark, "reach targets selects no objects (add allow_empty: true if that is intended)");
+  for (const auto& [pose, mark] : r.poses) {
+    ReachCheck::Target t;
+    t.pose = literal_pose(st, pose, "reach target");
+    const Eigen::Vector3d& p = t.pose.translation();
+    t.text = fmt::format("[{:g}, {:g}, {:g}]", stable(si_to_file(p.x(), Dim::Length)), stable(si_to_file(p.y(), Dim::Length)),
+                         stable(si_to_file(p.z(), Dim::Length)));
+    rc.targets.push_back(std::move(t));
+  }
+  rc.match_orientation = r.match_orientation;
+  rc.offset = literal_pose(st, r.offset, "reach offset");
+  if (r.position_tol.present) rc.position_tol_si = literal_si(r.position_tol, Dim::Length, "position_tol", st.diag).value_or(1e-3);
+  if (r.angle_tol.present) rc.angle_tol_si = literal_si(r.angle_tol, Dim::Angle, "angle_tol", st.diag).value_or(rc.angle_tol_si);
+  for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})
+    if (!(v > 0)) st.diag.error(s->mark, fmt::format("{} must be positive, found {}", s == &r.position_tol ? "position_tol" : "angle_tol", s->text));
+  return rc;
+}
+
+}  // namespace
+
 void compile_constraints(CompileState& st) {
   // Views into the spec, which outlives this pass; a hash set, as vaults hold 200,000 constraints.
   std::unordered_set<std::string_view> seen;
@@ -243,16 +344,11 @@ void compile_constraints(CompileState& st) {
       if (sc.container >= 0) c.subjects.push_back(sc.container);
       c.body = std::move(sc);
     } else if (auto* rbox = std::get_if<Boxed<ReachSpec>>(&spec.kind)) {
-      auto* r = &**rbox;
-      int device = object_ref(st, r->device, "reach device");
-      if (device >= 0 && !st.wc.types[st.wc.objects[device].type].device)
-        st.diag.error(r->device.mark, fmt::format("reach device '{}' is a {}, not a device", r->device.text,
-                                                  st.wc.types[st.wc.objects[device].type].name));
-      if (device >= 0) c.subjects.push_back(device);
-      for (int t : select(st, r->targets, "reach targets")) c.subjects.push_back(t);
-      if (r->position_tol.present) literal_si(r->position_tol, Dim::Length, "position_tol", st.diag);
-      if (r->angle_tol.present) literal_si(r->angle_tol, Dim::Angle, "angle_tol", st.diag);
-      c.body = DeferredCheck{"reach constraints need kinematics (inverse kinematics), which this sscs version does not have yet"};
+      ReachCheck rc = compile_reach(st, **rbox);
+      if (rc.device >= 0) c.subjects.push_back(rc.device);
+      for (const ReachCheck::Target& t : rc.targets)
+        if (t.object >= 0) c.subjects.push_back(t.object);
+      c.body = std::move(rc);
     }
     finish_subjects(c.subjects);
     st.wc.constraints.push_back(std::move(c));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/expr.h"
 #include "core/source.h"
@@ -102,6 +103,22 @@ struct SpatialCheck {
   double min_si = 0;         ///< clearance
 };
 
+/// reach: the device's tool at every target, within limits and without collision.
+struct ReachCheck {
+  struct Target {
+    int object = -1;       ///< -1 for a pose in the world
+    std::string frame;     ///< "origin", "top" or a named frame of the object
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the world pose when object < 0
+    std::string text;      ///< as written or generated ("Drum_3.top"), for reports
+  };
+  int device = -1;
+  std::vector<Target> targets;
+  bool match_orientation = false;
+  Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  ///< composed with the target frame
+  double position_tol_si = 1e-3;
+  double angle_tol_si = 0.5 * 3.14159265358979323846 / 180;
+};
+
 struct Constraint {
   std::string name;
   std::string description;
@@ -109,7 +126,7 @@ struct Constraint {
   Severity severity = Severity::Error;
   std::string kind;  ///< bound, expr, clearance, ...
   std::vector<int> subjects;  ///< objects it reads
-  std::variant<BoundCheck, ExprCheck, SpatialCheck, DeferredCheck> body;
+  std::variant<BoundCheck, ExprCheck, SpatialCheck, ReachCheck, DeferredCheck> body;
 };
 
 struct Parameter {

@@ -13,6 +13,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
+
+#include "kinematics/device.h"
 
 namespace sscs {
 
@@ -40,12 +43,31 @@ std::shared_ptr<fcl::CollisionGeometryd> make_geometry(const Shape& s) {
   return nullptr;
 }
 
+/// Penetration depth of two placed shapes: > 0 when they interpenetrate, 0 when apart or touching.
+double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  fcl::CollisionRequestd req(1, /*enable_contact=*/true);
+  fcl::CollisionResultd res;
+  if (fcl::collide(a, b, req, res) == 0) return 0;
+  double depth = 0;
+  for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
+  // A contact without depth (meshes report none) still is a collision: count it as touching.
+  return std::max(depth, 0.0);
+}
+
 }  // namespace
 
 struct CollisionWorld::Impl {
   const GeometryModel& geometry;
   // Per object, its shapes as FCL objects in world placement. Built on first use.
   std::map<int, std::vector<std::unique_ptr<fcl::CollisionObjectd>>> parts;
+  // FCL geometry per shape (device parts are placed anew for each configuration).
+  std::unordered_map<const Shape*, std::shared_ptr<fcl::CollisionGeometryd>> shapes;
+
+  std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
+    auto& g = shapes[&s];
+    if (!g) g = make_geometry(s);
+    return g;
+  }
 
   const std::vector<std::unique_ptr<fcl::CollisionObjectd>>& of(int object) {
     auto it = parts.find(object);
@@ -54,15 +76,53 @@ struct CollisionWorld::Impl {
     const ObjectGeometry& g = geometry.objects[object];
     for (const Shape& s : g.shapes) {
       Eigen::Isometry3d X = g.X_world_object * s.X_object_shape;
-      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), fcl::Transform3d(X.matrix()));
+      auto obj = std::make_unique<fcl::CollisionObjectd>(geometry_of(s), fcl::Transform3d(X.matrix()));
       obj->computeAABB();
       list.push_back(std::move(obj));
     }
     return list;
   }
+
+  /// A device's shapes placed at per-part world poses, each with its part index.
+  std::vector<std::pair<int, std::unique_ptr<fcl::CollisionObjectd>>> placed(const Device& d,
+                                                                             const std::vector<Eigen::Isometry3d>& X) {
+    std::vector<std::pair<int, std::unique_ptr<fcl::CollisionObjectd>>> out;
+    for (size_t p = 0; p < d.parts.size(); ++p)
+      for (const Shape& s : d.parts[p].shapes) {
+        Eigen::Isometry3d Xs = X[p] * s.X_object_shape;
+        auto obj = std::make_unique<fcl::CollisionObjectd>(geometry_of(s), fcl::Transform3d(Xs.matrix()));
+        obj->computeAABB();
+        out.emplace_back(static_cast<int>(p), std::move(obj));
+      }
+    return out;
+  }
+
+  /// The deepest collision between non-adjacent parts among `shapes`.
+  std::vector<Collision> self(const Device& d, const std::vector<std::pair<int, std::unique_ptr<fcl::CollisionObjectd>>>& shapes,
+                              bool all) {
+    std::vector<Collision> found;
+    for (size_t i = 0; i < shapes.size(); ++i)
+      for (size_t k = i + 1; k < shapes.size(); ++k) {
+        int a = shapes[i].first, b = shapes[k].first;
+        if (a == b || d.adjacent(a, b)) continue;
+        if (!shapes[i].second->getAABB().overlap(shapes[k].second->getAABB())) continue;
+        double depth = penetration(shapes[i].second.get(), shapes[k].second.get());
+        if (depth <= kTouchTolerance) continue;
+        auto same = std::find_if(found.begin(), found.end(), [&](const Collision& c) {
+          return c.part == std::min(a, b) && c.other_part == std::max(a, b);
+        });
+        if (same != found.end()) {
+          same->depth = std::max(same->depth, depth);
+        } else {
+          found.push_back({-1, std::min(a, b), std::max(a, b), depth});
+          if (!all) return found;
+        }
+      }
+    return found;
+  }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b) {
@@ -89,6 +149,55 @@ std::optional<double> CollisionWorld::distance(int a, int b) {
       best = std::min(best, dres.min_distance);
     }
   return deepest > 0 ? -deepest : best;
+}
+
+std::vector<Collision> CollisionWorld::self_collisions(int object) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  if (!g.device) return {};
+  std::vector<Eigen::Isometry3d> world(g.device->parts.size());
+  for (size_t p = 0; p < world.size(); ++p) world[p] = g.X_world_object * g.X_object_part[p];
+  auto shapes = impl_->placed(*g.device, world);
+  return impl_->self(*g.device, shapes, true);
+}
+
+std::optional<Collision> CollisionWorld::device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                                          const std::vector<int>& ignore) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  if (!g.device) return std::nullopt;
+  auto shapes = impl_->placed(*g.device, X_world_part);
+  std::optional<Collision> deepest;
+  auto note = [&](const Collision& c) {
+    if (!deepest || c.depth > deepest->depth) deepest = c;
+  };
+  for (const Collision& c : impl_->self(*g.device, shapes, false)) note(c);
+  fcl::AABBd box;
+  bool any = false;
+  for (const auto& [p, s] : shapes) {
+    if (!any) box = s->getAABB();
+    else box += s->getAABB();
+    any = true;
+  }
+  if (!any) return deepest;
+  const auto& objects = impl_->geometry.objects;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    int other = static_cast<int>(o);
+    if (other == object || objects[o].bbox_world.isEmpty()) continue;
+    const Eigen::AlignedBox3d& b = objects[o].bbox_world;
+    if ((b.min().array() > box.max_.array() + kTouchTolerance).any() || (b.max().array() < box.min_.array() - kTouchTolerance).any())
+      continue;
+    if (std::find(ignore.begin(), ignore.end(), other) != ignore.end()) continue;
+    const auto& theirs = impl_->of(other);
+    for (const auto& [p, s] : shapes)
+      for (size_t k = 0; k < theirs.size(); ++k) {
+        if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
+        double depth = penetration(s.get(), theirs[k].get());
+        if (depth > kTouchTolerance) {
+          int other_part = objects[o].shapes[k].part;
+          note({other, p, other_part, depth});
+        }
+      }
+  }
+  return deepest;
 }
 
 std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vector<int>& objects, double margin) {

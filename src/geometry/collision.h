@@ -9,6 +9,17 @@
 
 namespace sscs {
 
+/// Geometries closer than this count as touching, not overlapping (m).
+constexpr double kTouchTolerance = 1e-6;
+
+/// An interpenetration found for a device: with another object, or between two of its parts.
+struct Collision {
+  int other = -1;       ///< the other object, or -1 for a self-collision
+  int part = -1;        ///< the device's part
+  int other_part = -1;  ///< the other part (self-collision, or a part of another device)
+  double depth = 0;     ///< penetration depth, m
+};
+
 /// FCL collision objects for the shapes of a GeometryModel, built on first use per object.
 /// Not copyable; one per check run.
 class CollisionWorld {
@@ -22,6 +33,17 @@ class CollisionWorld {
   /// shapes, or minus the largest penetration depth when they interpenetrate. nullopt when one
   /// of them has no geometry.
   std::optional<double> distance(int a, int b);
+
+  /// Pairs of non-adjacent parts of device `object` that interpenetrate at its instance's
+  /// joint values (self-collision).
+  std::vector<Collision> self_collisions(int object);
+
+  /// The deepest collision of device `object` with its parts placed at `X_world_part` (one pose
+  /// per part): against every other object except `ignore` (the caller's choice: the target,
+  /// the objects in the device's parent chain), and
+  /// between its own non-adjacent parts. nullopt when it is free.
+  std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                            const std::vector<int>& ignore);
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

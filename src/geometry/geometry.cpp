@@ -12,16 +12,11 @@
 #include "compile/values.h"
 #include "core/expr.h"
 #include "geometry/mesh_io.h"
+#include "kinematics/device.h"
 
 namespace fs = std::filesystem;
 
 namespace sscs {
-
-Eigen::Matrix3d rpy_to_rotation(double roll, double pitch, double yaw) {
-  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
 
 Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
   Eigen::AlignedBox3d box;
@@ -82,12 +77,7 @@ class ShapeEvaluator {
   }
 
   Eigen::Isometry3d pose(const PoseSpec& p, int object) {
-    Eigen::Vector3d xyz = vec(p.xyz, Dim::Length, object, 0);
-    Eigen::Vector3d rpy = vec(p.rpy, Dim::Angle, object, 0);
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.linear() = rpy_to_rotation(rpy.x(), rpy.y(), rpy.z());
-    X.translation() = xyz;
-    return X;
+    return make_pose(vec(p.xyz, Dim::Length, object, 0), vec(p.rpy, Dim::Angle, object, 0));
   }
 
  private:
@@ -121,11 +111,152 @@ class ShapeEvaluator {
 
 }  // namespace
 
+namespace {
+
+/// Evaluates shapes and device models of objects; one per build.
+class Builder {
+ public:
+  Builder(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag), eval_(wc) {}
+
+  /// The shapes of a geometry list written in `spec_path`, evaluated for object `obj`.
+  std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj) {
+    std::vector<Shape> out;
+    const Object& o = wc_.objects[obj];
+    auto check_positive = [&](double v, const Scalar& s, const char* what) {
+      if (!(std::isfinite(v) && v > 0))
+        diag_.error(s.mark.valid() ? s.mark : o.mark,
+                    fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
+      return v;
+    };
+    for (const GeometrySpec& gs : specs) {
+      Shape s;
+      s.X_object_shape = eval_.pose(gs.pose, obj);
+      std::visit(
+          [&](const auto& shape) {
+            using T = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<T, BoxSpec>) {
+              s.kind = Shape::Kind::Box;
+              s.box_size = eval_.vec(shape.size, Dim::Length, obj, 0);
+              for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], shape.size[k], "box size");
+            } else if constexpr (std::is_same_v<T, CylinderSpec>) {
+              s.kind = Shape::Kind::Cylinder;
+              s.radius = check_positive(eval_.value(shape.radius, Dim::Length, obj, 0), shape.radius, "cylinder radius");
+              s.length = check_positive(eval_.value(shape.length, Dim::Length, obj, 0), shape.length, "cylinder length");
+            } else if constexpr (std::is_same_v<T, SphereSpec>) {
+              s.kind = Shape::Kind::Sphere;
+              s.radius = check_positive(eval_.value(shape.radius, Dim::Length, obj, 0), shape.radius, "sphere radius");
+            } else {
+              s.kind = Shape::Kind::Mesh;
+              s.scale = eval_.vec(shape.scale, Dim::None, obj, 1);
+              s.mesh = meshes_.load(resolve_mesh_path(spec_path, shape.file.text), shape.file.mark, diag_);
+            }
+          },
+          gs.shape);
+      if (s.kind != Shape::Kind::Mesh || s.mesh) out.push_back(std::move(s));
+    }
+    return out;
+  }
+
+  std::shared_ptr<TriangleMesh const> mesh(const std::string& path, SourceMark where) { return meshes_.load(path, where, diag_); }
+  Eigen::Isometry3d pose(const PoseSpec& p, int obj) { return eval_.pose(p, obj); }
+
+  /// The kinematic model of device object `obj`, whose type (or an ancestor) `t` has the parts.
+  std::shared_ptr<Device> device(int obj, const TypeSpec& spec) {
+    const DeviceSpec& ds = *spec.device;
+    const Object& o = wc_.objects[obj];
+    const ObjectType& type = wc_.types[o.type];
+    auto d = std::make_shared<Device>();
+    d->kinematic = ds.kinematic;
+    // Parents before children: the loader checked there is one root and no cycle.
+    std::vector<const PartSpec*> order;
+    for (const PartSpec& p : ds.parts)
+      if (p.parent.empty()) order.push_back(&p);
+    for (size_t i = 0; i < order.size(); ++i)
+      for (const PartSpec& p : ds.parts)
+        if (p.parent == order[i]->name) order.push_back(&p);
+    for (const PartSpec* ps : order) {
+      Part part;
+      part.name = ps->name;
+      part.parent = ps->parent.empty() ? -1 : d->find_part(ps->parent);
+      part.shapes = shapes(ps->geometry, spec.path, obj);
+      part.mass = eval_.value(ps->mass, Dim::Mass, obj, 0);
+      part.color = ps->color.text;
+      if (ps->inertial) {
+        part.com = eval_.pose(ps->inertial->origin, obj).translation();
+        const auto& I = ps->inertial->inertia;  // ixx ixy ixz iyy iyz izz
+        auto v = [&](int k) { return eval_.value(I[k], Dim::None, obj, 0); };
+        Eigen::Matrix3d m;
+        m << v(0), v(1), v(2), v(1), v(3), v(4), v(2), v(4), v(5);
+        Eigen::Matrix3d R = eval_.pose(ps->inertial->origin, obj).linear();
+        part.inertia = R * m * R.transpose();
+      }
+      if (ps->joint) {
+        const JointSpec& js = *ps->joint;
+        Joint& j = part.joint;
+        j.name = js.name;
+        j.type = js.type;
+        j.origin = eval_.pose(js.origin, obj);
+        if (js.type != JointType::Fixed) {
+          j.axis = eval_.vec(js.axis, Dim::None, obj, 0).normalized();
+          j.attribute = type.find_attribute(js.name);
+          const AttributeDef& a = type.attributes[j.attribute];
+          j.lower = a.min_si.value_or(-INFINITY);
+          j.upper = a.max_si.value_or(INFINITY);
+          Dim rate = js.type == JointType::Revolute ? Dim::Angle : Dim::Length;
+          j.velocity = eval_.value(js.velocity, rate, obj, 0);
+          j.acceleration = eval_.value(js.acceleration, rate, obj, 0);
+          j.effort = eval_.value(js.effort, Dim::None, obj, 0);
+        }
+      }
+      d->parts.push_back(std::move(part));
+    }
+    // The joint vector follows the order of the joints' attributes (the file's order of parts).
+    for (const PartSpec& ps : ds.parts)
+      if (ps.joint && ps.joint->type != JointType::Fixed) {
+        int p = d->find_part(ps.name);
+        d->parts[p].joint.q = d->dof();
+        d->joint_parts.push_back(p);
+      }
+    if (!ds.tool_part.empty()) {
+      d->tool_part = d->find_part(ds.tool_part);
+      d->X_part_tool = eval_.pose(ds.tool_pose, obj);
+    } else {
+      d->tool_part = deepest_part(*d);
+    }
+    return d;
+  }
+
+ private:
+  /// Without a `tool`, the tool is the end of the longest chain (the first such part).
+  static int deepest_part(const Device& d) {
+    std::vector<int> depth(d.parts.size(), 0);
+    int best = 0;
+    for (size_t i = 0; i < d.parts.size(); ++i) {
+      if (d.parts[i].parent >= 0) depth[i] = depth[d.parts[i].parent] + 1;
+      if (depth[i] > depth[best]) best = static_cast<int>(i);
+    }
+    return best;
+  }
+
+  const Workcell& wc_;
+  Diagnostics& diag_;
+  ShapeEvaluator eval_;
+  MeshCache meshes_;
+};
+
+/// The type (itself or an ancestor) that carries an object type's device parts, or nullptr.
+const TypeSpec* device_spec(const Workcell& wc, int t) {
+  for (; t >= 0; t = wc.types[t].base)
+    if (wc.types[t].spec->device) return wc.types[t].spec.get();
+  return nullptr;
+}
+
+}  // namespace
+
 GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
   GeometryModel model;
   model.objects.resize(wc.objects.size());
-  ShapeEvaluator eval(wc);
-  MeshCache meshes;
+  Builder build(wc, diag);
   // Local poses first; world poses follow the parent chain (parents may come later in the file).
   std::vector<Eigen::Isometry3d> local(wc.objects.size());
   for (size_t i = 0; i < wc.objects.size(); ++i) {
@@ -153,44 +284,34 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
     const TypeSpec& spec = *wc.types[t].spec;
     ObjectGeometry& g = model.objects[i];
     int obj = static_cast<int>(i);
-    auto check_positive = [&](double v, const Scalar& s, const char* what) {
-      if (!(std::isfinite(v) && v > 0))
-        diag.error(s.mark.valid() ? s.mark : o.mark,
-                   fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
-      return v;
-    };
     if (!o.geomodel.empty()) {
       Shape s;
       s.kind = Shape::Kind::Mesh;
-      s.mesh = meshes.load(o.geomodel, o.mark, diag);
+      s.mesh = build.mesh(o.geomodel, o.mark);
       if (s.mesh) g.shapes.push_back(std::move(s));
     } else {
-      for (const GeometrySpec& gs : spec.geometry) {
-        Shape s;
-        s.X_object_shape = eval.pose(gs.pose, obj);
-        std::visit(
-            [&](const auto& shape) {
-              using T = std::decay_t<decltype(shape)>;
-              if constexpr (std::is_same_v<T, BoxSpec>) {
-                s.kind = Shape::Kind::Box;
-                s.box_size = eval.vec(shape.size, Dim::Length, obj, 0);
-                for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], shape.size[k], "box size");
-              } else if constexpr (std::is_same_v<T, CylinderSpec>) {
-                s.kind = Shape::Kind::Cylinder;
-                s.radius = check_positive(eval.value(shape.radius, Dim::Length, obj, 0), shape.radius, "cylinder radius");
-                s.length = check_positive(eval.value(shape.length, Dim::Length, obj, 0), shape.length, "cylinder length");
-              } else if constexpr (std::is_same_v<T, SphereSpec>) {
-                s.kind = Shape::Kind::Sphere;
-                s.radius = check_positive(eval.value(shape.radius, Dim::Length, obj, 0), shape.radius, "sphere radius");
-              } else {
-                s.kind = Shape::Kind::Mesh;
-                s.scale = eval.vec(shape.scale, Dim::None, obj, 1);
-                s.mesh = meshes.load(resolve_mesh_path(spec.path, shape.file.text), shape.file.mark, diag);
-              }
-            },
-            gs.shape);
-        if (s.kind != Shape::Kind::Mesh || s.mesh) g.shapes.push_back(std::move(s));
+      g.shapes = build.shapes(spec.geometry, spec.path, obj);
+    }
+    std::vector<std::pair<std::string, Eigen::Isometry3d>> device_frames;
+    if (const TypeSpec* ds = device_spec(wc, o.type)) {
+      auto device = build.device(obj, *ds);
+      // The device type's own shapes hang on the root part; the parts' at the instance's joint values.
+      device->parts[0].shapes.insert(device->parts[0].shapes.end(), g.shapes.begin(), g.shapes.end());
+      g.shapes.clear();
+      g.device = device;
+      const Device& d = *device;
+      g.X_object_part = d.part_poses(d.joint_values(&wc.values[o.first_slot + kFirstAttributeSlot]));
+      const std::vector<Eigen::Isometry3d>& X = g.X_object_part;
+      for (size_t p = 0; p < d.parts.size(); ++p) {
+        for (const Shape& ps : d.parts[p].shapes) {
+          Shape s = ps;
+          s.X_object_shape = X[p] * ps.X_object_shape;
+          s.part = static_cast<int>(p);
+          g.shapes.push_back(std::move(s));
+        }
+        device_frames.emplace_back(d.parts[p].name, g.X_world_object * X[p]);
       }
+      device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
@@ -198,11 +319,14 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
     for (int k = o.type; k >= 0; k = wc.types[k].base) chain.insert(chain.begin(), k);
     for (int k : chain)
       for (const FrameSpec& f : wc.types[k].spec->frames) {
-        Eigen::Isometry3d X = g.X_world_object * eval.pose(f.pose, obj);
+        Eigen::Isometry3d X = g.X_world_object * build.pose(f.pose, obj);
         auto same = std::find_if(g.frames_world.begin(), g.frames_world.end(), [&](const auto& e) { return e.first == f.name; });
         if (same != g.frames_world.end()) same->second = X;
         else g.frames_world.emplace_back(f.name, X);
       }
+    // A device's parts and tool are frames too, unless the type names a frame so itself.
+    for (auto& f : device_frames)
+      if (!g.frame(f.first)) g.frames_world.push_back(std::move(f));
   }
   return model;
 }

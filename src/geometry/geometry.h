@@ -9,11 +9,9 @@
 
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
+#include "core/pose.h"
 
 namespace sscs {
-
-/// Rotation of `orientation: [roll, pitch, yaw]` (radians): Rz(yaw) * Ry(pitch) * Rx(roll).
-Eigen::Matrix3d rpy_to_rotation(double roll, double pitch, double yaw);
 
 /// A triangle mesh in its file's units, before the shape's scale.
 struct TriangleMesh {
@@ -31,14 +29,21 @@ struct Shape {
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();      ///< mesh
   std::shared_ptr<const TriangleMesh> mesh;
   Eigen::Isometry3d X_object_shape = Eigen::Isometry3d::Identity();
+  int part = -1;  ///< the device part it belongs to; -1 for objects that are not devices
 };
+
+struct Device;
 
 struct ObjectGeometry {
   Eigen::Isometry3d X_world_object = Eigen::Isometry3d::Identity();
   std::vector<Shape> shapes;
   Eigen::AlignedBox3d bbox_world;  ///< empty when the object has no shapes
   /// Named frames of the type (and its base types) in the world, in declaration order.
+  /// A device's parts and its `tool` are frames too, at the instance's joint values.
   std::vector<std::pair<std::string, Eigen::Isometry3d>> frames_world;
+  /// The kinematic model, for devices, and its parts' poses at the instance's joint values.
+  std::shared_ptr<const Device> device;
+  std::vector<Eigen::Isometry3d> X_object_part;
   /// The world pose of frame `name`; nullptr when the type has no such frame.
   const Eigen::Isometry3d* frame(std::string_view name) const;
 };

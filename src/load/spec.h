@@ -91,6 +91,12 @@ struct JointSpec {
   Scalar min, max, velocity, acceleration, effort;
 };
 
+/// A part's centre of mass and inertia (kg m^2) about it: imported from URDF.
+struct InertialSpec {
+  PoseSpec origin;
+  std::array<Scalar, 6> inertia;  ///< ixx ixy ixz iyy iyz izz
+};
+
 struct PartSpec {
   std::string name;
   SourceMark mark;
@@ -100,6 +106,7 @@ struct PartSpec {
   std::vector<GeometrySpec> geometry;
   Scalar mass;
   Scalar color;
+  std::optional<InertialSpec> inertial;
 };
 
 struct DeviceSpec {
@@ -110,7 +117,8 @@ struct DeviceSpec {
   std::vector<std::pair<std::string, Scalar>> home;  ///< joint name -> value
   SourceMark home_mark;
   bool kinematic = false;  ///< `driven: kinematic`
-  Scalar urdf;
+  Scalar urdf;             ///< as written; its contents fill `parts`
+  std::string urdf_path;   ///< resolved
 };
 
 struct TypeSpec {
@@ -200,7 +208,8 @@ struct InsideSpec {
 };
 struct ReachSpec {
   Scalar device;
-  SelectorSpec targets;
+  SelectorSpec targets;  ///< items may name a frame: `Drum_3.top`, `Drum_*.top`
+  std::vector<std::pair<PoseSpec, SourceMark>> poses;  ///< targets given as world poses
   Scalar frame;
   bool match_orientation = false;
   PoseSpec offset;

@@ -180,7 +180,25 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
   } else {  // reach
     ReachSpec re;
     re.device = load::scalar(r.require("device"), "reach device", diag);
-    re.targets = read_selector(r.require("targets"), "reach targets", diag);
+    // Targets: selectors (`Drum_*`, `type:drum`, `Drum_3.top`) and world poses ({xyz, rpy}).
+    yaml::Node targets = r.require("targets");
+    re.targets.mark = targets.valid() ? targets.mark() : r.mark();
+    auto target = [&](yaml::Node item) {
+      if (item.is_map()) {
+        MapReader pr(item, "reach target pose", diag);
+        re.poses.push_back({load::pose(pr, diag), item.mark()});
+        pr.finish();
+      } else {
+        re.targets.items.push_back(load::scalar(item, "reach targets", diag));
+      }
+    };
+    if (targets.is_sequence()) {
+      for (size_t i = 0; i < targets.size(); ++i) target(targets.item(i));
+    } else if (targets.valid()) {
+      target(targets);
+    }
+    if (targets.valid() && re.targets.items.empty() && re.poses.empty())
+      load::expected(diag, targets, "a name, glob, type:T, Object.frame, {xyz, rpy} or a list of these", "reach targets");
     allow_empty(re.targets);
     re.frame = load::scalar(r.take("frame"), "reach frame", diag);
     yaml::Node orientation = r.take("orientation");

@@ -1,0 +1,47 @@
+#include "kinematics/device.h"
+
+namespace sscs {
+
+Eigen::Isometry3d joint_transform(const Joint& j, double value) {
+  switch (j.type) {
+    case JointType::Revolute: return j.origin * Eigen::AngleAxisd(value, j.axis);
+    case JointType::Prismatic: return j.origin * Eigen::Translation3d(j.axis * value);
+    case JointType::Fixed: break;
+  }
+  return j.origin;
+}
+
+int Device::find_part(std::string_view name) const {
+  for (size_t i = 0; i < parts.size(); ++i)
+    if (parts[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Eigen::VectorXd Device::joint_values(const double* attribute_values) const {
+  Eigen::VectorXd q(dof());
+  for (int k = 0; k < dof(); ++k) q[k] = attribute_values[joint(k).attribute];
+  return q;
+}
+
+std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) const {
+  std::vector<Eigen::Isometry3d> X(parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const Part& p = parts[i];
+    if (p.parent < 0) {
+      X[i].setIdentity();
+      continue;
+    }
+    X[i] = X[p.parent] * joint_transform(p.joint, p.joint.q >= 0 ? q[p.joint.q] : 0.0);
+  }
+  return X;
+}
+
+Eigen::Isometry3d Device::tool_pose(const Eigen::VectorXd& q) const { return part_poses(q)[tool_part] * X_part_tool; }
+
+bool Device::within_limits(const Eigen::VectorXd& q, double eps) const {
+  for (int k = 0; k < dof(); ++k)
+    if (q[k] < joint(k).lower - eps || q[k] > joint(k).upper + eps) return false;
+  return true;
+}
+
+}  // namespace sscs

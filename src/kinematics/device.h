@@ -1,0 +1,68 @@
+#pragma once
+/// A device instance's kinematic model: a tree of parts joined by joints, with every value of
+/// the type file evaluated at the instance's attributes (a gantry's span, an arm's link length).
+/// Built by the geometry stage; read by the checker (reach, self-collision) and the simulator.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "geometry/geometry.h"
+#include "load/spec.h"
+
+namespace sscs {
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::Fixed;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< in the parent part's frame, at value 0
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();              ///< unit, in the joint's frame
+  double lower = -INFINITY, upper = INFINITY;                   ///< SI (rad or m)
+  double velocity = 0, acceleration = 0, effort = 0;            ///< SI; 0 when not given
+  int attribute = -1;                                           ///< the instance attribute holding its value
+  int q = -1;                                                   ///< index in the device's joint vector
+};
+
+struct Part {
+  std::string name;
+  int parent = -1;  ///< parts come after their parent
+  Joint joint;      ///< how it hangs on its parent; Fixed for the root
+  std::vector<Shape> shapes;  ///< in the part's frame
+  double mass = 0;
+  /// Centre of mass and inertia about it, in the part's frame, when the type gives them (URDF).
+  std::optional<Eigen::Vector3d> com;
+  std::optional<Eigen::Matrix3d> inertia;
+  std::string color;
+};
+
+/// The kinematic model of one device instance. The root part's frame is the object's frame.
+struct Device {
+  std::vector<Part> parts;        ///< topological order: every parent before its children
+  std::vector<int> joint_parts;   ///< parts whose joint moves, in joint-vector order
+  int tool_part = 0;
+  Eigen::Isometry3d X_part_tool = Eigen::Isometry3d::Identity();
+  bool kinematic = false;         ///< `driven: kinematic`
+
+  int dof() const { return static_cast<int>(joint_parts.size()); }
+  const Joint& joint(int q) const { return parts[joint_parts[q]].joint; }
+  /// Index of the part named `name`, or -1.
+  int find_part(std::string_view name) const;
+  /// Joint values read from an instance's slot values (its attributes).
+  Eigen::VectorXd joint_values(const double* attribute_values) const;
+  /// Pose of every part in the object's frame at joint values q.
+  std::vector<Eigen::Isometry3d> part_poses(const Eigen::VectorXd& q) const;
+  /// Pose of the tool in the object's frame at joint values q.
+  Eigen::Isometry3d tool_pose(const Eigen::VectorXd& q) const;
+  /// Whether parts a and b are joined directly (one is the other's parent): such parts touch by
+  /// design and are not checked against each other for self-collision.
+  bool adjacent(int a, int b) const { return parts[a].parent == b || parts[b].parent == a; }
+  /// Whether q lies within every joint's limits (within `eps`).
+  bool within_limits(const Eigen::VectorXd& q, double eps = 1e-9) const;
+};
+
+/// The pose a joint adds at value `value`: its origin, then the motion about/along its axis.
+Eigen::Isometry3d joint_transform(const Joint& j, double value);
+
+}  // namespace sscs

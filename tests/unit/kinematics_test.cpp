@@ -1,0 +1,233 @@
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "geometry/collision.h"
+#include "geometry/geometry.h"
+#include "kinematics/ik.h"
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180;
+
+class Kinematics : public VaultTest {
+ public:
+  /// Compiles a vault holding one device `R` (and whatever else `objects` adds).
+  std::shared_ptr<const Device> device(const std::string& objects, const std::string& library = "") {
+    if (!library.empty()) options.library_dirs = {library};
+    wc_ = must_compile("objects:\n" + objects);
+    geometry_ = build_geometry(wc_, diag);
+    EXPECT_FALSE(diag.has_errors()) << diag.format(sources);
+    int r = wc_.find_object("R");
+    EXPECT_GE(r, 0);
+    return r < 0 ? nullptr : geometry_.objects[r].device;
+  }
+  Workcell wc_;
+  GeometryModel geometry_;
+};
+
+// A planar two-link arm: hand-computed forward kinematics.
+const char* kPlanar = R"(sscs: 1
+type: planar2
+kind: device
+parts:
+  - {name: base, geometry: [{cylinder: {radius: 0.6, length: 1, xyz: [0, 0, 0.5]}}]}
+  - {name: upper, parent: base, joint: {name: a, type: revolute, axis: [0, 0, 1], xyz: [0, 0, 0.5], limits: {min: -170, max: 170}}}
+  - name: fore
+    parent: upper
+    joint: {name: b, type: revolute, axis: [0, 0, 1], xyz: [1, 0, 0], limits: {min: -170, max: 170}}
+    geometry: [{box: {size: [0.5, 0.1, 0.1], xyz: [0.25, 0, 0]}}]
+  - {name: slide, parent: fore, joint: {name: c, type: prismatic, axis: [1, 0, 0], xyz: [0.5, 0, 0], limits: {min: 0, max: 0.3}}}
+tool: {part: slide, xyz: [0.1, 0, 0]}
+)";
+
+TEST_F(Kinematics, ForwardKinematicsMatchesHandComputedPoses) {
+  auto d = device("  - {type: planar2, name: R, a: 90, b: -90, c: 0.2}\n", type_dir({{"planar2", kPlanar}}));
+  ASSERT_TRUE(d);
+  ASSERT_EQ(d->dof(), 3);
+  Eigen::VectorXd q(3);
+  q << 90 * kDeg, -90 * kDeg, 0.2;
+  // Upper link along +y (1 m), forearm back along +x: 0.5 + 0.2 slide + 0.1 tool.
+  Eigen::Isometry3d tool = d->tool_pose(q);
+  EXPECT_TRUE(tool.translation().isApprox(Eigen::Vector3d(0.8, 1.0, 0.5), 1e-12)) << tool.translation().transpose();
+  EXPECT_TRUE(tool.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+  // The instance's joint values come from its attributes; the tool is a frame of the object.
+  const ObjectGeometry& g = geometry_.objects[wc_.find_object("R")];
+  ASSERT_TRUE(g.frame("tool"));
+  EXPECT_TRUE(g.frame("tool")->translation().isApprox(Eigen::Vector3d(0.8, 1.0, 0.5), 1e-12));
+  ASSERT_TRUE(g.frame("fore"));
+  EXPECT_TRUE(g.frame("fore")->translation().isApprox(Eigen::Vector3d(0, 1.0, 0.5), 1e-12));
+  // The chain agrees with the tree.
+  Chain chain(*d);
+  EXPECT_TRUE(chain.forward(chain.from_device(q)).isApprox(tool, 1e-12));
+}
+
+TEST_F(Kinematics, JacobianMatchesFiniteDifferences) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  Eigen::VectorXd q(6);
+  q << 0.3, -0.4, 0.5, 1.0, -0.7, 0.2;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J;
+  Eigen::Isometry3d X = chain.forward(q, J);
+  for (int k = 0; k < 6; ++k) {
+    Eigen::VectorXd dq = q;
+    dq[k] += 1e-7;
+    Eigen::Matrix<double, 6, 1> e = pose_error(X, chain.forward(dq)) / 1e-7;
+    EXPECT_TRUE(e.isApprox(J.col(k), 1e-5)) << k << ": " << e.transpose() << " vs " << J.col(k).transpose();
+  }
+}
+
+TEST_F(Kinematics, ArmDimensionsAreTheDataSheets) {
+  // ABB IRB 2600-20/1.65 at zero: wrist centre at (a1 + d4, 0, d1 + a2 + a3); flange d6 beyond.
+  auto d = device("  - {type: arm6, name: R, tool_length: 0}\n");
+  ASSERT_TRUE(d);
+  Eigen::Isometry3d tool = d->tool_pose(Eigen::VectorXd::Zero(6));
+  EXPECT_TRUE(tool.translation().isApprox(Eigen::Vector3d(0.150 + 0.795 + 0.085, 0, 0.445 + 0.700 + 0.115), 1e-12))
+      << tool.translation().transpose();
+  EXPECT_NEAR(d->joint(1).lower, -95 * kDeg, 1e-12);
+  EXPECT_NEAR(d->joint(2).upper, 75 * kDeg, 1e-12);
+  EXPECT_NEAR(d->joint(0).velocity, 175 * kDeg, 1e-12);
+}
+
+TEST_F(Kinematics, InverseKinematicsRoundTripsRandomReachablePoses) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  IkOptions opt;
+  opt.position_tol = 1e-6;
+  opt.angle_tol = 1e-6;
+  std::srand(7);
+  int solved = 0;
+  const int n = 300;
+  Eigen::VectorXd nominal = Eigen::VectorXd::Zero(6);
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd q(6);
+    for (int k = 0; k < 6; ++k)
+      q[k] = chain.lower(k) + (chain.upper(k) - chain.lower(k)) * (std::rand() / (RAND_MAX + 1.0));
+    Eigen::Isometry3d target = chain.forward(q);
+    IkResult r = solve_ik(chain, target, nominal, opt);
+    if (!r.ok()) continue;
+    ++solved;
+    // The solution is within limits and really reaches the pose.
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_GE(r.q[k], chain.lower(k) - 1e-12);
+      EXPECT_LE(r.q[k], chain.upper(k) + 1e-12);
+    }
+    Eigen::Matrix<double, 6, 1> e = pose_error(chain.forward(r.q), target);
+    EXPECT_LE(e.head<3>().norm(), 1e-6);
+    EXPECT_LE(e.tail<3>().norm(), 1e-6);
+  }
+  EXPECT_GE(solved, n - 1);
+}
+
+TEST_F(Kinematics, SolutionNearestTheSeed) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  Eigen::VectorXd q(6);
+  q << 0.2, 0.3, -0.4, 0.5, 0.6, 0.1;
+  // Seeded next to a solution, the solver returns that one, not another branch or a turn away.
+  Eigen::VectorXd seed = q + Eigen::VectorXd::Constant(6, 0.05);
+  IkResult r = solve_ik(chain, chain.forward(q), seed, {});
+  ASSERT_TRUE(r.ok());
+  EXPECT_LT((r.q - q).norm(), 1e-4);
+  // Joint 4 turns +-400 deg: seeded a turn up, the answer is a turn up too.
+  seed[3] += 2 * kPi;
+  r = solve_ik(chain, chain.forward(q), seed, {});
+  ASSERT_TRUE(r.ok());
+  EXPECT_NEAR(r.q[3], q[3] + 2 * kPi, 1e-4);
+}
+
+TEST_F(Kinematics, PositionOnlyMode) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  IkOptions opt;
+  opt.orientation = false;
+  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  target.translation() = Eigen::Vector3d(1.0, 0.5, 0.8);
+  target.linear() = rpy_to_rotation(1, 2, 3);  // ignored
+  IkResult r = solve_ik(chain, target, Eigen::VectorXd::Zero(6), opt);
+  ASSERT_TRUE(r.ok());
+  EXPECT_LE((chain.forward(r.q).translation() - target.translation()).norm(), 1e-5);
+}
+
+TEST_F(Kinematics, UnreachableAndSingularTargetsReturnPromptly) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  IkOptions opt;
+  // Far outside the workspace: rejected at once, with the remaining error measured.
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() = Eigen::Vector3d(5, 0, 1);
+  IkResult r = solve_ik(chain, far, Eigen::VectorXd::Zero(6), opt);
+  EXPECT_EQ(r.status, IkResult::Status::Unreachable);
+  EXPECT_LE(r.attempts, 1);
+  EXPECT_GT(r.position_error, 3.0);
+  // Just outside the arm's stretch (a singular, fully extended pose): the whole budget, bounded.
+  Eigen::VectorXd stretched(6);
+  stretched << 0, 90 * kDeg, -atan2(0.795, 0.115), 0, 0, 0;  // upper arm and forearm in line, horizontal
+  Eigen::Isometry3d edge = chain.forward(stretched);
+  edge.translation() += edge.translation().normalized() * 0.01;
+  r = solve_ik(chain, edge, Eigen::VectorXd::Zero(6), opt);
+  EXPECT_EQ(r.status, IkResult::Status::Unreachable);
+  EXPECT_LE(r.iterations, opt.iterations_per_attempt * opt.max_attempts);
+  EXPECT_GT(r.position_error, 0.005);
+  // Exactly the singular pose itself is reached.
+  r = solve_ik(chain, chain.forward(stretched), Eigen::VectorXd::Zero(6), opt);
+  EXPECT_TRUE(r.ok()) << r.position_error;
+  // The iteration budget ends a solve even with no time limit to speak of.
+  opt.time_limit = 1e9;
+  opt.max_attempts = 3;
+  r = solve_ik(chain, edge, Eigen::VectorXd::Zero(6), opt);
+  EXPECT_EQ(r.attempts, 3);
+}
+
+TEST_F(Kinematics, JointLimitsBoundTheSolution) {
+  auto d = device("  - {type: planar2, name: R}\n", type_dir({{"planar2", kPlanar}}));
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  // The tip sweeps an annulus of radii 0.19 (b = 170 deg, slide out) to 1.9 m; a point nearer
+  // the axis needs the forearm folded beyond its limit.
+  Eigen::Isometry3d folded = Eigen::Isometry3d::Identity();
+  folded.translation() = Eigen::Vector3d(0.15, 0.0, 0.5);  // needs b = 173 deg
+  IkOptions opt;
+  opt.orientation = false;
+  IkResult r = solve_ik(chain, folded, Eigen::VectorXd::Zero(3), opt);
+  EXPECT_EQ(r.status, IkResult::Status::Unreachable);
+  Eigen::Isometry3d ok = Eigen::Isometry3d::Identity();
+  ok.translation() = Eigen::Vector3d(1.2, 0.9, 0.5);
+  r = solve_ik(chain, ok, Eigen::VectorXd::Zero(3), opt);
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(d->within_limits(r.q));
+}
+
+TEST_F(Kinematics, JointValuesAreLimitedAttributes) {
+  std::string err = first_error("objects:\n  - {type: arm6, name: R, j2: 160}\n");
+  EXPECT_NE(err.find("j2"), std::string::npos) << err;
+  EXPECT_NE(err.find("155"), std::string::npos) << err;
+}
+
+TEST_F(Kinematics, SelfCollisionBetweenNonAdjacentParts) {
+  // Folded back, the forearm enters the base column; the upper link, adjacent to both, never counts.
+  std::string lib = type_dir({{"planar2", kPlanar}});
+  auto d = device("  - {type: planar2, name: R, b: 170}\n", lib);
+  ASSERT_TRUE(d);
+  CollisionWorld world(geometry_);
+  auto hits = world.self_collisions(wc_.find_object("R"));
+  ASSERT_EQ(hits.size(), 1u);
+  EXPECT_EQ(d->parts[hits[0].part].name, "base");
+  EXPECT_EQ(d->parts[hits[0].other_part].name, "fore");
+  EXPECT_GT(hits[0].depth, 0.05);
+  // Stretched, nothing collides.
+  device("  - {type: planar2, name: R, b: 0}\n", lib);
+  CollisionWorld stretched(geometry_);
+  EXPECT_TRUE(stretched.self_collisions(wc_.find_object("R")).empty());
+}
+
+}  // namespace
+}  // namespace sscs::testing
