@@ -28,6 +28,7 @@ constexpr int kOk = 0, kViolations = 1, kInputError = 2, kInternalError = 3;
 struct Common {
   std::vector<std::string> library;
   std::vector<std::string> plugins;
+  std::vector<std::string> package_paths;
   std::vector<std::string> set;
   bool quiet = false;
   std::string color = "auto";
@@ -35,6 +36,7 @@ struct Common {
   void add_to(CLI::App* app) {
     app->add_option("--library", library, "extra type-library folder (repeatable)");
     app->add_option("--plugins", plugins, "plugin folder (repeatable)");
+    app->add_option("--package-path", package_paths, "folder of ROS packages for URDF package:// references (repeatable)");
     app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
     app->add_flag("--quiet", quiet, "print only summaries and errors");
     app->add_option("--color", color, "colour output: auto, always or never")
@@ -57,6 +59,7 @@ struct Common {
     }
     options.library_dirs = library;
     options.plugin_dirs = plugins;
+    options.package_paths = package_paths;
     return true;
   }
 };
@@ -136,7 +139,26 @@ int run_check(const Common& common, const CheckArgs& args) {
   return violated ? kViolations : kOk;
 }
 
-nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types) {
+/// The device description of a type: its own, or the nearest ancestor's.
+const DeviceSpec* device_of(const ObjectType& t, const std::map<std::string, const ObjectType*>& by_name) {
+  for (const ObjectType* k = &t; k;) {
+    if (k->spec->device) return &*k->spec->device;
+    auto it = by_name.find(k->spec->extends);
+    k = it == by_name.end() ? nullptr : it->second;
+  }
+  return nullptr;
+}
+
+const char* joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::Revolute: return "revolute";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Fixed: break;
+  }
+  return "fixed";
+}
+
+nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device) {
   nlohmann::ordered_json j;
   j["name"] = t.name;
   j["extends"] = t.base >= 0 ? types[t.base].name : "object";
@@ -160,6 +182,22 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
   auto frames = nlohmann::ordered_json::array();
   for (const FrameSpec& f : t.spec->frames) frames.push_back(f.name);
   j["frames"] = std::move(frames);
+  if (device) {
+    nlohmann::ordered_json dj;
+    auto parts = nlohmann::ordered_json::array();
+    for (const PartSpec& p : device->parts) {
+      nlohmann::ordered_json pj;
+      pj["name"] = p.name;
+      pj["parent"] = p.parent.empty() ? nullptr : nlohmann::ordered_json(p.parent);
+      if (p.joint) pj["joint"] = {{"name", p.joint->name}, {"type", joint_type_name(p.joint->type)}};
+      parts.push_back(std::move(pj));
+    }
+    dj["parts"] = std::move(parts);
+    dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
+    dj["driven"] = device->kinematic ? "kinematic" : "motors";
+    dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
+    j["device"] = std::move(dj);
+  }
   return j;
 }
 
@@ -168,7 +206,7 @@ int run_types(const Common& common, const std::string& format) {
   Diagnostics diag;
   std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
   for (const std::string& d : common.library) dirs.push_back({d, {}});
-  std::vector<ObjectType> types = load_library(dirs, sources, diag);
+  std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths);
   if (diag.has_errors()) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
@@ -176,14 +214,18 @@ int run_types(const Common& common, const std::string& format) {
   std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
   // Sorting moved them: base indices refer to the old order, so look bases up by name below.
   std::map<std::string, std::string> base_of;
-  for (const ObjectType& t : types) base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
+  std::map<std::string, const ObjectType*> by_name;
+  for (const ObjectType& t : types) {
+    base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
+    by_name[t.name] = &t;
+  }
   static const char* kKinds[] = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
   if (format == "json") {
     nlohmann::ordered_json j;
     j["sscs"] = 1;
     auto arr = nlohmann::ordered_json::array();
     for (const ObjectType& t : types) {
-      auto tj = type_json(t, types);
+      auto tj = type_json(t, types, device_of(t, by_name));
       tj["extends"] = base_of[t.name];
       arr.push_back(std::move(tj));
     }
@@ -210,6 +252,13 @@ int run_types(const Common& common, const std::string& format) {
       std::vector<std::string> names;
       for (const FrameSpec& f : t.spec->frames) names.push_back(f.name);
       std::cout << fmt::format("  frames: {}\n", fmt::join(names, ", "));
+    }
+    if (const DeviceSpec* d = device_of(t, by_name)) {
+      std::vector<std::string> parts;
+      for (const PartSpec& p : d->parts)
+        parts.push_back(p.joint && p.joint->type != JointType::Fixed ? fmt::format("{}({})", p.name, p.joint->name) : p.name);
+      std::cout << fmt::format("  parts: {}; tool: {}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
+                               d->kinematic ? "; driven: kinematic" : "", d->urdf.present ? "; urdf: " + d->urdf.text : "");
     }
   }
   std::cout << fmt::format("constraint kinds: {}\n", fmt::join(kKinds, ", "));

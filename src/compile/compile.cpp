@@ -690,7 +690,7 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
   for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
   for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-  st.wc.types = load_library(dirs, sources, diag);
+  st.wc.types = load_library(dirs, sources, diag, options.package_paths);
   for (const Scalar& dir : spec.plugins) {
     std::error_code ec;
     if (!fs::is_directory(resolve_path(spec.path, dir.text), ec))

@@ -12,6 +12,7 @@ namespace sscs {
 
 struct CompileOptions {
   std::vector<std::string> library_dirs;  ///< extra type folders (--library), after the vault's own
+  std::vector<std::string> package_paths;  ///< --package-path: roots of `package://` references in URDF
   std::vector<std::string> plugin_dirs;   ///< --plugins (checked to exist; loading comes with the plugin issue)
   std::vector<std::pair<std::string, std::string>> overrides;  ///< --set NAME=VALUE
 };
@@ -19,14 +20,11 @@ struct CompileOptions {
 /// The standard library folder: $SSCS_LIBRARY, else <exe>/../share/sscs/library, else the source tree's.
 std::string standard_library_dir();
 
-/// Where a type file's mesh reference points: beside the type file if it exists there, else
-/// relative to its library folder (the one holding types/), as `meshes/drum.obj` is written.
-std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
-
 /// Loads every type file of the standard library and of `dirs`, resolving inheritance.
 /// `where` marks the reference to a folder that does not exist.
+/// `package_paths` resolve `package://` references of URDF devices.
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
-                                     Diagnostics& diag);
+                                     Diagnostics& diag, const std::vector<std::string>& package_paths = {});
 
 /// Compiles a vault. Returns nullopt when any input error was reported.
 std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources,

@@ -33,15 +33,6 @@ std::string standard_library_dir() {
   return SSCS_SOURCE_LIBRARY_DIR;
 }
 
-std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
-  fs::path p(rel);
-  if (p.is_absolute()) return p.string();
-  fs::path beside = fs::path(type_file).parent_path() / p;
-  std::error_code ec;
-  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
-  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
-}
-
 namespace {
 
 std::vector<std::string> type_files(const std::string& dir) {
@@ -232,7 +223,7 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
 }  // namespace
 
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
-                                     Diagnostics& diag) {
+                                     Diagnostics& diag, const std::vector<std::string>& package_paths) {
   std::vector<std::shared_ptr<const TypeSpec>> specs;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
   for (const auto& [dir, where] : dirs) {
@@ -242,7 +233,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       continue;
     }
     for (const std::string& file : type_files(dir)) {
-      auto spec = load_type(file, sources, diag);
+      auto spec = load_type(file, sources, diag, {}, package_paths);
       if (!spec || spec->name.empty()) continue;
       std::string stem = fs::path(file).stem().string();
       if (stem != spec->name)

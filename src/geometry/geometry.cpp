@@ -11,6 +11,7 @@
 #include "compile/compile.h"
 #include "compile/values.h"
 #include "core/expr.h"
+#include "load/load.h"
 #include "geometry/mesh_io.h"
 #include "kinematics/device.h"
 

@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -11,7 +12,19 @@
 #include "load/load.h"
 #include "load/reader.h"
 
+namespace fs = std::filesystem;
+
 namespace sscs {
+
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
+  fs::path p(rel);
+  if (p.is_absolute()) return p.string();
+  fs::path beside = fs::path(type_file).parent_path() / p;
+  std::error_code ec;
+  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
+  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
+}
+
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
   std::ifstream in(path, std::ios::binary);

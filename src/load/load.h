@@ -2,6 +2,7 @@
 /// The load stage: YAML files -> spec structs (what the user wrote, with source marks).
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/diagnostics.h"
 #include "core/source.h"
@@ -20,8 +21,20 @@ std::optional<VaultSpec> load_vault(const std::string& path, Sources& sources, D
 /// Loads a vault already registered in `sources` (tests load vaults from strings this way).
 std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics& diag);
 
-/// Loads one type-library file (`library/types/<type>.yaml`).
+/// Loads one type-library file (`library/types/<type>.yaml`). A device with `urdf:` gets its
+/// parts from that file, `package://` references resolved through `package_paths`.
 std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag,
-                                  SourceMark where = {});
+                                  SourceMark where = {}, const std::vector<std::string>& package_paths = {});
+
+/// Where a type file's reference to another file (a mesh, a URDF) points: beside the type file
+/// if it exists there, else relative to its library folder (the one holding types/), as
+/// `meshes/drum.obj` is written. Absolute paths stay.
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
+
+/// Fills a device's parts from its URDF file (`device.urdf`, named in type file `type_file`):
+/// links become parts, joints joints, inertials masses, collision (else visual) shapes geometry.
+/// Problems are reported at the `urdf:` key.
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
+               Diagnostics& diag);
 
 }  // namespace sscs

@@ -128,7 +128,8 @@ DeviceSpec read_device(MapReader& root, Diagnostics& diag) {
 
 }  // namespace
 
-std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
+std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where,
+                                  const std::vector<std::string>& package_paths) {
   uint32_t file = read_source(path, sources, diag, where);
   if (file == 0) return std::nullopt;
   yaml::Document doc = yaml::parse(sources, file, diag);
@@ -171,6 +172,7 @@ std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Dia
   t.color = load::scalar(root.take("color"), "color", diag);
   if (device) {
     t.device = read_device(root, diag);
+    if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths, diag);
   } else {
     for (const char* key : {"parts", "tool", "home", "driven", "urdf"})
       if (root.has(key)) diag.error(root.node().find(key).mark(), fmt::format("'{}' is only allowed with kind: device", key));

@@ -111,22 +111,40 @@ TEST_F(Check, WarningsAreCountedApart) {
   EXPECT_TRUE(rep.violated(true));
 }
 
-TEST_F(Check, KindsWithoutAStageYetAreErrors) {
-  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
-                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0]}}\n"
-                                                "tool: {part: c}\n"}})};
+TEST_F(Check, PluginsWithoutAStageYetAreErrors) {
   Workcell wc = must_compile(
-      "objects:\n  - {type: drum, name: A}\n  - {type: slider, name: S}\n"
-      "constraints:\n  - {name: r, reach: {device: S, targets: A}}\n"
-      "  - {name: p, plugin: {class: seismic_gap, attributes: [A.height]}}\n");
+      "objects:\n  - {type: drum, name: A}\n"
+      "constraints:\n  - {name: p, plugin: {class: seismic_gap, attributes: [A.height]}}\n");
   CheckReport rep = check(wc, build_geometry(wc, diag));
-  ASSERT_EQ(rep.results.size(), 2u);
+  ASSERT_EQ(rep.results.size(), 1u);
   EXPECT_EQ(rep.results[0].status, Status::Error);
-  EXPECT_NE(rep.results[0].message.find("kinematics"), std::string::npos);
-  EXPECT_EQ(rep.results[1].status, Status::Error);
-  EXPECT_NE(rep.results[1].message.find("plugin"), std::string::npos);
-  EXPECT_EQ(rep.failed, 2u);  // never passed silently
-  EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{0, 1}));
+  EXPECT_NE(rep.results[0].message.find("plugin"), std::string::npos);
+  EXPECT_EQ(rep.failed, 1u);  // never passed silently
+  EXPECT_EQ(rep.results[0].subjects, (std::vector<int>{0}));
+}
+
+TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
+  // A slide along x, 0..4 m, its tool 0.5 m up: it reaches points on that segment.
+  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
+                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
+                                                "tool: {part: c, xyz: [0, 0, 0.5]}\n"}})};
+  Workcell wc = must_compile(
+      "objects:\n  - {type: slider, name: S}\n  - {type: drum, name: A, location: [2, 0, -0.351]}\n"
+      "  - {type: drum, name: B, location: [3, 1, -0.351]}\n  - {type: drum, name: C, location: [6, 0, -0.351]}\n"
+      "constraints:\n  - {name: r, reach: {device: S, targets: [A.top, B, C.top]}}\n"
+      "  - {name: ok, reach: {device: S, targets: {xyz: [1, 0, 0.5]}}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 3u) << rep.results[0].message;
+  // B's origin is 1 m off the line and 0.851 m below it; C's top 2 m beyond the end.
+  EXPECT_EQ(rep.results[0].status, Status::Fail);
+  EXPECT_NEAR(*rep.results[0].margin, -std::hypot(1.0, 0.851), 1e-4);
+  EXPECT_NE(rep.results[0].message.find("B"), std::string::npos) << rep.results[0].message;
+  EXPECT_EQ(rep.results[1].status, Status::Fail);
+  EXPECT_NEAR(*rep.results[1].margin, -2.0, 1e-4);
+  EXPECT_NE(rep.results[1].message.find("C.top"), std::string::npos) << rep.results[1].message;
+  EXPECT_EQ(rep.results[2].status, Status::Pass);
+  EXPECT_GE(*rep.results[2].margin, 0);
+  EXPECT_EQ(rep.failed, 2u);
 }
 
 TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {

@@ -231,3 +231,67 @@ TEST_F(Kinematics, SelfCollisionBetweenNonAdjacentParts) {
 
 }  // namespace
 }  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+class Urdf : public Kinematics {};
+
+TEST_F(Urdf, UrdfAndNativeDescriptionsGiveTheSameKinematics) {
+  // library/urdf/ur5.urdf (DH frames) against a native type aligned with the base at zero.
+  options.package_paths = {std::string(SSCS_TEST_DATA) + "/urdf/packages"};
+  options.library_dirs = {std::string(SSCS_TEST_DATA) + "/urdf"};
+  Workcell wc = must_compile("objects:\n  - {type: ur5, name: U}\n  - {type: ur5_native, name: N}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  const Device& u = *g.objects[wc.find_object("U")].device;
+  const Device& n = *g.objects[wc.find_object("N")].device;
+  ASSERT_EQ(u.dof(), 6);
+  ASSERT_EQ(n.dof(), 6);
+  EXPECT_EQ(u.parts[u.tool_part].name, "tool0");
+  EXPECT_NEAR(u.joint(0).upper, 2 * kPi, 1e-12);
+  EXPECT_NEAR(u.joint(0).velocity, kPi, 1e-12);
+  EXPECT_NEAR(u.joint(5).effort, 28, 1e-12);
+  EXPECT_NEAR(u.parts[2].mass, 8.393, 1e-12);
+  ASSERT_TRUE(u.parts[2].com);
+  // At zero the UR5 lies stretched along -x: a2 + a3 = -0.81725 m, wrist offsets d4, d5, d6.
+  Eigen::Isometry3d zero = u.tool_pose(Eigen::VectorXd::Zero(6));
+  EXPECT_TRUE(zero.translation().isApprox(Eigen::Vector3d(-0.81725, -0.10915 - 0.0823, 0.089159 - 0.09465), 1e-12))
+      << zero.translation().transpose();
+  std::srand(11);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::VectorXd q = Eigen::VectorXd::Random(6) * kPi;
+    Eigen::Isometry3d a = u.tool_pose(q), b = n.tool_pose(q);
+    ASSERT_TRUE(a.isApprox(b, 1e-12)) << "q = " << q.transpose() << "\n" << a.matrix() << "\n" << b.matrix();
+  }
+}
+
+TEST_F(Urdf, LinksJointsInertiasAndMeshesImport) {
+  options.package_paths = {std::string(SSCS_TEST_DATA) + "/urdf/packages"};
+  options.library_dirs = {std::string(SSCS_TEST_DATA) + "/urdf"};
+  Workcell wc = must_compile("objects:\n  - {type: meshy, name: M, spin: 90, reach_out: 0.25}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  const Device& d = *g.objects[0].device;
+  ASSERT_EQ(d.parts.size(), 3u);
+  EXPECT_EQ(d.parts[1].joint.type, JointType::Revolute);  // continuous: no limits
+  EXPECT_TRUE(std::isinf(d.parts[1].joint.lower));
+  EXPECT_EQ(d.parts[2].joint.type, JointType::Prismatic);
+  EXPECT_NEAR(d.parts[2].joint.upper, 0.5, 1e-12);
+  EXPECT_NEAR(d.parts[0].mass, 10, 1e-12);
+  ASSERT_TRUE(d.parts[0].inertia);
+  EXPECT_NEAR((*d.parts[0].inertia)(2, 2), 0.3, 1e-12);
+  EXPECT_EQ(d.parts[1].color, "#ff0000");
+  EXPECT_EQ(d.parts[1].shapes[0].kind, Shape::Kind::Sphere);  // a visual-only link uses its visuals
+  ASSERT_EQ(d.parts[2].shapes.size(), 1u);
+  EXPECT_EQ(d.parts[2].shapes[0].kind, Shape::Kind::Mesh);
+  // The tool defaults to the end of the longest chain; at spin 90 deg the slide points along +y.
+  EXPECT_EQ(d.tool_part, 2);
+  ASSERT_TRUE(g.objects[0].frame("tool"));
+  EXPECT_TRUE(g.objects[0].frame("tool")->translation().isApprox(Eigen::Vector3d(0, 0.45, 0.3), 1e-12));
+  // The mesh (a 0.1 m cube) is in the object's bounds there.
+  EXPECT_NEAR(g.objects[0].bbox_world.max().y(), 0.5, 1e-9);
+}
+
+}  // namespace
+}  // namespace sscs::testing

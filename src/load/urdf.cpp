@@ -1,0 +1,256 @@
+// URDF devices: `urdf: robots/ur5.urdf` in a device type. urdfdom parses the file; its links and
+// joints become the same PartSpec/JointSpec a type file writes, so everything after loading
+// treats URDF and native devices alike. Values are written out as text in SI (lengths in m,
+// angles as "<x> rad"), marked at the type file's `urdf:` key.
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include <console_bridge/console.h>
+#include <fmt/format.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include "core/names.h"
+#include "load/load.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+namespace {
+
+/// Collects urdfdom's messages (it logs through console_bridge) instead of printing them.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  CapturedLog() {
+    previous_ = console_bridge::getOutputHandler();
+    console_bridge::useOutputHandler(this);
+  }
+  ~CapturedLog() override { console_bridge::useOutputHandler(previous_); }
+  CapturedLog(const CapturedLog&) = delete;
+  CapturedLog& operator=(const CapturedLog&) = delete;
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && messages_.size() < 5) messages_.push_back(text);
+  }
+  std::string text() const {
+    std::string out;
+    for (const std::string& m : messages_) out += (out.empty() ? "" : "; ") + m;
+    return out;
+  }
+
+ private:
+  console_bridge::OutputHandler* previous_;
+  std::vector<std::string> messages_;
+};
+
+class Converter {
+ public:
+  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, Diagnostics& diag)
+      : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), diag_(diag) {}
+
+  Scalar number(double v, const char* unit = "") const {
+    Scalar s;
+    s.present = true;
+    s.mark = at_.mark;
+    s.text = *unit ? fmt::format("{:.17g} {}", v, unit) : fmt::format("{:.17g}", v);
+    return s;
+  }
+
+  PoseSpec pose(const urdf::Pose& p) const {
+    PoseSpec out;
+    double r, pi, y;
+    p.rotation.getRPY(r, pi, y);
+    out.xyz = {number(p.position.x), number(p.position.y), number(p.position.z)};
+    out.rpy = {number(r, "rad"), number(pi, "rad"), number(y, "rad")};
+    return out;
+  }
+
+  void error(const std::string& what) const { diag_.error(at_.mark, fmt::format("{}: {}", urdf_path_, what)); }
+
+  /// `package://pkg/path` through --package-path (and ROS_PACKAGE_PATH), `file://` absolute,
+  /// anything else relative to the URDF file.
+  std::optional<std::string> mesh_path(const std::string& uri) const {
+    std::error_code ec;
+    if (uri.starts_with("package://")) {
+      std::string rest = uri.substr(10);
+      auto slash = rest.find('/');
+      std::string package = rest.substr(0, slash);
+      std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
+      std::vector<std::string> roots = package_paths_;
+      if (const char* env = std::getenv("ROS_PACKAGE_PATH")) {
+        std::stringstream ss(env);
+        for (std::string dir; std::getline(ss, dir, ':');)
+          if (!dir.empty()) roots.push_back(dir);
+      }
+      for (const std::string& root : roots) {
+        // DIR/pkg/path (a folder of packages), or DIR itself when it is the package.
+        for (fs::path candidate : {fs::path(root) / package / inside, fs::path(root) / inside}) {
+          if (candidate == fs::path(root) / inside && fs::path(root).filename() != package) continue;
+          if (fs::is_regular_file(candidate, ec)) return fs::absolute(candidate).lexically_normal().string();
+        }
+      }
+      error(fmt::format("mesh '{}' not found: no package '{}' holding '{}' under {}", uri, package, inside,
+                        roots.empty() ? std::string("any --package-path (none given)")
+                                      : fmt::format("the package paths ({})", fmt::join(roots, ", "))));
+      return std::nullopt;
+    }
+    fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
+    if (p.is_relative()) p = fs::path(urdf_path_).parent_path() / p;
+    if (!fs::is_regular_file(p, ec)) {
+      error(fmt::format("mesh '{}' does not exist ({})", uri, p.lexically_normal().string()));
+      return std::nullopt;
+    }
+    return fs::absolute(p).lexically_normal().string();
+  }
+
+  std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) const {
+    if (!g) return std::nullopt;
+    GeometrySpec out;
+    out.mark = at_.mark;
+    out.pose = pose(origin);
+    switch (g->type) {
+      case urdf::Geometry::BOX: {
+        auto* b = static_cast<const urdf::Box*>(g.get());
+        out.shape = BoxSpec{{number(b->dim.x), number(b->dim.y), number(b->dim.z)}};
+        break;
+      }
+      case urdf::Geometry::CYLINDER: {
+        auto* c = static_cast<const urdf::Cylinder*>(g.get());
+        out.shape = CylinderSpec{number(c->radius), number(c->length)};
+        break;
+      }
+      case urdf::Geometry::SPHERE:
+        out.shape = SphereSpec{number(static_cast<const urdf::Sphere*>(g.get())->radius)};
+        break;
+      case urdf::Geometry::MESH: {
+        auto* m = static_cast<const urdf::Mesh*>(g.get());
+        auto path = mesh_path(m->filename);
+        if (!path) return std::nullopt;
+        MeshSpec mesh;
+        mesh.file = number(0);
+        mesh.file.text = *path;
+        mesh.scale = {number(m->scale.x), number(m->scale.y), number(m->scale.z)};
+        out.shape = std::move(mesh);
+        break;
+      }
+    }
+    return out;
+  }
+
+  PartSpec part(const urdf::Link& link) const {
+    PartSpec p;
+    p.name = link.name;
+    p.mark = at_.mark;
+    if (!is_valid_name(link.name))
+      error(fmt::format("link name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", link.name));
+    // Collision shapes are what the checker needs; a link with only visuals uses those.
+    if (!link.collision_array.empty()) {
+      for (const auto& c : link.collision_array)
+        if (auto g = geometry(c->geometry, c->origin)) p.geometry.push_back(std::move(*g));
+    } else {
+      for (const auto& v : link.visual_array)
+        if (auto g = geometry(v->geometry, v->origin)) p.geometry.push_back(std::move(*g));
+    }
+    for (const auto& v : link.visual_array)
+      if (v->material && p.color.text.empty()) {
+        const urdf::Color& c = v->material->color;
+        auto byte = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
+        p.color = number(0);
+        p.color.text = fmt::format("#{:02x}{:02x}{:02x}", byte(c.r), byte(c.g), byte(c.b));
+      }
+    if (link.inertial) {
+      p.mass = number(link.inertial->mass);
+      InertialSpec in;
+      in.origin = pose(link.inertial->origin);
+      const urdf::Inertial& i = *link.inertial;
+      in.inertia = {number(i.ixx), number(i.ixy), number(i.ixz), number(i.iyy), number(i.iyz), number(i.izz)};
+      p.inertial = std::move(in);
+    }
+    return p;
+  }
+
+  std::optional<JointSpec> joint(const urdf::Joint& j) const {
+    JointSpec out;
+    out.name = j.name;
+    out.mark = at_.mark;
+    out.origin = pose(j.parent_to_joint_origin_transform);
+    out.axis = {number(j.axis.x), number(j.axis.y), number(j.axis.z)};
+    if (!is_valid_name(j.name))
+      error(fmt::format("joint name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", j.name));
+    const char* unit = "";
+    switch (j.type) {
+      case urdf::Joint::REVOLUTE:
+      case urdf::Joint::CONTINUOUS:
+        out.type = JointType::Revolute;
+        unit = "rad";
+        break;
+      case urdf::Joint::PRISMATIC: out.type = JointType::Prismatic; break;
+      case urdf::Joint::FIXED: out.type = JointType::Fixed; break;
+      default:
+        error(fmt::format("joint '{}' is {}: sscs devices have revolute, continuous, prismatic and fixed joints "
+                          "(model a mobile base as prismatic x, y and revolute z joints)",
+                          j.name, j.type == urdf::Joint::FLOATING ? "floating" : j.type == urdf::Joint::PLANAR ? "planar" : "of unknown type"));
+        return std::nullopt;
+    }
+    if (j.limits && out.type != JointType::Fixed) {
+      if (j.type != urdf::Joint::CONTINUOUS) {
+        out.min = number(j.limits->lower, unit);
+        out.max = number(j.limits->upper, unit);
+      }
+      if (j.limits->velocity > 0) out.velocity = number(j.limits->velocity, unit);
+      if (j.limits->effort > 0) out.effort = number(j.limits->effort);
+    }
+    return out;
+  }
+
+ private:
+  const Scalar& at_;
+  std::string urdf_path_;
+  const std::vector<std::string>& package_paths_;
+  Diagnostics& diag_;
+};
+
+}  // namespace
+
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
+               Diagnostics& diag) {
+  const Scalar& at = device.urdf;
+  device.urdf_path = resolve_mesh_path(type_file, at.text);
+  std::error_code ec;
+  if (!fs::is_regular_file(device.urdf_path, ec)) {
+    diag.error(at.mark, fmt::format("URDF file '{}' does not exist ({})", at.text, device.urdf_path));
+    return;
+  }
+  urdf::ModelInterfaceSharedPtr model;
+  std::string log;
+  {
+    CapturedLog capture;
+    model = urdf::parseURDFFile(device.urdf_path);
+    log = capture.text();
+  }
+  if (!model || !model->getRoot()) {
+    diag.error(at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log));
+    return;
+  }
+  Converter convert(at, device.urdf_path, package_paths, diag);
+  // Links from the root down, each after its parent, in the order the file's joints list them.
+  std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};
+  for (size_t i = 0; i < order.size(); ++i)
+    for (const auto& child : order[i]->child_links) order.push_back(child);
+  for (const auto& link : order) {
+    PartSpec p = convert.part(*link);
+    if (auto j = link->parent_joint) {
+      p.parent = j->parent_link_name;
+      p.parent_mark = at.mark;
+      p.joint = convert.joint(*j);
+      if (!p.joint) {  // reported; made fixed, so its children still load
+        p.joint.emplace();
+        p.joint->name = j->name;
+        p.joint->mark = at.mark;
+      }
+    }
+    device.parts.push_back(std::move(p));
+  }
+}
+
+}  // namespace sscs
