@@ -310,6 +310,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       return !c;
     };
     IkResult ik = solve_ik(chain, X_root_world * X_world_target, seed, opt, accept);
+    if (ik.ok() && ik.position_error < 1e-9) ik.position_error = 0;  // rounding: keep reports stable
     CheckResult r;
     r.constraint = index;
     r.subjects = {rc.device};

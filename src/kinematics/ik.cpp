@@ -189,6 +189,28 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
         result.angle_error = ang;
       }
       if (converged(pos, ang)) {
+        // Polish: a few more steps take the error from "within tolerance" to rounding, so the
+        // reported error (and a reach margin) does not depend on where the iterate happened to land.
+        for (int k = 0; k < 6 && n > 0 && (pos > 1e-12 || ang > 1e-12); ++k) {
+          auto Jr = J.topRows(rows);
+          H.noalias() = Jr.transpose() * Jr;
+          H.diagonal().array() += 1e-9;
+          g.noalias() = Jr.transpose() * e.head(rows);
+          Eigen::VectorXd polished = q + H.ldlt().solve(g);
+          clamp(polished);
+          Eigen::Isometry3d Tp = chain.forward(polished, J);
+          Eigen::Matrix<double, 6, 1> ep = pose_error(Tp, target);
+          double pp, ap;
+          errors(ep, pp, ap);
+          if (pp + ap >= pos + ang) {
+            chain.forward(q, J);  // keep J consistent with q
+            break;
+          }
+          q = polished;
+          e = ep;
+          pos = pp;
+          ang = ap;
+        }
         Eigen::VectorXd solution = q;
         nearest_turn(solution);
         double distance = (solution - seed).norm();

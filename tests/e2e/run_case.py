@@ -119,7 +119,7 @@ def cli(sscs, root):
         out = os.path.join(tmp, "r.json")
         p = run(sscs, root, ["check", demo, "--out", out])
         report = json.load(open(out))
-        if p.returncode != 1 or report["vault"] != "DemoStore" or report["failed"] != 3:
+        if p.returncode != 1 or report["vault"] != "DemoStore" or report["failed"] != 4:
             fail("--out r.json should write the JSON report", p)
         if [f for f in os.listdir(tmp) if f.startswith(".")]:
             fail("temporary file left behind")
@@ -130,8 +130,8 @@ def cli(sscs, root):
         suite = suites.find("testsuite")
         if suites.tag != "testsuites" or suite.get("name") != "DemoStore" or suite.get("tests") != str(len(report["results"])):
             fail("junit structure")
-        if len(suite.findall("testcase/failure")) != 3 or len(suite.findall("testcase/error")) != 0:
-            fail("junit should hold 3 failures and no error for the demo")
+        if len(suite.findall("testcase/failure")) != 4 or len(suite.findall("testcase/error")) != 0:
+            fail("junit should hold 4 failures and no error for the demo")
         # Several vaults in one run: one JSON document with a report each.
         p = run(sscs, root, ["check", good, demo, "--format", "json"])
         both = json.loads(p.stdout)
