@@ -203,6 +203,8 @@ std::vector<std::string> frame_names(const Workcell& wc, int t) {
   }
   std::sort(names.begin() + 2, names.end());
   names.erase(std::unique(names.begin() + 2, names.end()), names.end());
+  names.erase(std::remove_if(names.begin() + 2, names.end(), [](const std::string& n) { return n == "origin" || n == "top"; }),
+              names.end());
   return names;
 }
 
@@ -228,6 +230,7 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   SelectorSpec plain = r.targets;
   plain.items.clear();
   std::vector<std::pair<Scalar, std::string>> framed;
+  std::vector<SourceMark> frame_marks;
   for (const Scalar& item : r.targets.items) {
     auto dot = item.text.rfind('.');
     if (dot == std::string::npos || item.text.starts_with("type:")) {
@@ -237,13 +240,14 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
     Scalar sel = item;
     sel.text = item.text.substr(0, dot);
     framed.emplace_back(sel, item.text.substr(dot + 1));
+    frame_marks.push_back(mark_at(item, dot + 1));
   }
-  auto add = [&](const std::vector<int>& objects, const std::string& frame, const Scalar& where) {
+  auto add = [&](const std::vector<int>& objects, const std::string& frame, SourceMark where) {
     for (int o : objects) {
       if (o == rc.device) continue;  // "*" selects the device too
       auto names = frame_names(st.wc, st.wc.objects[o].type);
       if (std::find(names.begin(), names.end(), frame) == names.end()) {
-        st.diag.error(where.mark, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
+        st.diag.error(where, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
                                               st.wc.objects[o].name, st.wc.types[st.wc.objects[o].type].name,
                                               fmt::join(names, ", "), did_you_mean(frame, names)));
         return;
@@ -258,13 +262,14 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
     sel.allow_empty = true;
     auto objects = select(st, sel, "reach targets");
     any = any || !objects.empty();
-    add(objects, default_frame, r.frame.present ? r.frame : plain.items.front());
+    add(objects, default_frame, r.frame.present ? r.frame.mark : plain.items.front().mark);
   }
-  for (const auto& [sel_text, frame] : framed) {
+  for (size_t k = 0; k < framed.size(); ++k) {
+    const auto& [sel_text, frame] = framed[k];
     SelectorSpec sel{{sel_text}, sel_text.mark, true};
     auto objects = select(st, sel, "reach targets");
     any = any || !objects.empty();
-    add(objects, frame, sel_text);
+    add(objects, frame, frame_marks[k]);
   }
   if (!any && !r.targets.allow_empty && !st.diag.has_errors())
     st.diag.error(r.targets.mark, "reach targets selects no objects (add allow_empty: true if that is intended)");
