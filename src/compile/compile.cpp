@@ -299,11 +299,6 @@ std::string resolve_path(const std::string& base_file, const std::string& rel) {
   return (fs::path(dir_of(base_file)) / p).lexically_normal().string();
 }
 
-bool valid_color(std::string_view c) {
-  return c.size() == 7 && c[0] == '#' &&
-         std::all_of(c.begin() + 1, c.end(), [](char x) { return std::isxdigit(static_cast<unsigned char>(x)); });
-}
-
 /// Stores a written value into `slot`: a number now, an expression for later.
 void assign(CompileState& st, uint32_t slot, const Scalar& s, const AttributeDef* def, Dim dim, const ExprScope& scope,
             std::string_view what, double add = 0) {
@@ -565,7 +560,7 @@ void resolve_object_links(CompileState& st) {
     }
     const Scalar& color = o.color.present ? o.color : st.wc.types[obj.type].spec->color;
     if (color.present && !color.null) {
-      if (valid_color(color.text)) obj.color = color.text;
+      if (is_valid_color(color.text)) obj.color = color.text;
       else st.diag.error(color.mark, fmt::format("expected a colour \"#RRGGBB\", found '{}'", color.text));
     }
   }

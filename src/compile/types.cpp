@@ -213,6 +213,8 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
       check_pose(j.origin, type, fmt::format("joint '{}'", j.name), diag);
     }
     check_geometry(p.geometry, type, type_file, diag);
+    if (p.color.present && !p.color.null && !is_valid_color(p.color.text))
+      diag.error(p.color.mark, fmt::format("expected a colour \"#RRGGBB\" for part '{}', found '{}'", p.name, p.color.text));
   }
   if (!d.parts.empty() && !root) diag.error(d.parts[0].mark, fmt::format("device '{}' has no root part (one part without a parent)", type.name));
   if (!d.tool_part.empty() && !parts.count(d.tool_part))

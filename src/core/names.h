@@ -9,6 +9,9 @@ namespace sscs {
 /// A name starts with a letter, then letters, digits, `_` or `-`.
 bool is_valid_name(std::string_view name);
 
+/// Whether `c` is a colour as files write it: "#RRGGBB" (hex sRGB).
+bool is_valid_color(std::string_view c);
+
 /// Levenshtein distance, for suggestions.
 size_t edit_distance(std::string_view a, std::string_view b);
 

@@ -1,6 +1,7 @@
 #include "geometry/export.h"
 
 #include "core/files.h"
+#include "kinematics/device.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/postprocess.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -114,13 +116,25 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
   aiScene scene;  // owns everything below; its destructor frees the arrays
   scene.mRootNode = new aiNode(wc.name);
   size_t n = wc.objects.size();
-  scene.mNumMaterials = static_cast<unsigned>(n ? n : 1);
+  // One material per object; device parts with their own colour get one each, after those.
+  std::vector<std::pair<std::string, std::string>> materials;  // name, colour
+  for (size_t i = 0; i < n; ++i) materials.emplace_back(wc.objects[i].name, wc.objects[i].color);
+  if (materials.empty()) materials.emplace_back("default", "");
+  std::map<std::pair<size_t, int>, unsigned> part_material;
+  for (size_t i = 0; i < n; ++i)
+    if (const auto& d = geometry.objects[i].device)
+      for (size_t p = 0; p < d->parts.size(); ++p)
+        if (!d->parts[p].color.empty()) {
+          part_material[{i, static_cast<int>(p)}] = static_cast<unsigned>(materials.size());
+          materials.emplace_back(wc.objects[i].name + "." + d->parts[p].name, d->parts[p].color);
+        }
+  scene.mNumMaterials = static_cast<unsigned>(materials.size());
   scene.mMaterials = new aiMaterial*[scene.mNumMaterials];
   for (unsigned i = 0; i < scene.mNumMaterials; ++i) {
     scene.mMaterials[i] = new aiMaterial();
-    aiString name(i < n ? wc.objects[i].name : "default");
+    aiString name(materials[i].first);
     scene.mMaterials[i]->AddProperty(&name, AI_MATKEY_NAME);
-    aiColor4D color = parse_color(i < n ? wc.objects[i].color : "");
+    aiColor4D color = parse_color(materials[i].second);
     scene.mMaterials[i]->AddProperty(&color, 1, AI_MATKEY_COLOR_DIFFUSE);
   }
   std::vector<aiMesh*> meshes;
@@ -134,7 +148,8 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
       TriangleMesh tm = tessellate(s);
       auto* mesh = new aiMesh();
       mesh->mName = aiString(wc.objects[i].name);  // OBJ groups are named after meshes
-      mesh->mMaterialIndex = static_cast<unsigned>(i);
+      auto part = part_material.find({i, s.part});
+      mesh->mMaterialIndex = part != part_material.end() ? part->second : static_cast<unsigned>(i);
       mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
       mesh->mNumVertices = static_cast<unsigned>(tm.vertices.size());
       mesh->mVertices = new aiVector3D[mesh->mNumVertices];
