@@ -291,21 +291,26 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   std::vector<int> related;
   for (size_t k = 0; k < wc.objects.size(); ++k)
     if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k))) related.push_back(static_cast<int>(k));
+  // The tool meets its target: the tool's part and the parts it carries may touch the target
+  // object, the rest of the device may not.
+  std::vector<char> tool_parts(d.parts.size(), 0);
+  for (size_t p = 0; p < d.parts.size(); ++p)
+    for (int k = static_cast<int>(p); k >= 0 && !tool_parts[p]; k = d.parts[k].parent)
+      if (k == d.tool_part) tool_parts[p] = 1;
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
   for (const ReachCheck::Target& t : rc.targets) {
     Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
     if (rc.match_orientation) X_world_target = X_world_target * rc.offset;
-    std::vector<int> ignore = related;
-    if (t.object >= 0) ignore.push_back(t.object);  // the tool meets its target
+    const std::vector<int>& ignore = related;
     std::optional<Collision> hit;
     auto accept = [&](const Eigen::VectorXd& chain_q) {
       Eigen::VectorXd q = q0;
       chain.to_device(chain_q, q);
       std::vector<Eigen::Isometry3d> X = d.part_poses(q);
       for (auto& x : X) x = g.X_world_object * x;
-      auto c = world.device_collision(rc.device, X, ignore);
+      auto c = world.device_collision(rc.device, X, ignore, t.object, tool_parts);
       if (c && (!hit || c->depth < hit->depth)) hit = c;
       return !c;
     };

@@ -161,7 +161,8 @@ std::vector<Collision> CollisionWorld::self_collisions(int object) {
 }
 
 std::optional<Collision> CollisionWorld::device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
-                                                          const std::vector<int>& ignore) {
+                                                          const std::vector<int>& ignore, int target,
+                                                          const std::vector<char>& tool_parts) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return std::nullopt;
   auto shapes = impl_->placed(*g.device, X_world_part);
@@ -189,6 +190,7 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
     const auto& theirs = impl_->of(other);
     for (const auto& [p, s] : shapes)
       for (size_t k = 0; k < theirs.size(); ++k) {
+        if (other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p]) continue;
         if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
         double depth = penetration(s.get(), theirs[k].get());
         if (depth > kTouchTolerance) {

@@ -42,8 +42,11 @@ class CollisionWorld {
   /// per part): against every other object except `ignore` (the caller's choice: the target,
   /// the objects in the device's parent chain), and
   /// between its own non-adjacent parts. nullopt when it is free.
+  /// `target` (>= 0) is the object the tool meets: the parts marked in `tool_parts` (the tool's
+  /// part and the parts it carries) may touch it; the other parts may not.
   std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
-                                            const std::vector<int>& ignore);
+                                            const std::vector<int>& ignore, int target = -1,
+                                            const std::vector<char>& tool_parts = {});
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.
