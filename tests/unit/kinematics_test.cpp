@@ -142,6 +142,24 @@ TEST_F(Kinematics, SolutionNearestTheSeed) {
   EXPECT_NEAR(r.q[3], q[3] + 2 * kPi, 1e-4);
 }
 
+TEST_F(Kinematics, ExtraAttemptsFindANearerSolution) {
+  auto d = device("  - {type: arm6, name: R}\n");
+  ASSERT_TRUE(d);
+  Chain chain(*d);
+  Eigen::VectorXd q(6), seed(6);
+  q << 0.5, 0.4, -0.6, 1.2, -0.9, 0.3;
+  seed << -2.5, 1.5, 0.8, -3.0, 1.5, -4.0;  // far from q: the first solution found may be another branch
+  IkOptions opt;
+  IkResult first = solve_ik(chain, chain.forward(q), seed, opt);
+  opt.extra_attempts = 30;
+  IkResult nearest = solve_ik(chain, chain.forward(q), seed, opt);
+  ASSERT_TRUE(first.ok());
+  ASSERT_TRUE(nearest.ok());
+  EXPECT_LE((nearest.q - seed).norm(), (first.q - seed).norm() + 1e-12);
+  EXPECT_GT(nearest.attempts, first.attempts);
+  EXPECT_LE(pose_error(chain.forward(nearest.q), chain.forward(q)).norm(), 1e-5);
+}
+
 TEST_F(Kinematics, PositionOnlyMode) {
   auto d = device("  - {type: arm6, name: R}\n");
   ASSERT_TRUE(d);
