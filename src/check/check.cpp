@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <fmt/format.h>
 
@@ -268,6 +269,47 @@ Eigen::Isometry3d target_pose(const ReachCheck::Target& t, const GeometryModel& 
   return X;
 }
 
+/// Position-only solutions that all collide may hide a free one in another tool orientation (an
+/// arm reaching over a crate rather than into it): try full poses with the tool's z axis along
+/// sampled approach directions, from above first, each at four rolls. Returns `rejected` when
+/// none is free.
+IkResult reach_by_approach(const Chain& chain, const Eigen::Isometry3d& target, const Eigen::VectorXd& seed,
+                           const IkOptions& base, const std::function<bool(const Eigen::VectorXd&)>& accept,
+                           const IkResult& rejected) {
+  static const std::vector<Eigen::Vector3d> kApproach = [] {
+    std::vector<Eigen::Vector3d> dirs = {{0, 0, -1}};
+    for (double z : {-1.0, 0.0, 1.0})
+      for (int k = 0; k < 8; ++k) {
+        double a = k * 3.14159265358979323846 / 4;
+        dirs.push_back(Eigen::Vector3d(std::cos(a), std::sin(a), z).normalized());
+      }
+    dirs.push_back({0, 0, 1});
+    return dirs;
+  }();
+  IkOptions opt = base;
+  opt.orientation = true;
+  opt.angle_tol = 1e-3;
+  opt.max_attempts = 8;
+  for (const Eigen::Vector3d& z : kApproach) {
+    Eigen::Vector3d x = std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    x = (x - z * z.dot(x)).normalized();
+    for (int roll = 0; roll < 4; ++roll) {
+      Eigen::Isometry3d X = target;
+      Eigen::Matrix3d R;
+      R.col(0) = x;
+      R.col(1) = z.cross(x);
+      R.col(2) = z;
+      X.linear() = R * Eigen::AngleAxisd(roll * 3.14159265358979323846 / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      IkResult r = solve_ik(chain, X, seed, opt, accept);
+      if (r.ok()) {
+        r.angle_error = 0;  // the orientation was free
+        return r;
+      }
+    }
+  }
+  return rejected;
+}
+
 /// reach: inverse kinematics for every target from the instance's joint values; a solution
 /// must be within limits and collision-free. Failing targets one result each, else one pass.
 void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, CollisionWorld& world, int index,
@@ -315,6 +357,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       return !c;
     };
     IkResult ik = solve_ik(chain, X_root_world * X_world_target, seed, opt, accept);
+    if (ik.status == IkResult::Status::Rejected && !rc.match_orientation)
+      ik = reach_by_approach(chain, X_root_world * X_world_target, seed, opt, accept, ik);
     if (ik.ok() && ik.position_error < 1e-9) ik.position_error = 0;  // rounding: keep reports stable
     CheckResult r;
     r.constraint = index;
