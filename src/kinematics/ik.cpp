@@ -166,7 +166,7 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
       for (int k = 0; k < n; ++k) {
         double lo = chain.lower(k), hi = chain.upper(k);
         if (!std::isfinite(lo) || !std::isfinite(hi)) {
-          double span = chain.device_index(k) >= 0 ? kPi : 1.0;
+          double span = chain.revolute(k) ? kPi : 1.0;  // a turn either way, or a metre
           lo = std::isfinite(lo) ? lo : start[k] - span;
           hi = std::isfinite(hi) ? hi : start[k] + span;
         }

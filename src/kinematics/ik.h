@@ -24,6 +24,7 @@ class Chain {
   int size() const { return static_cast<int>(links_.size()); }  ///< moving joints on the chain
   double lower(int k) const { return links_[k].lower; }
   double upper(int k) const { return links_[k].upper; }
+  bool revolute(int k) const { return links_[k].revolute; }
   /// The device joint-vector index of chain joint k.
   int device_index(int k) const { return links_[k].q; }
   /// Chain joint values taken from / written into a device joint vector.
