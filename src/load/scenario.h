@@ -1,0 +1,90 @@
+#pragma once
+/// Scenario files (scenario-format.md) as written: the vault they run in, simulation and
+/// recording settings, cameras and the steps of device motions. Values stay text with marks,
+/// like vault specs; the simulate stage resolves them against the compiled vault.
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/source.h"
+#include "load/spec.h"
+
+namespace sscs {
+
+struct CameraKeySpec {
+  SourceMark mark;
+  Scalar t;
+  std::array<Scalar, 3> eye, target;  ///< world points (absent with `orbit`)
+  Scalar fov;
+  bool orbit = false;
+  Scalar orbit_target;                ///< an object name, or absent with orbit_point
+  std::array<Scalar, 3> orbit_point;
+  Scalar radius, azimuth, elevation;
+};
+
+/// `move_to` target: an object or named frame (`Drum_1.top`), or a world pose.
+struct TargetSpec {
+  Scalar ref;                     ///< `Obj` or `Obj.frame`; absent for a pose
+  std::optional<PoseSpec> pose;
+  SourceMark mark;
+};
+
+struct MoveJointsSpec {
+  bool home = false;
+  std::vector<std::pair<std::string, Scalar>> joints;  ///< joint name -> value
+  std::vector<SourceMark> joint_marks;
+};
+struct MoveToSpec {
+  TargetSpec target;
+  PoseSpec offset;
+  bool linear = false;            ///< `path: linear`
+  SourceMark path_mark;
+};
+struct GraspSpec {
+  Scalar object;
+};
+struct ReleaseSpec {
+  Scalar object;                  ///< optional: what is held, checked when given
+};
+struct WaitSpec {
+  Scalar duration;
+};
+struct StepSpec;
+struct ParallelSpec {
+  std::vector<StepSpec> steps;
+};
+
+struct StepSpec {
+  SourceMark mark;
+  Scalar device;                  ///< absent for wait and parallel
+  Scalar speed;                   ///< `50%` (scales limits) or a speed `0.25 m/s` for linear paths
+  std::variant<MoveJointsSpec, MoveToSpec, GraspSpec, ReleaseSpec, WaitSpec, ParallelSpec> action;
+  const char* kind() const;
+};
+
+struct ScenarioSpec {
+  std::string name;
+  SourceMark mark;
+  std::string path;
+  std::string description;
+  Scalar vault;                   ///< relative to the scenario file
+  std::string vault_path;         ///< resolved
+  std::vector<std::pair<std::string, Scalar>> set;  ///< parameter overrides
+  Scalar timestep, limit;
+  bool gravity = true;
+  Scalar trajectory_rate;
+  bool frames = false;
+  Scalar fps, width, height;
+  std::vector<CameraKeySpec> cameras;
+  std::vector<StepSpec> steps;
+};
+
+/// Loads a scenario file strictly (unknown and duplicate keys, wrong kinds, names). Returns
+/// nullopt when the file could not be parsed at all; otherwise the spec, every problem reported.
+std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sources, Diagnostics& diag);
+/// Loads a scenario already registered in `sources` (tests).
+std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagnostics& diag);
+
+}  // namespace sscs

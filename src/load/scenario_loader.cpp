@@ -1,0 +1,248 @@
+// Scenario files: `sscs: 1`, `scenario: NAME`, vault, set, sim, record, cameras, steps.
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "core/names.h"
+#include "core/yaml_tree.h"
+#include "load/load.h"
+#include "load/reader.h"
+#include "load/scenario.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+using load::MapReader;
+
+const char* StepSpec::kind() const {
+  static const char* kKinds[] = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
+  return kKinds[action.index()];
+}
+
+namespace {
+
+// The action keys of a step: exactly one of these per step.
+const std::vector<std::string> kActions = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
+
+CameraKeySpec read_camera(yaml::Node node, Diagnostics& diag) {
+  CameraKeySpec c;
+  c.mark = node.mark();
+  MapReader r(node, "camera keyframe", diag);
+  if (!r.ok()) return c;
+  c.t = load::scalar(r.require("t"), "camera time", diag);
+  c.fov = load::scalar(r.take("fov"), "fov", diag);
+  yaml::Node orbit = r.take("orbit");
+  yaml::Node eye = r.take("eye");
+  yaml::Node target = r.take("target");
+  if (orbit.valid()) {
+    c.orbit = true;
+    if (eye.valid() || target.valid())
+      diag.error(orbit.mark(), "a camera keyframe has either 'orbit' or 'eye' and 'target', not both");
+    MapReader o(orbit, "orbit", diag);
+    yaml::Node ot = o.require("target");
+    if (ot.is_sequence()) c.orbit_point = load::vec3(ot, "orbit target", diag);
+    else c.orbit_target = load::scalar(ot, "orbit target", diag);
+    c.radius = load::scalar(o.require("radius"), "orbit radius", diag);
+    c.azimuth = load::scalar(o.take("azimuth"), "orbit azimuth", diag);
+    c.elevation = load::scalar(o.take("elevation"), "orbit elevation", diag);
+    if (o.ok()) o.finish();
+  } else {
+    if (!eye.valid() || !target.valid())
+      diag.error(c.mark, "a camera keyframe needs 'eye' and 'target' (or 'orbit')");
+    c.eye = load::vec3(eye, "camera eye", diag);
+    c.target = load::vec3(target, "camera target", diag);
+  }
+  r.finish();
+  return c;
+}
+
+TargetSpec read_target(yaml::Node node, Diagnostics& diag) {
+  TargetSpec t;
+  t.mark = node.valid() ? node.mark() : SourceMark{};
+  if (node.is_map()) {
+    MapReader r(node, "move_to target pose", diag);
+    t.pose = load::pose(r, diag);
+    r.finish();
+  } else {
+    t.ref = load::scalar(node, "move_to target", diag);
+  }
+  return t;
+}
+
+StepSpec read_step(yaml::Node node, Diagnostics& diag);
+
+void read_action(StepSpec& s, std::string_view kind, yaml::Node v, Diagnostics& diag) {
+  if (kind == "move_joints") {
+    MoveJointsSpec m;
+    if (v.is_scalar() && v.text() == "home") {
+      m.home = true;
+    } else if (v.is_map()) {
+      MapReader j(v, "move_joints", diag);
+      for (auto& [k, val] : j.rest()) {
+        m.joints.emplace_back(load::name(k, "a joint", diag), load::scalar(val, "a joint value", diag));
+        m.joint_marks.push_back(k.mark());
+      }
+      if (m.joints.empty()) load::expected(diag, v, "joint values {joint: value, ...} or home", "move_joints");
+    } else {
+      load::expected(diag, v, "joint values {joint: value, ...} or home", "move_joints");
+    }
+    s.action = std::move(m);
+  } else if (kind == "move_to") {
+    MoveToSpec m;
+    MapReader r(v, "move_to", diag);
+    if (r.ok()) {
+      m.target = read_target(r.require("target"), diag);
+      yaml::Node offset = r.take("offset");
+      if (offset.valid()) {
+        MapReader o(offset, "offset", diag);
+        m.offset = load::pose(o, diag);
+        o.finish();
+      }
+      r.finish();
+    }
+    s.action = std::move(m);
+  } else if (kind == "grasp") {
+    s.action = GraspSpec{load::scalar(v, "grasp", diag)};
+  } else if (kind == "release") {
+    ReleaseSpec rel;
+    if (v.is_map()) {
+      MapReader r(v, "release", diag);
+      rel.object = load::scalar(r.take("object"), "release object", diag);
+      r.finish();
+    } else if (!v.is_null()) {
+      rel.object = load::scalar(v, "release", diag);
+    }
+    s.action = std::move(rel);
+  } else if (kind == "wait") {
+    s.action = WaitSpec{load::scalar(v, "wait", diag)};
+  } else {  // parallel
+    ParallelSpec p;
+    if (!v.is_sequence() || v.size() == 0) {
+      load::expected(diag, v, "a non-empty sequence of steps", "parallel");
+    } else {
+      for (size_t i = 0; i < v.size(); ++i) {
+        StepSpec inner = read_step(v.item(i), diag);
+        if (std::holds_alternative<ParallelSpec>(inner.action))
+          diag.error(inner.mark, "a parallel group cannot hold another parallel group");
+        p.steps.push_back(std::move(inner));
+      }
+    }
+    s.action = std::move(p);
+  }
+}
+
+StepSpec read_step(yaml::Node node, Diagnostics& diag) {
+  StepSpec s;
+  s.mark = node.mark();
+  s.action = WaitSpec{};
+  MapReader r(node, "step", diag);
+  if (!r.ok()) return s;
+  // Exactly one action key.
+  std::vector<std::pair<std::string, yaml::Node>> actions;
+  for (const std::string& k : kActions)
+    if (yaml::Node v = r.take(k); v.valid()) actions.emplace_back(k, v);
+  yaml::Node device = r.take("device");
+  s.device = load::scalar(device, "step device", diag);
+  s.speed = load::scalar(r.take("speed"), "speed", diag);
+  yaml::Node path = r.take("path");
+  if (actions.empty()) {
+    // Name the unknown key the user probably meant as the action.
+    std::string found;
+    for (auto& [k, v] : r.rest()) found = found.empty() ? std::string(k.text()) : found;
+    diag.error(s.mark, found.empty()
+                           ? fmt::format("a step needs one action: {}", fmt::join(kActions, ", "))
+                           : fmt::format("unknown step kind '{}'; expected one of {}{}", found, fmt::join(kActions, ", "),
+                                         did_you_mean(found, kActions)));
+    return s;
+  }
+  if (actions.size() > 1)
+    diag.error(actions[1].second.mark(), fmt::format("a step has one action; this one has '{}' and '{}' (use parallel "
+                                                      "to run steps together)", actions[0].first, actions[1].first));
+  const auto& [kind, value] = actions[0];
+  read_action(s, kind, value, diag);
+  bool needs_device = kind != "wait" && kind != "parallel";
+  if (needs_device && !s.device.present) diag.error(s.mark, fmt::format("a {} step needs 'device'", kind));
+  if (!needs_device && s.device.present) diag.error(s.device.mark, fmt::format("a {} step takes no 'device'", kind));
+  if (s.speed.present && kind != "move_joints" && kind != "move_to")
+    diag.error(s.speed.mark, fmt::format("'speed' applies to move_joints and move_to, not {}", kind));
+  if (path.valid()) {
+    auto* m = std::get_if<MoveToSpec>(&s.action);
+    std::string word = load::text(path, "path", diag);
+    if (!m) diag.error(path.mark(), "'path' applies to move_to steps");
+    else if (word == "linear") m->linear = true;
+    else if (word != "joint") load::expected(diag, path, "joint or linear", "path");
+    if (m) m->path_mark = path.mark();
+  }
+  r.finish();
+  return s;
+}
+
+}  // namespace
+
+std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sources, Diagnostics& diag) {
+  uint32_t file = read_source(path, sources, diag);
+  if (file == 0) return std::nullopt;
+  return load_scenario(file, sources, diag);
+}
+
+std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagnostics& diag) {
+  yaml::Document doc = yaml::parse(sources, file, diag);
+  if (doc.empty()) return std::nullopt;
+  MapReader root(doc.root(), "a scenario file", diag);
+  if (!root.ok()) return std::nullopt;
+  load::check_version(root, diag);
+  ScenarioSpec sc;
+  sc.path = sources.path(file);
+  yaml::Node name = root.require("scenario");
+  sc.name = load::name(name, "the scenario", diag);
+  sc.mark = name.valid() ? name.mark() : root.mark();
+  sc.description = load::text(root.take("description"), "description", diag);
+  sc.vault = load::scalar(root.require("vault"), "vault", diag);
+  if (sc.vault.present && !sc.vault.null) {
+    fs::path p(sc.vault.text);
+    sc.vault_path = p.is_absolute() ? p.string() : (fs::path(sc.path).parent_path() / p).lexically_normal().string();
+  }
+  MapReader set(root.take("set"), "set", diag);
+  for (auto& [k, v] : set.rest()) sc.set.emplace_back(load::name(k, "a parameter", diag), load::scalar(v, "a parameter value", diag));
+  MapReader sim(root.take("sim"), "sim", diag);
+  sc.timestep = load::scalar(sim.take("timestep"), "timestep", diag);
+  sc.gravity = load::boolean(sim.take("gravity"), "gravity", diag, true);
+  sc.limit = load::scalar(sim.take("limit"), "limit", diag);
+  if (sim.ok()) sim.finish();
+  MapReader record(root.take("record"), "record", diag);
+  if (record.ok()) {
+    MapReader traj(record.take("trajectory"), "trajectory", diag);
+    sc.trajectory_rate = load::scalar(traj.take("rate"), "trajectory rate", diag);
+    if (traj.ok()) traj.finish();
+    yaml::Node frames = record.take("frames");
+    if (frames.valid()) {
+      sc.frames = true;
+      MapReader f(frames, "frames", diag);
+      sc.fps = load::scalar(f.take("fps"), "fps", diag);
+      sc.width = load::scalar(f.take("width"), "width", diag);
+      sc.height = load::scalar(f.take("height"), "height", diag);
+      if (f.ok()) f.finish();
+    }
+    record.finish();
+  }
+  yaml::Node cameras = root.take("cameras");
+  if (cameras.valid()) {
+    if (!cameras.is_sequence()) load::expected(diag, cameras, "a sequence of camera keyframes", "cameras");
+    else
+      for (size_t i = 0; i < cameras.size(); ++i) sc.cameras.push_back(read_camera(cameras.item(i), diag));
+  }
+  yaml::Node steps = root.require("steps");
+  if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
+    load::expected(diag, steps, "a non-empty sequence of steps", "steps");
+  } else if (steps.valid()) {
+    for (size_t i = 0; i < steps.size(); ++i) {
+      sc.steps.push_back(read_step(steps.item(i), diag));
+      if (diag.full()) break;
+    }
+  }
+  root.finish();
+  return sc;
+}
+
+}  // namespace sscs
