@@ -257,16 +257,7 @@ std::string collision_text(const Workcell& wc, const GeometryModel& geometry, in
 /// The world pose of a reach target.
 Eigen::Isometry3d target_pose(const ReachCheck::Target& t, const GeometryModel& geometry) {
   if (t.object < 0) return t.pose;
-  const ObjectGeometry& g = geometry.objects[t.object];
-  if (t.frame == "origin") return g.X_world_object;
-  if (const Eigen::Isometry3d* X = g.frame(t.frame)) return *X;
-  // `top` of a type without a `top` frame: the centre of the top of its bounds, in its orientation.
-  Eigen::Isometry3d X = g.X_world_object;
-  if (!g.bbox_world.isEmpty()) {
-    Eigen::Vector3d c = g.bbox_world.center();
-    X.translation() = Eigen::Vector3d(c.x(), c.y(), g.bbox_world.max().z());
-  }
-  return X;
+  return geometry.objects[t.object].frame_pose(t.frame);
 }
 
 /// Position-only solutions that all collide may hide a free one in another tool orientation (an

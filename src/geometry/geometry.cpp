@@ -338,6 +338,17 @@ const Eigen::Isometry3d* ObjectGeometry::frame(std::string_view name) const {
   return nullptr;
 }
 
+Eigen::Isometry3d ObjectGeometry::frame_pose(std::string_view name) const {
+  if (name == "origin") return X_world_object;
+  if (const Eigen::Isometry3d* X = frame(name)) return *X;
+  Eigen::Isometry3d X = X_world_object;
+  if (name == "top" && !bbox_world.isEmpty()) {
+    Eigen::Vector3d c = bbox_world.center();
+    X.translation() = Eigen::Vector3d(c.x(), c.y(), bbox_world.max().z());
+  }
+  return X;
+}
+
 double bbox_value(const GeometryModel& geometry, int object, uint32_t corner_axis) {
   const Eigen::AlignedBox3d& b = geometry.objects[object].bbox_world;
   if (b.isEmpty()) return NAN;

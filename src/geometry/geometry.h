@@ -46,6 +46,10 @@ struct ObjectGeometry {
   std::vector<Eigen::Isometry3d> X_object_part;
   /// The world pose of frame `name`; nullptr when the type has no such frame.
   const Eigen::Isometry3d* frame(std::string_view name) const;
+  /// The world pose of a target frame: `origin`, a named frame, or `top` (the type's `top`
+  /// frame, else the middle of the top of the world bounds in the object's orientation).
+  /// Unknown names give the origin (compile checks them).
+  Eigen::Isometry3d frame_pose(std::string_view name) const;
 };
 
 /// Geometry of a whole workcell, indexed like Workcell::objects. Immutable once built.

@@ -1,0 +1,469 @@
+#include "simulate/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "compile/values.h"
+#include "core/names.h"
+#include "core/pose.h"
+#include "kinematics/ik.h"
+
+namespace sscs {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Defaults for joints whose type gives no velocity or acceleration (docs/simulation.md).
+constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
+// Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
+// step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
+constexpr double kLinearSpeed = 0.25, kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
+constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
+constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
+// How close the tool must be to an object's bounds to grasp it.
+constexpr double kGraspReach = 0.02;
+
+double joint_speed(const Joint& j) { return j.velocity > 0 ? j.velocity : j.type == JointType::Revolute ? kRevoluteSpeed : kPrismaticSpeed; }
+double joint_accel(const Joint& j) { return j.acceleration > 0 ? j.acceleration : 2 * joint_speed(j); }
+
+std::string with_unit(double si, Dim dim) { return fmt::format("{:g} {}", stable(si_to_file(si, dim)), file_unit(dim)); }
+
+class Planner {
+ public:
+  Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(diag) {}
+
+  void settings(const ScenarioSpec& spec) {
+    SimSettings& s = plan_.settings;
+    auto positive = [&](const Scalar& v, Dim dim, const char* what, double& out) {
+      if (!v.present) return;
+      auto x = literal_si(v, dim, what, diag_);
+      if (x && !(*x > 0)) diag_.error(v.mark, fmt::format("{} must be positive, found {}", what, v.text));
+      else if (x) out = *x;
+    };
+    positive(spec.timestep, Dim::Time, "sim.timestep", s.timestep);
+    positive(spec.limit, Dim::Time, "sim.limit", s.limit);
+    positive(spec.trajectory_rate, Dim::Frequency, "trajectory rate", s.rate);
+    s.gravity = spec.gravity;
+    s.frames = spec.frames;
+    auto count = [&](const Scalar& v, const char* what, int& out) {
+      double x = out;
+      positive(v, Dim::None, what, x);
+      if (v.present && (x != std::floor(x) || x > 100000)) diag_.error(v.mark, fmt::format("{} must be a whole number, found {}", what, v.text));
+      out = static_cast<int>(x);
+    };
+    count(spec.fps, "fps", s.fps);
+    count(spec.width, "width", s.width);
+    count(spec.height, "height", s.height);
+    if (s.timestep > 0.1) diag_.error(spec.timestep.mark, fmt::format("sim.timestep {} is too coarse for contact physics (at most 100 ms)", spec.timestep.text));
+  }
+
+  std::optional<Plan> run(const ScenarioSpec& spec) {
+    settings(spec);
+    double t = 0;
+    for (size_t i = 0; i < spec.steps.size() && !plan_.failure; ++i) {
+      const StepSpec& step = spec.steps[i];
+      if (const auto* par = std::get_if<ParallelSpec>(&step.action)) {
+        plan_.steps.push_back({i, "parallel", step.mark, -1, -1, t, t});
+        size_t group = plan_.steps.size() - 1;
+        double end = t;
+        std::map<int, SourceMark> devices;
+        for (const StepSpec& member : par->steps) {
+          int d = member.device.present ? device(member.device) : -1;
+          if (d >= 0 && !devices.emplace(d, member.mark).second)
+            diag_.error(member.mark, fmt::format("{} has two steps in one parallel group", wc_.objects[d].name));
+          end = std::max(end, step_at(member, i, t));
+          if (plan_.failure) break;
+        }
+        plan_.steps[group].end = end;
+        t = end;
+      } else {
+        t = step_at(step, i, t);
+      }
+      if (diag_.full()) break;
+    }
+    plan_.end = plan_.failure ? plan_.failure->t : t;
+    if (diag_.has_errors()) return std::nullopt;
+    return std::move(plan_);
+  }
+
+ private:
+  struct DeviceState {
+    size_t track = 0;
+    Eigen::VectorXd q;   ///< commanded at `free`
+    double free = 0;     ///< when its last planned motion ends
+    int held = -1;
+    Eigen::Isometry3d X_tool_held = Eigen::Isometry3d::Identity();
+  };
+
+  const Device& model(int d) const { return *geometry_.objects[d].device; }
+
+  /// The device named by a step, or -1 (reported).
+  int device(const Scalar& s) {
+    int o = object(s, "step device");
+    if (o >= 0 && !geometry_.objects[o].device) {
+      diag_.error(s.mark, fmt::format("'{}' is a {}, not a device", s.text, wc_.types[wc_.objects[o].type].name));
+      return -1;
+    }
+    return o;
+  }
+
+  int object(const Scalar& s, std::string_view what) {
+    if (!s.present || s.null) return -1;
+    int o = wc_.find_object(s.text);
+    if (o < 0) {
+      std::vector<std::string> names;
+      for (const Object& x : wc_.objects) names.push_back(x.name);
+      diag_.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, names)));
+    }
+    return o;
+  }
+
+  DeviceState& state(int d) {
+    auto it = states_.find(d);
+    if (it != states_.end()) return it->second;
+    const Device& m = model(d);
+    DeviceState st;
+    st.q = m.joint_values(&wc_.values[wc_.objects[d].first_slot + kFirstAttributeSlot]);
+    st.track = plan_.tracks.size();
+    plan_.tracks.push_back({d, st.q, {}});
+    return states_.emplace(d, std::move(st)).first->second;
+  }
+
+  /// World pose of an object now: where planning last put it (carried, placed), else its pose.
+  Eigen::Isometry3d object_pose(int o) const {
+    for (const auto& [d, st] : states_)
+      if (st.held == o) return tool_world(d, st.q) * st.X_tool_held;
+    auto it = moved_.find(o);
+    return it != moved_.end() ? it->second : geometry_.objects[o].X_world_object;
+  }
+
+  Eigen::Isometry3d tool_world(int d, const Eigen::VectorXd& q) const {
+    return geometry_.objects[d].X_world_object * model(d).tool_pose(q);
+  }
+
+  void fail(double t, const char* kind, size_t step, int d, std::string message, double error = 0) {
+    plan_.failure = PlanFailure{t, kind, step, d, std::move(message), error};
+  }
+
+  /// Plans one step starting at t0; returns when it ends.
+  double step_at(const StepSpec& step, size_t index, double t0) {
+    PlannedStep ps{index, step.kind(), step.mark, -1, -1, t0, t0};
+    if (const auto* w = std::get_if<WaitSpec>(&step.action)) {
+      auto d = literal_si(w->duration, Dim::Time, "wait", diag_);
+      if (d && *d < 0) diag_.error(w->duration.mark, fmt::format("wait must not be negative, found {}", w->duration.text));
+      ps.end = t0 + std::max(d.value_or(0), 0.0);
+      plan_.steps.push_back(ps);
+      return ps.end;
+    }
+    int d = device(step.device);
+    if (d < 0) return t0;
+    ps.device = d;
+    DeviceState& st = state(d);
+    const Device& m = model(d);
+    double start = std::max(t0, st.free);
+    ps.start = start;
+    double end = start;
+    if (const auto* mj = std::get_if<MoveJointsSpec>(&step.action)) {
+      Eigen::VectorXd target = st.q;
+      const ObjectType& type = wc_.types[wc_.objects[d].type];
+      if (mj->home) {
+        for (int k = 0; k < m.dof(); ++k) {
+          const AttributeDef& a = type.attributes[m.joint(k).attribute];
+          Diagnostics scratch;
+          target[k] = literal_si(a.default_value, a.dim, "home", scratch).value_or(st.q[k]);
+        }
+      }
+      for (size_t i = 0; i < mj->joints.size(); ++i) {
+        const auto& [name, value] = mj->joints[i];
+        int k = -1;
+        std::vector<std::string> names;
+        for (int j = 0; j < m.dof(); ++j) {
+          names.push_back(m.joint(j).name);
+          if (m.joint(j).name == name) k = j;
+        }
+        if (k < 0) {
+          diag_.error(mj->joint_marks[i], fmt::format("'{}' is not a joint of {} ({}); its joints: {}{}", name,
+                                                     wc_.objects[d].name, type.name, fmt::join(names, ", "), did_you_mean(name, names)));
+          continue;
+        }
+        const Joint& j = m.joint(k);
+        Dim dim = j.type == JointType::Revolute ? Dim::Angle : Dim::Length;
+        auto v = literal_si(value, dim, fmt::format("joint '{}'", name), diag_);
+        if (!v) continue;
+        if (*v < j.lower - 1e-12 || *v > j.upper + 1e-12) {
+          diag_.error(value.mark, fmt::format("{} of {} is {}, outside its limits [{}, {}]", name, wc_.objects[d].name,
+                                              value.text, with_unit(j.lower, dim), with_unit(j.upper, dim)));
+          continue;
+        }
+        target[k] = *v;
+      }
+      double f = speed_fraction(step, false);
+      end = move_joints(st, m, target, f, start);
+    } else if (const auto* mt = std::get_if<MoveToSpec>(&step.action)) {
+      auto target = target_pose(mt->target);
+      Eigen::Isometry3d offset = literal_pose(mt->offset);
+      if (!target) return t0;
+      Eigen::Isometry3d X = *target * offset;
+      if (mt->linear) end = move_linear(st, d, X, step, index, start);
+      else end = move_to_joint(st, d, X, speed_fraction(step, false), index, start);
+    } else if (const auto* g = std::get_if<GraspSpec>(&step.action)) {
+      int o = object(g->object, "grasp");
+      ps.object = o;
+      if (o >= 0) grasp(st, d, o, g->object);
+    } else if (const auto* r = std::get_if<ReleaseSpec>(&step.action)) {
+      int o = r->object.present ? object(r->object, "release") : st.held;
+      ps.object = o;
+      if (st.held < 0) {
+        diag_.error(step.mark, fmt::format("release: {} holds nothing at this step", wc_.objects[d].name));
+      } else if (o != st.held && o >= 0) {
+        diag_.error(r->object.mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
+                                                r->object.text));
+      } else {
+        moved_[st.held] = tool_world(d, st.q) * st.X_tool_held;
+        st.held = -1;
+      }
+    }
+    ps.end = plan_.failure ? plan_.failure->t : end;
+    st.free = ps.end;
+    plan_.steps.push_back(ps);
+    return ps.end;
+  }
+
+  /// `speed: 50%` scales the limits; absent is 100 %.
+  double speed_fraction(const StepSpec& step, bool linear) {
+    if (!step.speed.present) return 1.0;
+    ParsedValue v = parse_value(step.speed, Dim::None, "speed", diag_, true);
+    if (v.kind != ParsedValue::Kind::Number) return 1.0;
+    if (v.dim == Dim::Velocity && linear) return v.si / kLinearSpeed;
+    if (v.dim != Dim::Fraction || !(v.si > 0) || v.si > 1) {
+      diag_.error(step.speed.mark, fmt::format("expected a speed as a percentage in (0%, 100%]{} for speed, found '{}'",
+                                               linear ? " or a tool speed (0.25 m/s)" : "", step.speed.text));
+      return 1.0;
+    }
+    return v.si;
+  }
+
+  double move_joints(DeviceState& st, const Device& m, const Eigen::VectorXd& target, double f, double start) {
+    Eigen::VectorXd v(m.dof()), a(m.dof());
+    for (int k = 0; k < m.dof(); ++k) {
+      v[k] = joint_speed(m.joint(k)) * f;
+      a[k] = joint_accel(m.joint(k)) * f * f;  // the same motion, slower in time: twice the time at 50 %
+    }
+    Segment seg;
+    seg.joint.emplace(st.q, target, v, a);
+    seg.t0 = start;
+    seg.t1 = start + seg.joint->duration();
+    seg.q_end = target;
+    plan_.tracks[st.track].segments.push_back(std::move(seg));
+    st.q = target;
+    return plan_.tracks[st.track].segments.back().t1;
+  }
+
+  std::optional<Eigen::Isometry3d> target_pose(const TargetSpec& t) {
+    if (t.pose) return literal_pose(*t.pose);
+    const std::string& text = t.ref.text;
+    auto dot = text.rfind('.');
+    Scalar obj = t.ref;
+    std::string frame = "origin";
+    if (dot != std::string::npos) {
+      obj.text = text.substr(0, dot);
+      frame = text.substr(dot + 1);
+    }
+    int o = object(obj, "move_to target");
+    if (o < 0) return std::nullopt;
+    const ObjectGeometry& g = geometry_.objects[o];
+    if (frame != "origin" && frame != "top" && !g.frame(frame)) {
+      std::vector<std::string> names = {"origin", "top"};
+      for (const auto& [n, X] : g.frames_world)
+        if (n != "top") names.push_back(n);
+      diag_.error(mark_at(t.ref, dot + 1), fmt::format("'{}' is not a frame of {}; its frames: {}{}", frame, obj.text,
+                                                      fmt::join(names, ", "), did_you_mean(frame, names)));
+      return std::nullopt;
+    }
+    // The frame rides on the object wherever planning has moved it.
+    return object_pose(o) * (g.X_world_object.inverse() * g.frame_pose(frame));
+  }
+
+  Eigen::Isometry3d literal_pose(const PoseSpec& p) {
+    Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      if (p.xyz[k].present) xyz[k] = literal_si(p.xyz[k], Dim::Length, "xyz", diag_).value_or(0);
+      if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, "rpy", diag_).value_or(0);
+    }
+    return make_pose(xyz, rpy);
+  }
+
+  IkOptions ik_options() const {
+    IkOptions opt;
+    opt.position_tol = 1e-5;
+    opt.angle_tol = 1e-4;
+    opt.time_limit = 2.0;  // a backstop; the iteration budget ends a solve
+    return opt;
+  }
+
+  double move_to_joint(DeviceState& st, int d, const Eigen::Isometry3d& X_world, double f, size_t index, double start) {
+    const Device& m = model(d);
+    Chain chain(m);
+    Eigen::Isometry3d target = geometry_.objects[d].X_world_object.inverse() * X_world;
+    IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
+    if (!r.ok()) {
+      fail(start, "unreachable", index, d,
+           fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name, stable(r.position_error)),
+           r.position_error);
+      return start;
+    }
+    Eigen::VectorXd q = st.q;
+    chain.to_device(r.q, q);
+    return move_joints(st, m, q, f, start);
+  }
+
+  double move_linear(DeviceState& st, int d, const Eigen::Isometry3d& X_world, const StepSpec& step, size_t index,
+                     double start) {
+    const Device& m = model(d);
+    Chain chain(m);
+    const Eigen::Isometry3d X_root = geometry_.objects[d].X_world_object.inverse();
+    Eigen::Isometry3d T0 = chain.forward(chain.from_device(st.q)), T1 = X_root * X_world;
+    // The end must be reachable at all, else the failure is "unreachable", not a path problem.
+    IkResult end_ik = solve_ik(chain, T1, chain.from_device(st.q), ik_options());
+    if (!end_ik.ok()) {
+      fail(start, "unreachable", index, d,
+           fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name,
+                       stable(end_ik.position_error)), end_ik.position_error);
+      return start;
+    }
+    double length = (T1.translation() - T0.translation()).norm();
+    Eigen::Quaterniond r0(T0.linear()), r1(T1.linear());
+    double turn = r0.angularDistance(r1);
+    int n = std::clamp(static_cast<int>(std::ceil(std::max(length / kWaypointSpacing, turn / kWaypointTurn))), 1, 5000);
+    Segment seg;
+    seg.t0 = start;
+    Eigen::VectorXd q = chain.from_device(st.q);
+    seg.waypoints.emplace_back(0.0, st.q);
+    IkOptions local = ik_options();
+    local.max_attempts = 1;  // continuation from the previous waypoint only: a restart could flip branches
+    local.iterations_per_attempt = 100;
+    double max_rate = 0;  // largest |dq/ds| relative to each joint's speed, and to its acceleration
+    double max_rate_a = 0;
+    for (int i = 1; i <= n; ++i) {
+      double s = static_cast<double>(i) / n;
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() = T0.translation() + s * (T1.translation() - T0.translation());
+      T.linear() = r0.slerp(s, r1).toRotationMatrix();
+      IkResult r = solve_ik(chain, T, q, local);
+      bool jump = false;
+      for (int k = 0; r.ok() && k < chain.size(); ++k) {
+        double step_k = std::abs(r.q[k] - q[k]);
+        const Joint& j = m.joint(chain.device_index(k));
+        if (step_k > (j.type == JointType::Revolute ? kContinuityRevolute : kContinuityPrismatic)) jump = true;
+        max_rate = std::max(max_rate, step_k * n / joint_speed(j));
+        max_rate_a = std::max(max_rate_a, step_k * n / joint_accel(j));
+      }
+      if (!r.ok() || jump) {
+        fail(start, "singular", index, d,
+             fmt::format("{} cannot follow the straight line: {} at {:g} % of the path (a singularity, a joint limit "
+                         "or a change of arm configuration)", wc_.objects[d].name, jump ? "the joints jump" : "no continuous solution",
+                         stable(100 * s)));
+        return start;
+      }
+      q = r.q;
+      Eigen::VectorXd full = st.q;
+      chain.to_device(q, full);
+      seg.waypoints.emplace_back(s, full);
+    }
+    // Time scaling along s: the tool's speed (from `speed` or the default), and every joint
+    // within its speed and acceleration limits (the path's curvature term is neglected).
+    double f = speed_fraction(step, true);
+    double vs = INFINITY, as = INFINITY;
+    if (length > 0) {
+      vs = std::min(vs, kLinearSpeed * f / length);
+      as = std::min(as, kLinearAccel / length);
+    }
+    if (turn > 0) vs = std::min(vs, kLinearTurn * f / turn);
+    if (max_rate > 0) vs = std::min(vs, 1.0 / max_rate);
+    if (max_rate_a > 0) as = std::min(as, 1.0 / max_rate_a);
+    if (!std::isfinite(vs)) vs = 1;
+    if (!std::isfinite(as)) as = 1;
+    seg.timing = fastest(1.0, vs, as);
+    seg.t1 = start + seg.timing.duration();
+    seg.q_end = seg.waypoints.back().second;
+    st.q = seg.q_end;
+    plan_.tracks[st.track].segments.push_back(std::move(seg));
+    return plan_.tracks[st.track].segments.back().t1;
+  }
+
+  void grasp(DeviceState& st, int d, int o, const Scalar& where) {
+    if (st.held >= 0) {
+      diag_.error(where.mark, fmt::format("grasp: {} already holds {}", wc_.objects[d].name, wc_.objects[st.held].name));
+      return;
+    }
+    for (const auto& [other, s] : states_)
+      if (s.held == o) {
+        diag_.error(where.mark, fmt::format("grasp: {} is held by {}", where.text, wc_.objects[other].name));
+        return;
+      }
+    if (o == d || geometry_.objects[o].bbox_world.isEmpty()) {
+      diag_.error(where.mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.text));
+      return;
+    }
+    // The tool must be at the object: within kGraspReach of its bounds where it is now.
+    Eigen::Isometry3d X_tool = tool_world(d, st.q);
+    Eigen::Isometry3d X_obj = object_pose(o);
+    const ObjectGeometry& g = geometry_.objects[o];
+    Eigen::Vector3d p = (X_obj * g.X_world_object.inverse()).inverse() * X_tool.translation();  // into the original pose
+    double gap = g.bbox_world.exteriorDistance(p);
+    if (gap > kGraspReach) {
+      diag_.error(where.mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
+                                          wc_.objects[d].name, stable(gap), where.text, kGraspReach));
+      return;
+    }
+    st.held = o;
+    st.X_tool_held = X_tool.inverse() * X_obj;
+  }
+
+  const Workcell& wc_;
+  const GeometryModel& geometry_;
+  Diagnostics& diag_;
+  Plan plan_;
+  std::map<int, DeviceState> states_;
+  std::map<int, Eigen::Isometry3d> moved_;
+};
+
+}  // namespace
+
+Eigen::VectorXd Segment::at(double t) const {
+  if (joint) return joint->position(t - t0);
+  if (waypoints.empty()) return q_end;
+  double s = std::clamp(timing.position(t - t0), 0.0, 1.0);
+  auto it = std::lower_bound(waypoints.begin(), waypoints.end(), s, [](const auto& w, double x) { return w.first < x; });
+  if (it == waypoints.begin()) return it->second;
+  if (it == waypoints.end()) return waypoints.back().second;
+  auto prev = it - 1;
+  double u = (s - prev->first) / (it->first - prev->first);
+  return prev->second + u * (it->second - prev->second);
+}
+
+Eigen::VectorXd Track::at(double t) const {
+  Eigen::VectorXd q = q_start;
+  for (const Segment& s : segments) {
+    if (t < s.t0) break;
+    if (t <= s.t1) return s.at(t);
+    q = s.q_end;
+  }
+  return q;
+}
+
+const Track* Plan::track(int object) const {
+  for (const Track& t : tracks)
+    if (t.object == object) return &t;
+  return nullptr;
+}
+
+std::optional<Plan> plan_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry,
+                                  Diagnostics& diag) {
+  return Planner(wc, geometry, diag).run(spec);
+}
+
+}  // namespace sscs

@@ -1,0 +1,86 @@
+#pragma once
+/// The planning half of `simulate`: a scenario resolved against its compiled vault into timed,
+/// commanded joint trajectories per device, with grasp and release times. Planning is kinematic
+/// and deterministic; the physics stage then drives the devices along these trajectories.
+///
+/// Problems in the file (unknown device, joint or object, a value past a joint limit, a grasp
+/// while the tool is away from the object, a release with nothing held) are input errors.
+/// Problems of the motion itself (an unreachable target, a linear path through a singularity)
+/// end the plan with a failure event at that step: the run fails, it does not hang.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "compile/workcell.h"
+#include "core/diagnostics.h"
+#include "geometry/geometry.h"
+#include "load/scenario.h"
+#include "simulate/profile.h"
+
+namespace sscs {
+
+struct SimSettings {
+  double timestep = 1e-3;  ///< s
+  double limit = 60;       ///< s of simulated time
+  double rate = 100;       ///< trajectory rows per simulated second
+  bool gravity = true;
+  bool frames = false;
+  int fps = 30, width = 1280, height = 720;
+};
+
+/// A piece of a device's commanded trajectory.
+struct Segment {
+  double t0 = 0, t1 = 0;
+  std::optional<JointMove> joint;  ///< a joint-space move
+  /// A linear tool path: joint waypoints at path parameters s in [0, 1], and the trapezoid
+  /// that maps time to s.
+  std::vector<std::pair<double, Eigen::VectorXd>> waypoints;
+  Trapezoid timing;
+  Eigen::VectorXd q_end;
+  Eigen::VectorXd at(double t) const;
+};
+
+/// A device's commanded joint values over time: holds between segments.
+struct Track {
+  int object = -1;
+  Eigen::VectorXd q_start;
+  std::vector<Segment> segments;  ///< in time order, not overlapping
+  Eigen::VectorXd at(double t) const;
+};
+
+struct PlannedStep {
+  size_t index = 0;           ///< in the file's order; members of a parallel group follow it
+  std::string kind;
+  SourceMark mark;
+  int device = -1;
+  int object = -1;            ///< grasp / release
+  double start = 0, end = 0;
+};
+
+/// A failure found while planning: `unreachable` or `singular`, at a step.
+struct PlanFailure {
+  double t = 0;
+  std::string kind;
+  size_t step = 0;
+  int device = -1;
+  std::string message;
+  double position_error = 0;  ///< unreachable: the best position error, m
+};
+
+struct Plan {
+  SimSettings settings;
+  std::vector<Track> tracks;          ///< one per device that moves or acts
+  std::vector<PlannedStep> steps;     ///< in order of start
+  std::optional<PlanFailure> failure; ///< planning stopped here
+  double end = 0;                     ///< when the last step ends (or the failure)
+  const Track* track(int object) const;
+};
+
+/// Resolves and plans a scenario. Returns nullopt when an input error was reported.
+std::optional<Plan> plan_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry,
+                                  Diagnostics& diag);
+
+}  // namespace sscs

@@ -1,0 +1,128 @@
+#include <cmath>
+#include <numbers>
+
+#include "geometry/geometry.h"
+#include "kinematics/device.h"
+#include "simulate/plan.h"
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// A turntable: one revolute joint at 90 deg/s and 180 deg/s^2, its tool 1 m out along x.
+const char* kTurntable = R"(sscs: 1
+type: turntable
+kind: device
+parts:
+  - {name: base, geometry: [{cylinder: {radius: 0.2, length: 0.1, xyz: [0, 0, 0.05]}}]}
+  - name: arm
+    parent: base
+    joint: {name: a, type: revolute, axis: [0, 0, 1], xyz: [0, 0, 0.1], limits: {min: -170, max: 170, velocity: 90, acceleration: 180}}
+    geometry: [{box: {size: [1, 0.1, 0.05], xyz: [0.5, 0, 0]}}]
+tool: {part: arm, xyz: [1, 0, 0]}
+)";
+
+class Planning : public VaultTest {
+ public:
+  std::optional<Plan> plan(const std::string& objects, const std::string& steps, const std::string& lib = "") {
+    if (!lib.empty()) options.library_dirs = {lib};
+    wc_ = must_compile("objects:\n" + objects);
+    geometry_ = build_geometry(wc_, diag);
+    uint32_t f = sources.add("s.yaml", "sscs: 1\nscenario: s\nvault: v.yaml\nsteps:\n" + steps);
+    auto spec = load_scenario(f, sources, diag);
+    EXPECT_TRUE(spec);
+    if (!spec || diag.has_errors()) return std::nullopt;
+    return plan_scenario(*spec, wc_, geometry_, diag);
+  }
+  Eigen::Isometry3d tool(const Plan& p, const std::string& device, double t) {
+    int o = wc_.find_object(device);
+    return geometry_.objects[o].X_world_object * geometry_.objects[o].device->tool_pose(p.track(o)->at(t));
+  }
+  Workcell wc_;
+  GeometryModel geometry_;
+};
+
+TEST_F(Planning, ASingleJointMoveTakesTheTrapezoidTime) {
+  auto p = plan("  - {type: turntable, name: T}\n", "  - {device: T, move_joints: {a: 90}}\n  - wait: 0.5 s\n",
+                type_dir({{"turntable", kTurntable}}));
+  ASSERT_TRUE(p) << diag.format(sources);
+  ASSERT_EQ(p->steps.size(), 2u);
+  EXPECT_NEAR(p->steps[0].end, 1.5, 1e-12);  // 90 deg at 90 deg/s and 180 deg/s^2
+  EXPECT_NEAR(p->steps[1].end, 2.0, 1e-12);
+  EXPECT_NEAR(p->end, 2.0, 1e-12);
+  EXPECT_NEAR(p->track(0)->at(0.75)[0], 45 * kDeg, 1e-12);
+  EXPECT_NEAR(p->track(0)->at(9)[0], 90 * kDeg, 1e-12);
+}
+
+TEST_F(Planning, SpeedScalesTheLimits) {
+  auto p = plan("  - {type: turntable, name: T}\n", "  - {device: T, move_joints: {a: 90}, speed: 50%}\n",
+                type_dir({{"turntable", kTurntable}}));
+  ASSERT_TRUE(p) << diag.format(sources);
+  EXPECT_NEAR(p->end, 3.0, 1e-12);  // the same motion at half speed takes twice the time
+}
+
+TEST_F(Planning, MoveToPutsTheToolOnTheTarget) {
+  auto p = plan("  - {type: arm6, name: R}\n  - {type: drum, name: D, location: [1.2, 0.3, 0]}\n",
+                "  - {device: R, move_to: {target: D.top, offset: {xyz: [0, 0, 0.2], rpy: [180, 0, 0]}}}\n"
+                "  - {device: R, move_to: {target: D.top, offset: {rpy: [180, 0, 0]}}, path: linear, speed: 0.1 m/s}\n"
+                "  - {device: R, grasp: D}\n  - {device: R, move_joints: home}\n  - {device: R, release: {}}\n");
+  ASSERT_TRUE(p) << diag.format(sources);
+  ASSERT_FALSE(p->failure) << p->failure->message;
+  Eigen::Vector3d top(1.2, 0.3, 0.851);
+  EXPECT_LT((tool(*p, "R", p->steps[0].end).translation() - (top + Eigen::Vector3d(0, 0, 0.2))).norm(), 1e-4);
+  EXPECT_LT((tool(*p, "R", p->steps[1].end).translation() - top).norm(), 1e-4);
+  // The linear descent stays on the vertical line through the drum's top, pointing down.
+  for (double u = 0.1; u < 1; u += 0.1) {
+    double t = p->steps[1].start + u * (p->steps[1].end - p->steps[1].start);
+    Eigen::Isometry3d X = tool(*p, "R", t);
+    EXPECT_LT((X.translation().head<2>() - top.head<2>()).norm(), 1e-3) << u;
+    EXPECT_NEAR(X.linear().col(2).z(), -1, 1e-3);
+  }
+  // 0.2 m at 0.1 m/s: at least 2 s.
+  EXPECT_GE(p->steps[1].end - p->steps[1].start, 2.0);
+}
+
+TEST_F(Planning, UnreachableTargetsEndThePlanWithAFailure) {
+  auto p = plan("  - {type: arm6, name: R}\n  - {type: drum, name: D, location: [4, 0, 0]}\n",
+                "  - {device: R, move_to: {target: D.top}}\n  - wait: 1 s\n");
+  ASSERT_TRUE(p) << diag.format(sources);
+  ASSERT_TRUE(p->failure);
+  EXPECT_EQ(p->failure->kind, "unreachable");
+  EXPECT_EQ(p->failure->step, 0u);
+  EXPECT_GT(p->failure->position_error, 2.0);
+}
+
+TEST_F(Planning, BadStepsAreInputErrors) {
+  std::string lib = type_dir({{"turntable", kTurntable}});
+  const std::string objects = "  - {type: turntable, name: T}\n  - {type: drum, name: D, location: [3, 0, 0]}\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"  - {device: T, move_joints: {b: 3}}\n", "'b' is not a joint of T"},
+      {"  - {device: T, move_joints: {a: 200}}\n", "outside its limits [-170 deg, 170 deg]"},
+      {"  - {device: T, grasp: D}\n", "grasp: the tool of T is 1.714 m from D (at most 0.02 m)"},
+      {"  - {device: T, release: {}}\n", "holds nothing"},
+      {"  - {device: Tt, move_joints: home}\n", "did you mean 'T'"},
+      {"  - {device: D, move_joints: home}\n", "not a device"},
+  };
+  for (const auto& [steps, fragment] : cases) {
+    diag = Diagnostics();
+    plan(objects, steps, lib);
+    ASSERT_TRUE(diag.has_errors()) << steps;
+    EXPECT_NE(diag.errors()[0].message.find(fragment), std::string::npos) << diag.errors()[0].message;
+  }
+}
+
+TEST_F(Planning, ParallelGroupsEndWithTheirLastMember) {
+  std::string lib = type_dir({{"turntable", kTurntable}});
+  auto p = plan("  - {type: turntable, name: T1}\n  - {type: turntable, name: T2, location: [5, 0, 0]}\n",
+                "  - parallel:\n      - {device: T1, move_joints: {a: 90}}\n      - {device: T2, move_joints: {a: 10}}\n"
+                "  - {device: T2, move_joints: {a: 0}}\n", lib);
+  ASSERT_TRUE(p) << diag.format(sources);
+  EXPECT_NEAR(p->steps[0].end, 1.5, 1e-12);                     // the group
+  EXPECT_NEAR(p->steps[3].start, 1.5, 1e-12);                   // the next step waits for it
+  EXPECT_NEAR(p->steps[2].end, 2 * std::sqrt(10.0 / 180), 1e-9);  // T2's short move
+}
+
+}  // namespace
+}  // namespace sscs::testing
