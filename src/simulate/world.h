@@ -1,0 +1,64 @@
+#pragma once
+/// The physics world of a run: ODE (double precision) with a fixed timestep, the vault's objects
+/// as collision geometry in a hash space, a floor, and rigid bodies for objects that move under
+/// physics (a drum once it is released). Contacts use friction and restitution (documented in
+/// docs/simulation.md).
+///
+/// This is the first slice of the simulate stage (issue 6): static scenery, free bodies, contacts.
+/// Devices enter as static geometry at their instance's joint values; articulated bodies with
+/// joint motors come next.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "compile/workcell.h"
+#include "geometry/geometry.h"
+
+namespace sscs {
+
+struct PhysicsOptions {
+  double timestep = 1e-3;   ///< s
+  bool gravity = true;      ///< -9.80665 m/s^2 along z
+  double friction = 0.6;    ///< Coulomb coefficient, every contact (steel on steel or wood, dry)
+  double restitution = 0.1; ///< bounce; contacts slower than 0.1 m/s do not bounce
+};
+
+struct PhysicsContact {
+  int a = -1, b = -1;       ///< objects (a < b); -1 is the floor
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double depth = 0;
+};
+
+class PhysicsWorld {
+ public:
+  PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, const PhysicsOptions& options);
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  /// Turns a static object into a free rigid body at its current pose, with its mass
+  /// (docs/simulation.md says how the mass is found).
+  void make_dynamic(int object);
+  bool dynamic(int object) const;
+  /// Whether a dynamic object has come to rest (slower than 5 mm/s and 0.01 rad/s for 0.2 s).
+  bool at_rest(int object) const;
+  /// Advances one timestep: contacts, then the ODE step.
+  void step();
+  double time() const;
+  /// Where the floor is: the plane z = floor_z() (the bottom of the containers, or 0).
+  double floor_z() const;
+
+  Eigen::Isometry3d pose(int object) const;
+  Eigen::Vector3d velocity(int object) const;
+  double mass(int object) const;
+  /// Contacts of the last step between distinct objects (or an object and the floor), deepest
+  /// point per pair.
+  const std::vector<PhysicsContact>& contacts() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sscs
