@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <deque>
 #include <mutex>
+#include <tuple>
 
 #include <ode/ode.h>
 
@@ -59,6 +61,25 @@ double object_mass(const Workcell& wc, const GeometryModel& geometry, int o) {
 
 }  // namespace
 
+/// What a geom belongs to: an object (-1: the floor) and, for devices, a part.
+struct GeomTag {
+  int object = -1;
+  int part = -1;
+};
+
+struct DeviceBodies {
+  std::vector<dBodyID> bodies;                 // per part; null for the root (static)
+  std::vector<Eigen::Isometry3d> X_body_part;  // the part's frame in its body's
+  struct JointRec {
+    dJointID joint = nullptr;
+    JointType type = JointType::Fixed;
+    double q_attach = 0;  // the joint value when attached (ODE measures from there)
+  };
+  std::vector<JointRec> joints;  // per device joint (joint vector order)
+  bool kinematic = false;
+  Eigen::VectorXd commanded;     // kinematic devices: where they were last placed
+};
+
 struct PhysicsWorld::Impl {
   const Workcell& wc;
   const GeometryModel& geometry;
@@ -76,7 +97,27 @@ struct PhysicsWorld::Impl {
   std::vector<std::vector<double>> mesh_vertices;
   std::vector<std::vector<int>> mesh_indices;
   std::vector<PhysicsContact> contacts;
-  std::map<std::pair<int, int>, size_t> contact_index;
+  std::map<std::tuple<int, int, int, int>, size_t> contact_index;
+  std::deque<GeomTag> tags;
+  std::map<int, DeviceBodies> devices;
+
+  void tag(dGeomID g, int object, int part) {
+    tags.push_back({object, part});
+    dGeomSetData(g, &tags.back());
+  }
+
+  /// Places geom `g` at world pose X (static, or as an offset on its body).
+  static void place(dGeomID g, const Eigen::Isometry3d& X) {
+    dMatrix3 R;
+    to_ode(X.linear(), R);
+    if (dGeomGetBody(g)) {
+      dGeomSetOffsetWorldPosition(g, X.translation().x(), X.translation().y(), X.translation().z());
+      dGeomSetOffsetWorldRotation(g, R);
+    } else {
+      dGeomSetPosition(g, X.translation().x(), X.translation().y(), X.translation().z());
+      dGeomSetRotation(g, R);
+    }
+  }
 
   Impl(const Workcell& w, const GeometryModel& g, const PhysicsOptions& o) : wc(w), geometry(g), options(o) {}
 
@@ -108,9 +149,15 @@ struct PhysicsWorld::Impl {
     dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
     if (!b1 && !b2) return;  // scenery does not collide with scenery
     if (b1 == b2) return;
-    int o1 = static_cast<int>(reinterpret_cast<intptr_t>(dGeomGetData(g1)));
-    int o2 = static_cast<int>(reinterpret_cast<intptr_t>(dGeomGetData(g2)));
-    if (o1 == o2) return;
+    const GeomTag& t1 = *static_cast<const GeomTag*>(dGeomGetData(g1));
+    const GeomTag& t2 = *static_cast<const GeomTag*>(dGeomGetData(g2));
+    if (t1.object == t2.object) {
+      // One object: only a device's non-adjacent parts meet (self-collision).
+      const ObjectGeometry& g = geometry.objects[t1.object];
+      if (!g.device || t1.part == t2.part || g.device->adjacent(t1.part, t2.part)) return;
+    }
+    if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;  // joined parts
+    int o1 = t1.object, o2 = t2.object;
     dContact contact[kMaxContacts];
     int n = dCollide(g1, g2, kMaxContacts, &contact[0].geom, sizeof(dContact));
     for (int i = 0; i < n; ++i) {
@@ -122,9 +169,11 @@ struct PhysicsWorld::Impl {
       c.surface.soft_cfm = 1e-6;
       dJointID j = dJointCreateContact(world, contact_group, &c);
       dJointAttach(j, b1, b2);
-      auto key = std::minmax(o1, o2);
-      auto [it, fresh] = contact_index.try_emplace({key.first, key.second}, contacts.size());
-      if (fresh) contacts.push_back({key.first, key.second, Eigen::Vector3d::Zero(), -1});
+      bool swap = std::make_pair(o1, t1.part) > std::make_pair(o2, t2.part);
+      const GeomTag& a = swap ? t2 : t1;
+      const GeomTag& b = swap ? t1 : t2;
+      auto [it, fresh] = contact_index.try_emplace({a.object, a.part, b.object, b.part}, contacts.size());
+      if (fresh) contacts.push_back({a.object, b.object, a.part, b.part, Eigen::Vector3d::Zero(), -1});
       PhysicsContact& pc = contacts[it->second];
       if (c.geom.depth > pc.depth) {
         pc.depth = c.geom.depth;
@@ -171,18 +220,14 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
     }
   w.floor = floor;
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);
-  dGeomSetData(plane, reinterpret_cast<void*>(static_cast<intptr_t>(-1)));
+  w.tag(plane, -1, -1);
   for (size_t i = 0; i < n; ++i) {
     if (container[i]) continue;
     const ObjectGeometry& g = geometry.objects[i];
     for (const Shape& s : g.shapes) {
       dGeomID geom = w.make_geom(s);
-      Eigen::Isometry3d X = g.X_world_object * s.X_object_shape;
-      dGeomSetPosition(geom, X.translation().x(), X.translation().y(), X.translation().z());
-      dMatrix3 R;
-      to_ode(X.linear(), R);
-      dGeomSetRotation(geom, R);
-      dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(i)));
+      Impl::place(geom, g.X_world_object * s.X_object_shape);
+      w.tag(geom, static_cast<int>(i), s.part);
       w.geoms[i].push_back(geom);
     }
   }
@@ -244,6 +289,169 @@ void PhysicsWorld::make_dynamic(int o) {
   w.bodies[o] = body;
   w.masses[o] = m;
   w.X_body_object[o] = X_world_body.inverse() * X_world_object;
+}
+
+void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
+  Impl& w = *impl_;
+  const ObjectGeometry& g = w.geometry.objects[o];
+  if (!g.device || w.devices.count(o)) return;
+  const Device& d = *g.device;
+  for (dGeomID geom : w.geoms[o]) dGeomDestroy(geom);
+  w.geoms[o].clear();
+  DeviceBodies& db = w.devices[o];
+  db.kinematic = d.kinematic;
+  db.bodies.assign(d.parts.size(), nullptr);
+  db.X_body_part.assign(d.parts.size(), Eigen::Isometry3d::Identity());
+  std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+  for (auto& x : X) x = g.X_world_object * x;
+  for (size_t p = 0; p < d.parts.size(); ++p) {
+    const Part& part = d.parts[p];
+    dBodyID body = nullptr;
+    if (part.parent >= 0) {
+      // Mass: the part's, else 1 kg; inertia: the part's (URDF), else the box of its shapes' bounds.
+      double m = part.mass > 0 ? part.mass : 1.0;
+      dMass mass;
+      Eigen::Vector3d com = Eigen::Vector3d::Zero();
+      if (part.inertia && part.com) {
+        com = *part.com;
+        const Eigen::Matrix3d& I = *part.inertia;
+        dMassSetParameters(&mass, m, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+      } else {
+        Eigen::AlignedBox3d box;
+        for (const Shape& s : part.shapes) box.extend(shape_bounds(s, s.X_object_shape));
+        Eigen::Vector3d size = box.isEmpty() ? Eigen::Vector3d::Constant(0.1) : Eigen::Vector3d(box.sizes().cwiseMax(0.01));
+        if (!box.isEmpty()) com = box.center();
+        dMassSetBoxTotal(&mass, m, size.x(), size.y(), size.z());
+      }
+      body = dBodyCreate(w.world);
+      Eigen::Isometry3d X_body = X[p] * Eigen::Translation3d(com);
+      dBodySetPosition(body, X_body.translation().x(), X_body.translation().y(), X_body.translation().z());
+      dMatrix3 R;
+      to_ode(X_body.linear(), R);
+      dBodySetRotation(body, R);
+      dBodySetMass(body, &mass);
+      dBodySetAutoDisableFlag(body, 0);  // driven parts never sleep
+      if (db.kinematic) dBodySetKinematic(body);
+      db.X_body_part[p] = Eigen::Isometry3d(Eigen::Translation3d(-com));
+    }
+    db.bodies[p] = body;
+    for (const Shape& s : part.shapes) {
+      dGeomID geom = w.make_geom(s);
+      if (body) dGeomSetBody(geom, body);
+      Impl::place(geom, X[p] * s.X_object_shape);
+      w.tag(geom, o, static_cast<int>(p));
+      w.geoms[o].push_back(geom);
+    }
+  }
+  db.joints.resize(d.dof());
+  db.commanded = q;
+  for (size_t p = 0; p < d.parts.size(); ++p) {
+    const Part& part = d.parts[p];
+    if (part.parent < 0 || db.kinematic) continue;
+    const Joint& j = part.joint;
+    dBodyID child = db.bodies[p], parent = db.bodies[part.parent];  // null parent: the world
+    Eigen::Isometry3d X_joint = X[part.parent] * j.origin;
+    Eigen::Vector3d anchor = X_joint.translation(), axis = X_joint.linear() * j.axis;
+    dJointID joint = nullptr;
+    switch (j.type) {
+      case JointType::Revolute:
+        joint = dJointCreateHinge(w.world, nullptr);
+        dJointAttach(joint, child, parent);
+        dJointSetHingeAnchor(joint, anchor.x(), anchor.y(), anchor.z());
+        dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
+        break;
+      case JointType::Prismatic:
+        joint = dJointCreateSlider(w.world, nullptr);
+        dJointAttach(joint, child, parent);
+        dJointSetSliderAxis(joint, axis.x(), axis.y(), axis.z());
+        break;
+      case JointType::Fixed:
+        joint = dJointCreateFixed(w.world, nullptr);
+        dJointAttach(joint, child, parent);
+        dJointSetFixed(joint);
+        break;
+    }
+    if (j.q < 0) continue;
+    double q0 = q[j.q];
+    db.joints[j.q] = {joint, j.type, q0};
+    double fmax = j.effort > 0 ? j.effort : 1e5;
+    bool hinge = j.type == JointType::Revolute;
+    auto set = [&](int param, double v) {
+      if (hinge) dJointSetHingeParam(joint, param, v);
+      else dJointSetSliderParam(joint, param, v);
+    };
+    set(dParamFMax, fmax);
+    set(dParamVel, 0);
+    // Stops, measured from the attach value; ODE's hinge stops must lie within +-pi.
+    double lo = j.lower - q0, hi = j.upper - q0;
+    if (std::isfinite(lo) && std::isfinite(hi) && (!hinge || (lo >= -3.14159 && hi <= 3.14159))) {
+      set(dParamLoStop, lo);
+      set(dParamHiStop, hi);
+    }
+  }
+}
+
+void PhysicsWorld::drive(int o, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  Impl& w = *impl_;
+  auto it = w.devices.find(o);
+  if (it == w.devices.end()) return;
+  DeviceBodies& db = it->second;
+  const ObjectGeometry& g = w.geometry.objects[o];
+  const Device& d = *g.device;
+  if (db.kinematic) {
+    // Placed on the plan, with the velocities that take them there (for contacts with them).
+    std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+    for (size_t p = 0; p < d.parts.size(); ++p) {
+      dBodyID b = db.bodies[p];
+      if (!b) continue;
+      Eigen::Isometry3d Xb = g.X_world_object * X[p] * db.X_body_part[p].inverse();
+      const dReal* old = dBodyGetPosition(b);
+      double dt = w.options.timestep;
+      dBodySetLinearVel(b, (Xb.translation().x() - old[0]) / dt, (Xb.translation().y() - old[1]) / dt,
+                        (Xb.translation().z() - old[2]) / dt);
+      Eigen::AngleAxisd turn(Xb.linear() * from_ode(old, dBodyGetRotation(b)).linear().transpose());
+      Eigen::Vector3d wv = turn.axis() * turn.angle() / dt;
+      dBodySetAngularVel(b, wv.x(), wv.y(), wv.z());  // ODE's step integrates them to Xb
+    }
+    db.commanded = q;
+    return;
+  }
+  // Motors: the planned velocity plus a proportional correction of the position error.
+  constexpr double kGain = 20;  // 1/s
+  Eigen::VectorXd now = joints(o);
+  for (int k = 0; k < d.dof(); ++k) {
+    const auto& rec = db.joints[k];
+    if (!rec.joint) continue;
+    double v = qd[k] + kGain * (q[k] - now[k]);
+    if (rec.type == JointType::Revolute) dJointSetHingeParam(rec.joint, dParamVel, v);
+    else dJointSetSliderParam(rec.joint, dParamVel, v);
+  }
+}
+
+Eigen::VectorXd PhysicsWorld::joints(int o) const {
+  const Impl& w = *impl_;
+  const Device& d = *w.geometry.objects[o].device;
+  auto it = w.devices.find(o);
+  if (it == w.devices.end())
+    return d.joint_values(&w.wc.values[w.wc.objects[o].first_slot + kFirstAttributeSlot]);
+  const DeviceBodies& db = it->second;
+  Eigen::VectorXd q(d.dof());
+  if (db.kinematic) return db.commanded;  // kinematic parts follow the plan exactly
+  for (int k = 0; k < d.dof(); ++k) {
+    const auto& rec = db.joints[k];
+    if (!rec.joint) continue;
+    q[k] = rec.q_attach + (rec.type == JointType::Revolute ? dJointGetHingeAngle(rec.joint) : dJointGetSliderPosition(rec.joint));
+  }
+  return q;
+}
+
+Eigen::Isometry3d PhysicsWorld::part_pose(int o, int p) const {
+  const Impl& w = *impl_;
+  const ObjectGeometry& g = w.geometry.objects[o];
+  auto it = w.devices.find(o);
+  if (it == w.devices.end() || !it->second.bodies[p]) return g.X_world_object * g.X_object_part[p];
+  dBodyID b = it->second.bodies[p];
+  return from_ode(dBodyGetPosition(b), dBodyGetRotation(b)) * it->second.X_body_part[p];
 }
 
 bool PhysicsWorld::dynamic(int o) const { return impl_->bodies[o] != nullptr; }

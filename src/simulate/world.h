@@ -4,9 +4,9 @@
 /// physics (a drum once it is released). Contacts use friction and restitution (documented in
 /// docs/simulation.md).
 ///
-/// This is the first slice of the simulate stage (issue 6): static scenery, free bodies, contacts.
-/// Devices enter as static geometry at their instance's joint values; articulated bodies with
-/// joint motors come next.
+/// Devices are articulated bodies: one rigid body per moving part, ODE hinge, slider and fixed
+/// joints with their limits, driven by joint motors (velocity commands with a force limit from
+/// the joint's effort), or moved kinematically for `driven: kinematic` devices.
 #include <memory>
 #include <vector>
 
@@ -25,7 +25,8 @@ struct PhysicsOptions {
 };
 
 struct PhysicsContact {
-  int a = -1, b = -1;       ///< objects (a < b); -1 is the floor
+  int a = -1, b = -1;       ///< objects (a <= b); -1 is the floor; a == b: a device with itself
+  int part_a = -1, part_b = -1;  ///< device parts, -1 for other objects
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   double depth = 0;
 };
@@ -36,6 +37,17 @@ class PhysicsWorld {
   ~PhysicsWorld();
   PhysicsWorld(const PhysicsWorld&) = delete;
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  /// Makes device `object` articulated, its parts placed at joint values q (the device's joint
+  /// vector). Until then a device is static scenery at its instance's values.
+  void add_device(int object, const Eigen::VectorXd& q);
+  /// Commands the device's joints towards q with velocity qd (feed-forward plus feedback);
+  /// kinematic devices are placed at q exactly.
+  void drive(int object, const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  /// The device's joint values now.
+  Eigen::VectorXd joints(int object) const;
+  /// World pose of a device's part now.
+  Eigen::Isometry3d part_pose(int object, int part) const;
 
   /// Turns a static object into a free rigid body at its current pose, with its mass
   /// (docs/simulation.md says how the mass is found).

@@ -1,6 +1,8 @@
 #include <cmath>
 
 #include "geometry/geometry.h"
+#include "kinematics/device.h"
+#include "simulate/profile.h"
 #include "simulate/world.h"
 #include "vault_fixture.h"
 
@@ -82,6 +84,91 @@ TEST_F(Physics, TheFloorIsTheBottomOfTheRoom) {
   EXPECT_NEAR(world.floor_z(), 2.0, 1e-12);
   while (world.time() < 2.0) world.step();
   EXPECT_NEAR(world.pose(d).translation().z(), 2.0, 5e-3);  // dropped 0.3 m onto the room's floor
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+class Articulated : public VaultTest {
+ public:
+  std::unique_ptr<PhysicsWorld> world_of(const std::string& objects, const std::string& device) {
+    wc = must_compile("objects:\n" + objects);
+    geometry = build_geometry(wc, diag);
+    auto world = std::make_unique<PhysicsWorld>(wc, geometry, PhysicsOptions{});
+    d = wc.find_object(device);
+    model = geometry.objects[d].device.get();
+    q0 = world->joints(d);
+    world->add_device(d, q0);
+    return world;
+  }
+  /// Tool position from the physics bodies against forward kinematics of the measured joints.
+  double consistency(const PhysicsWorld& w) {
+    Eigen::Isometry3d fk = geometry.objects[d].X_world_object * model->part_poses(w.joints(d))[model->tool_part];
+    return (w.part_pose(d, model->tool_part).translation() - fk.translation()).norm();
+  }
+  Workcell wc;
+  GeometryModel geometry;
+  const Device* model = nullptr;
+  Eigen::VectorXd q0;
+  int d = -1;
+};
+
+TEST_F(Articulated, MotorsHoldAnArmAgainstGravity) {
+  auto w = world_of("  - {type: arm6, name: R}\n", "R");
+  Eigen::VectorXd zero = Eigen::VectorXd::Zero(6);
+  while (w->time() < 2.0) {
+    w->drive(d, q0, zero);
+    w->step();
+  }
+  EXPECT_LT((w->joints(d) - q0).cwiseAbs().maxCoeff(), 2e-3) << (w->joints(d) - q0).transpose();
+  EXPECT_LT(consistency(*w), 1e-3);  // ODE's joint readings and the kinematic model agree
+}
+
+TEST_F(Articulated, MotorsTrackAPlannedMove) {
+  auto w = world_of("  - {type: arm6, name: R}\n", "R");
+  Eigen::VectorXd q1 = q0;
+  q1[0] += 1.2;   // j1
+  q1[1] += 0.4;   // j2 forward
+  q1[2] -= 0.3;   // j3
+  Eigen::VectorXd v(6), a(6);
+  for (int k = 0; k < 6; ++k) {
+    v[k] = model->joint(k).velocity;
+    a[k] = model->joint(k).acceleration;
+  }
+  JointMove move(q0, q1, v, a);
+  double worst = 0;
+  const double dt = 1e-3;
+  while (w->time() < move.duration() + 0.5) {
+    double t = w->time() + dt;  // where the joints should be after this step
+    w->drive(d, move.position(t), move.velocity(t));
+    w->step();
+    worst = std::max(worst, (w->joints(d) - move.position(w->time())).cwiseAbs().maxCoeff());
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_GE(w->joints(d)[k], model->joint(k).lower - 1e-3);
+      EXPECT_LE(w->joints(d)[k], model->joint(k).upper + 1e-3);
+    }
+  }
+  EXPECT_LT(worst, 0.01) << "largest tracking error (rad)";
+  EXPECT_LT((w->joints(d) - q1).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LT(consistency(*w), 1e-3);
+}
+
+TEST_F(Articulated, KinematicDevicesFollowThePlanExactly) {
+  auto w = world_of("  - {type: agv, name: A}\n", "A");
+  Eigen::VectorXd q = q0;
+  for (int i = 1; i <= 1000; ++i) {
+    q[0] = 0.001 * i;        // 1 m/s along x
+    q[2] = 0.0005 * i;       // turning
+    w->drive(d, q, Eigen::VectorXd::Zero(3));
+    w->step();
+  }
+  Eigen::Isometry3d fk = geometry.objects[d].X_world_object * model->part_poses(q)[model->find_part("body")];
+  Eigen::Isometry3d body = w->part_pose(d, model->find_part("body"));
+  EXPECT_LT((body.translation() - fk.translation()).norm(), 1e-9);
+  EXPECT_TRUE(body.linear().isApprox(fk.linear(), 1e-9));
 }
 
 }  // namespace
