@@ -100,6 +100,22 @@ struct PhysicsWorld::Impl {
   std::map<std::tuple<int, int, int, int>, size_t> contact_index;
   std::deque<GeomTag> tags;
   std::map<int, DeviceBodies> devices;
+  struct Grip {
+    int object = -1;
+    dJointID joint = nullptr;
+    std::vector<char> tool_parts;  // the tool's part and the parts it carries
+  };
+  std::map<int, Grip> grips;  // by device
+
+  /// Whether a contact between these is the grip itself (the gripper on what it holds).
+  bool gripping(const GeomTag& a, const GeomTag& b) const {
+    for (const auto& [device, grip] : grips)
+      for (auto [x, y] : {std::pair{&a, &b}, std::pair{&b, &a}})
+        if (x->object == device && y->object == grip.object && x->part >= 0 &&
+            x->part < static_cast<int>(grip.tool_parts.size()) && grip.tool_parts[x->part])
+          return true;
+    return false;
+  }
 
   void tag(dGeomID g, int object, int part) {
     tags.push_back({object, part});
@@ -157,6 +173,7 @@ struct PhysicsWorld::Impl {
       if (!g.device || t1.part == t2.part || g.device->adjacent(t1.part, t2.part)) return;
     }
     if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;  // joined parts
+    if (gripping(t1, t2)) return;
     int o1 = t1.object, o2 = t2.object;
     dContact contact[kMaxContacts];
     int n = dCollide(g1, g2, kMaxContacts, &contact[0].geom, sizeof(dContact));
@@ -452,6 +469,40 @@ Eigen::Isometry3d PhysicsWorld::part_pose(int o, int p) const {
   if (it == w.devices.end() || !it->second.bodies[p]) return g.X_world_object * g.X_object_part[p];
   dBodyID b = it->second.bodies[p];
   return from_ode(dBodyGetPosition(b), dBodyGetRotation(b)) * it->second.X_body_part[p];
+}
+
+void PhysicsWorld::grasp(int device, int o) {
+  Impl& w = *impl_;
+  auto it = w.devices.find(device);
+  if (it == w.devices.end() || w.grips.count(device)) return;
+  make_dynamic(o);
+  const Device& d = *w.geometry.objects[device].device;
+  Impl::Grip grip;
+  grip.object = o;
+  grip.tool_parts.assign(d.parts.size(), 0);
+  for (size_t p = 0; p < d.parts.size(); ++p)
+    for (int k = static_cast<int>(p); k >= 0 && !grip.tool_parts[p]; k = d.parts[k].parent)
+      if (k == d.tool_part) grip.tool_parts[p] = 1;
+  dBodyID tool = it->second.bodies[d.tool_part];
+  grip.joint = dJointCreateFixed(w.world, nullptr);
+  dJointAttach(grip.joint, w.bodies[o], tool);  // a null tool body (a fixed tool) holds it to the world
+  dJointSetFixed(grip.joint);
+  dBodyEnable(w.bodies[o]);
+  w.grips[device] = std::move(grip);
+}
+
+void PhysicsWorld::release(int device) {
+  Impl& w = *impl_;
+  auto it = w.grips.find(device);
+  if (it == w.grips.end()) return;
+  dJointDestroy(it->second.joint);
+  dBodyEnable(w.bodies[it->second.object]);
+  w.grips.erase(it);
+}
+
+int PhysicsWorld::held(int device) const {
+  auto it = impl_->grips.find(device);
+  return it == impl_->grips.end() ? -1 : it->second.object;
 }
 
 bool PhysicsWorld::dynamic(int o) const { return impl_->bodies[o] != nullptr; }

@@ -49,6 +49,14 @@ class PhysicsWorld {
   /// World pose of a device's part now.
   Eigen::Isometry3d part_pose(int object, int part) const;
 
+  /// Attaches `object` rigidly to the device's tool part (a fixed joint), making it a rigid body
+  /// first if it is scenery. The tool's part and the parts it carries do not collide with it.
+  void grasp(int device, int object);
+  /// Removes the grasp joint: the object is free and falls.
+  void release(int device);
+  /// The object a device holds, or -1.
+  int held(int device) const;
+
   /// Turns a static object into a free rigid body at its current pose, with its mass
   /// (docs/simulation.md says how the mass is found).
   void make_dynamic(int object);
