@@ -15,6 +15,9 @@
 #include "compile/compile.h"
 #include "geometry/export.h"
 #include "geometry/geometry.h"
+#include "load/scenario.h"
+#include "simulate/plan.h"
+#include "simulate/simulate.h"
 #include "core/timer.h"
 #include "report/report.h"
 
@@ -287,6 +290,42 @@ int run_export(const Common& common, const std::string& vault, const std::string
 
 }  // namespace
 
+int run_simulate(const Common& common, const std::string& scenario, std::string out) {
+  CompileOptions options;
+  if (!common.overrides(options)) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  auto spec = load_scenario(scenario, sources, diag);
+  std::optional<Workcell> wc;
+  GeometryModel geometry;
+  std::optional<Plan> plan;
+  if (spec && !diag.has_errors()) {
+    // The scenario's `set:` first; --set on the command line wins.
+    std::vector<std::pair<std::string, std::string>> overrides;
+    for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
+    overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+    options.overrides = std::move(overrides);
+    wc = compile_file(spec->vault_path, options, sources, diag);
+    if (wc) geometry = build_geometry(*wc, diag);
+    if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
+  }
+  if (diag.has_errors() || !plan) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;
+  }
+  if (out.empty()) out = "run-" + spec->name;
+  RunOptions run{out, spec->name, !common.quiet};
+  std::string error;
+  RunSummary summary = run_simulation(*wc, geometry, *plan, run, &error);
+  if (!error.empty()) {
+    std::cerr << "sscs: error: " << error << "\n";
+    return kInternalError;
+  }
+  std::cout << fmt::format("{}: {}, cycle time {:g} s, {} collisions, {} events; written to {}\n", spec->name,
+                           run_status_name(summary.status), stable(summary.cycle_time), summary.collisions, summary.events, out);
+  return summary.status == RunStatus::Ok ? kOk : kViolations;
+}
+
 int run_cli(int argc, char** argv) {
   try {
     CLI::App app{"sscs: the Storage Simulation Construction Set"};
@@ -315,6 +354,12 @@ int run_cli(int argc, char** argv) {
     export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
     common.add_to(export_cmd);
 
+    std::string sim_scenario, sim_out;
+    CLI::App* sim_cmd = app.add_subcommand("simulate", "run a scenario in ODE physics and write its logs (in progress)");
+    sim_cmd->add_option("SCENARIO", sim_scenario, "scenario file")->required();
+    sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario>), replaced atomically");
+    common.add_to(sim_cmd);
+
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -324,6 +369,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out);
     return kInputError;
   } catch (const std::exception& e) {
     std::cerr << "sscs: internal error: " << e.what() << "\n";

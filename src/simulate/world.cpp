@@ -74,6 +74,8 @@ struct DeviceBodies {
     dJointID joint = nullptr;
     JointType type = JointType::Fixed;
     double q_attach = 0;  // the joint value when attached (ODE measures from there)
+    // ODE reports hinge angles in (-pi, pi]: unwrapped after every step into a continuous value.
+    double raw = 0, unwrapped = 0;
   };
   std::vector<JointRec> joints;  // per device joint (joint vector order)
   bool kinematic = false;
@@ -457,7 +459,7 @@ Eigen::VectorXd PhysicsWorld::joints(int o) const {
   for (int k = 0; k < d.dof(); ++k) {
     const auto& rec = db.joints[k];
     if (!rec.joint) continue;
-    q[k] = rec.q_attach + (rec.type == JointType::Revolute ? dJointGetHingeAngle(rec.joint) : dJointGetSliderPosition(rec.joint));
+    q[k] = rec.q_attach + rec.unwrapped;
   }
   return q;
 }
@@ -516,6 +518,15 @@ void PhysicsWorld::step() {
   dSpaceCollide(w.space, &w, &Impl::near_callback);
   dWorldStep(w.world, w.options.timestep);
   dJointGroupEmpty(w.contact_group);
+  for (auto& [o, db] : w.devices)
+    for (auto& rec : db.joints) {
+      if (!rec.joint) continue;
+      double now = rec.type == JointType::Revolute ? dJointGetHingeAngle(rec.joint) : dJointGetSliderPosition(rec.joint);
+      double d = now - rec.raw;
+      if (rec.type == JointType::Revolute) d = std::remainder(d, 2 * 3.14159265358979323846);
+      rec.unwrapped += d;
+      rec.raw = now;
+    }
   w.time += w.options.timestep;
 }
 
