@@ -195,7 +195,7 @@ class Planner {
         if (!v) continue;
         if (*v < j.lower - 1e-12 || *v > j.upper + 1e-12) {
           diag_.error(value.mark, fmt::format("{} of {} is {}, outside its limits [{}, {}]", name, wc_.objects[d].name,
-                                              value.text, with_unit(j.lower, dim), with_unit(j.upper, dim)));
+                                              with_unit(*v, dim), with_unit(j.lower, dim), with_unit(j.upper, dim)));
           continue;
         }
         target[k] = *v;

@@ -83,7 +83,7 @@ def bad(sscs, root, expect):
         fail(f"{expect} names no stderr fragment")
     with tempfile.TemporaryDirectory() as tmp:
         out_file = os.path.join(tmp, "report.json")
-        proc = run(sscs, root, args + ["--out", out_file] if args[0] == "check" else args)
+        proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate") else args)
         if proc.returncode != int(fields["exit"]):
             fail(f"exit status {proc.returncode}, expected {fields['exit']}", proc)
         for fragment in fields["stderr"]:
@@ -164,17 +164,71 @@ def cli(sscs, root):
     print("ok cli")
 
 
+def simulate(sscs, root):
+    """sscs simulate on the standard scenarios: physics checked, runs repeatable, outputs complete."""
+    arm = "scenarios/drum-transfer/arm-loads-drum.yaml"
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "run")
+        p = run(sscs, root, ["simulate", arm, "--out", out, "--quiet"])
+        if p.returncode != 0 or "arm-loads-drum: ok" not in p.stdout:
+            fail("the arm scenario should run ok", p)
+        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv"]:
+            if not os.path.isfile(os.path.join(out, f)):
+                fail(f"missing {f}")
+        if [f for f in os.listdir(tmp) if f != "run"]:
+            fail(f"temporary output left behind: {os.listdir(tmp)}")
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        kinds = [e["kind"] for e in events]
+        if summary["status"] != "ok" or "collision" in kinds or kinds.count("step_start") != 10:
+            fail(f"arm scenario events: {kinds}")
+        # The released drum lands on the rack and rests on its bottom level: slot_1 is at
+        # (2.6 + 2.743/2, 4.6 + 1.067/2, 0.15); the drum's origin is its bottom.
+        rest = [e for e in events if e["kind"] == "at_rest"]
+        if len(rest) != 1 or abs(rest[0]["position"][2] - 0.15) > 0.005 or \
+                abs(rest[0]["position"][0] - 3.9715) > 0.02 or abs(rest[0]["position"][1] - 5.1335) > 0.02:
+            fail(f"drum at rest: {rest}")
+        landed = [e for e in events if e["kind"] == "landed"]
+        if len(landed) != 1 or landed[0]["on"] != "Rack_A":
+            fail(f"landed: {landed}")
+        # Every logged joint stays within its limits (j1 +-180, j2 -95..155, j3 -180..75, j5 +-120).
+        rows = open(os.path.join(out, "trajectories/Robot.csv")).read().splitlines()
+        header = rows[0].split(",")
+        limits = {"j1": (-180, 180), "j2": (-95, 155), "j3": (-180, 75), "j5": (-120, 120)}
+        for row in rows[1:]:
+            values = dict(zip(header, map(float, row.split(","))))
+            for j, (lo, hi) in limits.items():
+                if not lo - 0.1 <= values[j] <= hi + 0.1:
+                    fail(f"{j} = {values[j]} outside [{lo}, {hi}] at t = {values['t']}")
+        # A second run gives the same bytes.
+        again = os.path.join(tmp, "again")
+        run(sscs, root, ["simulate", arm, "--out", again, "--quiet"])
+        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv"]:
+            if open(os.path.join(out, f), "rb").read() != open(os.path.join(again, f), "rb").read():
+                fail(f"{f} differs between two runs")
+        # An unreachable target fails the run promptly, exit 1, with the event.
+        out = os.path.join(tmp, "unreachable")
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        bad = [e for e in events if e["kind"] == "unreachable"]
+        if p.returncode != 1 or "unreachable: failed" not in p.stdout or len(bad) != 1 or bad[0]["step"] != 1:
+            fail(f"unreachable scenario: {events}", p)
+    print("ok simulate")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
         golden(a.sscs, a.root, a.file)
     elif a.mode == "bad":
         bad(a.sscs, a.root, a.file)
+    elif a.mode == "simulate":
+        simulate(a.sscs, a.root)
     else:
         cli(a.sscs, a.root)
 
