@@ -19,6 +19,7 @@
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
 #include "core/timer.h"
+#include "report/compare.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -326,6 +327,17 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   return summary.status == RunStatus::Ok ? kOk : kViolations;
 }
 
+int run_compare(const std::vector<std::string>& paths, const std::string& format) {
+  std::vector<RunRecord> runs;
+  std::string error;
+  if (!read_runs(paths, runs, &error)) {
+    std::cerr << "sscs: error: " << error << "\n";
+    return kInputError;
+  }
+  std::cout << (format == "json" ? compare_json(runs) : format == "csv" ? compare_csv(runs) : compare_text(runs));
+  return kOk;
+}
+
 int run_cli(int argc, char** argv) {
   try {
     CLI::App app{"sscs: the Storage Simulation Construction Set"};
@@ -360,6 +372,12 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario>), replaced atomically");
     common.add_to(sim_cmd);
 
+    std::vector<std::string> compare_runs;
+    std::string compare_format = "text";
+    CLI::App* compare_cmd = app.add_subcommand("compare", "summaries of simulation runs side by side");
+    compare_cmd->add_option("RUN", compare_runs, "run folders written by sscs simulate")->required();
+    compare_cmd->add_option("--format", compare_format, "text, json or csv")->check(CLI::IsMember({"text", "json", "csv"}));
+
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -370,6 +388,7 @@ int run_cli(int argc, char** argv) {
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
     if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out);
+    if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     return kInputError;
   } catch (const std::exception& e) {
     std::cerr << "sscs: internal error: " << e.what() << "\n";

@@ -206,6 +206,27 @@ def simulate(sscs, root):
         for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv"]:
             if open(os.path.join(out, f), "rb").read() != open(os.path.join(again, f), "rb").read():
                 fail(f"{f} differs between two runs")
+        # The same transfer by the gantry, then both side by side.
+        gantry = os.path.join(tmp, "gantry")
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/gantry-loads-drum.yaml", "--out", gantry, "--quiet"])
+        if p.returncode != 0 or "gantry-loads-drum: ok" not in p.stdout:
+            fail("the gantry scenario should run ok", p)
+        p = run(sscs, root, ["compare", again, gantry, "--format", "json"])
+        runs = json.loads(p.stdout)["runs"]
+        if p.returncode != 0 or [r["scenario"] for r in runs] != ["arm-loads-drum", "gantry-loads-drum"]:
+            fail("compare --format json", p)
+        arm_time, gantry_time = runs[0]["cycle_time"], runs[1]["cycle_time"]
+        p = run(sscs, root, ["compare", again, gantry])
+        lines = p.stdout.splitlines()
+        if not lines[0].split() == [again, gantry] or not any(l.startswith("cycle time (s)") and f"{arm_time:.3f}" in l
+                                                               and f"{gantry_time:.3f}" in l for l in lines):
+            fail("compare text", p)
+        p = run(sscs, root, ["compare", again, gantry, "--format", "csv"])
+        rows = p.stdout.splitlines()
+        if len(rows) != 3 or not rows[0].startswith("run,scenario,status,cycle time (s)"):
+            fail("compare csv", p)
+        if run(sscs, root, ["compare", os.path.join(tmp, "nothing")]).returncode != 2:
+            fail("compare of a folder that is not a run exits 2")
         # An unreachable target fails the run promptly, exit 1, with the event.
         out = os.path.join(tmp, "unreachable")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])

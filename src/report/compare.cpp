@@ -1,0 +1,153 @@
+#include "report/compare.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+namespace {
+
+/// One comparable figure of a run.
+struct Metric {
+  std::string name;
+  std::string unit;
+  std::vector<std::string> values;  // one per run, "" when absent
+};
+
+double sum_travel(const nlohmann::ordered_json& device) {
+  double sum = 0;
+  for (const auto& [joint, v] : device["joint_travel"].items()) sum += v.get<double>();
+  return sum;
+}
+
+std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
+  std::vector<Metric> out = {{"scenario", "", {}}, {"status", "", {}}, {"cycle time", "s", {}}};
+  std::set<std::string> devices, kinds;
+  for (const RunRecord& r : runs) {
+    for (const auto& [name, d] : r.summary["devices"].items()) devices.insert(name);
+    for (const auto& [kind, n] : r.summary["events"].items()) kinds.insert(kind);
+  }
+  for (const RunRecord& r : runs) {
+    out[0].values.push_back(r.summary.value("scenario", ""));
+    out[1].values.push_back(r.summary.value("status", ""));
+    out[2].values.push_back(fmt::format("{:.3f}", r.summary.value("cycle_time", 0.0)));
+  }
+  for (const std::string& d : devices) {
+    Metric path{d + " tool path", "m", {}}, travel{d + " joint travel", "deg|m", {}};
+    for (const RunRecord& r : runs) {
+      bool has = r.summary["devices"].contains(d);
+      path.values.push_back(has ? fmt::format("{:.3f}", r.summary["devices"][d].value("tool_path_length", 0.0)) : "");
+      travel.values.push_back(has ? fmt::format("{:.1f}", sum_travel(r.summary["devices"][d])) : "");
+    }
+    out.push_back(std::move(path));
+    out.push_back(std::move(travel));
+  }
+  // Collisions first among the events: they are what a reviewer looks for.
+  std::vector<std::string> order(kinds.begin(), kinds.end());
+  std::stable_partition(order.begin(), order.end(), [](const std::string& k) { return k == "collision"; });
+  if (!kinds.count("collision")) order.insert(order.begin(), "collision");
+  for (const std::string& k : order) {
+    Metric m{k + " events", "", {}};
+    for (const RunRecord& r : runs) m.values.push_back(fmt::format("{}", r.summary["events"].value(k, 0)));
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+bool read_runs(const std::vector<std::string>& paths, std::vector<RunRecord>& runs, std::string* error) {
+  for (const std::string& p : paths) {
+    std::error_code ec;
+    if (fs::is_regular_file(p, ec) && fs::path(p).extension() == ".zip") {
+      *error = fmt::format("{}: comparing bundles needs --bundle support, which this sscs version does not have yet; "
+                           "compare run folders", p);
+      return false;
+    }
+    fs::path summary = fs::path(p) / "summary.json";
+    std::ifstream in(summary);
+    if (!in) {
+      *error = fmt::format("{}: not a run folder (expected {})", p, summary.string());
+      return false;
+    }
+    RunRecord r{p, nlohmann::ordered_json::parse(in, nullptr, false)};
+    if (r.summary.is_discarded() || !r.summary.is_object() || !r.summary.contains("devices") || !r.summary.contains("events")) {
+      *error = fmt::format("{}: not a summary written by sscs simulate", summary.string());
+      return false;
+    }
+    runs.push_back(std::move(r));
+  }
+  return true;
+}
+
+std::string compare_text(const std::vector<RunRecord>& runs) {
+  std::vector<Metric> ms = metrics(runs);
+  std::vector<std::string> head = {""};
+  for (const RunRecord& r : runs) head.push_back(r.path);
+  std::vector<size_t> width(head.size(), 0);
+  auto label = [](const Metric& m) { return m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit); };
+  for (size_t c = 0; c < head.size(); ++c) width[c] = head[c].size();
+  for (const Metric& m : ms) {
+    width[0] = std::max(width[0], label(m).size());
+    for (size_t c = 0; c < m.values.size(); ++c) width[c + 1] = std::max(width[c + 1], m.values[c].size());
+  }
+  std::string out;
+  auto row = [&](const std::vector<std::string>& cells) {
+    std::string line = fmt::format("{:<{}}", cells[0], width[0]);
+    for (size_t c = 1; c < cells.size(); ++c) line += fmt::format("  {:>{}}", cells[c], width[c]);
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    out += line + "\n";
+  };
+  row(head);
+  for (const Metric& m : ms) {
+    std::vector<std::string> cells = {label(m)};
+    cells.insert(cells.end(), m.values.begin(), m.values.end());
+    row(cells);
+  }
+  return out;
+}
+
+std::string compare_json(const std::vector<RunRecord>& runs) {
+  nlohmann::ordered_json j;
+  j["sscs"] = 1;
+  auto arr = nlohmann::ordered_json::array();
+  for (const RunRecord& r : runs) {
+    nlohmann::ordered_json e;
+    e["run"] = r.path;
+    for (const char* k : {"scenario", "vault", "status", "cycle_time", "devices", "events"})
+      if (r.summary.contains(k)) e[k] = r.summary[k];
+    arr.push_back(std::move(e));
+  }
+  j["runs"] = std::move(arr);
+  return j.dump(2) + "\n";
+}
+
+std::string compare_csv(const std::vector<RunRecord>& runs) {
+  std::vector<Metric> ms = metrics(runs);
+  std::vector<std::string> head = {"run"};
+  for (const Metric& m : ms) head.push_back(m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit));
+  std::string out;
+  for (size_t c = 0; c < head.size(); ++c) out += (c ? "," : "") + csv_field(head[c]);
+  out += "\n";
+  for (size_t r = 0; r < runs.size(); ++r) {
+    out += csv_field(runs[r].path);
+    for (const Metric& m : ms) out += "," + csv_field(m.values[r]);
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace sscs
