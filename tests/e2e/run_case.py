@@ -227,6 +227,14 @@ def simulate(sscs, root):
             fail("compare csv", p)
         if run(sscs, root, ["compare", os.path.join(tmp, "nothing")]).returncode != 2:
             fail("compare of a folder that is not a run exits 2")
+        # Swinging the drum straight to the rack drags it through an upright: a collision naming
+        # both objects, status violations, exit 1.
+        out = os.path.join(tmp, "collision")
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/collision.yaml", "--out", out, "--quiet"])
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"Drum_1", "Rack_A"}]
+        if p.returncode != 1 or "collision: violations" not in p.stdout or not hits:
+            fail(f"collision scenario: {events}", p)
         # An unreachable target fails the run promptly, exit 1, with the event.
         out = os.path.join(tmp, "unreachable")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])
