@@ -235,6 +235,18 @@ def simulate(sscs, root):
         hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"Drum_1", "Rack_A"}]
         if p.returncode != 1 or "collision: violations" not in p.stdout or not hits:
             fail(f"collision scenario: {events}", p)
+        # A run interrupted (SIGINT) or killed (SIGKILL) half-way leaves nothing under its name.
+        import signal
+        import time
+        for sig in (signal.SIGINT, signal.SIGKILL):
+            out = os.path.join(tmp, f"killed-{int(sig)}")
+            proc = subprocess.Popen([sscs, "simulate", "scenarios/drum-transfer/long-hold.yaml", "--out", out, "--quiet"],
+                                    cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(0.5)
+            proc.send_signal(sig)
+            proc.wait(timeout=60)
+            if os.path.exists(out):
+                fail(f"a run stopped by signal {int(sig)} left {out}")
         # An unreachable target fails the run promptly, exit 1, with the event.
         out = os.path.join(tmp, "unreachable")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])
