@@ -37,11 +37,6 @@ double read(const Operand& op, const State& st) {
   }
 }
 
-std::string with_unit(double si, Dim dim) {
-  const char* unit = file_unit(dim);
-  return *unit ? fmt::format("{:g} {}", si_to_file(si, dim), unit) : fmt::format("{:g}", si_to_file(si, dim));
-}
-
 void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   double lhs = read(b.lhs, values), rhs = read(b.rhs, values);
   if (std::isnan(lhs) || std::isnan(rhs)) {
@@ -326,10 +321,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k))) related.push_back(static_cast<int>(k));
   // The tool meets its target: the tool's part and the parts it carries may touch the target
   // object, the rest of the device may not.
-  std::vector<char> tool_parts(d.parts.size(), 0);
-  for (size_t p = 0; p < d.parts.size(); ++p)
-    for (int k = static_cast<int>(p); k >= 0 && !tool_parts[p]; k = d.parts[k].parent)
-      if (k == d.tool_part) tool_parts[p] = 1;
+  const std::vector<char> tool_parts = d.tool_parts();
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;

@@ -27,6 +27,24 @@ int Workcell::find_object(std::string_view n) const {
   return it != by_name.end() && objects[*it].name == n ? *it : -1;
 }
 
+std::vector<std::string> Workcell::frame_names(int t) const {
+  std::vector<std::string> names = {"origin", "top"};
+  for (int k = t; k >= 0; k = types[k].base) {
+    const TypeSpec& spec = *types[k].spec;
+    for (const FrameSpec& f : spec.frames) names.push_back(f.name);
+    if (spec.device) {
+      names.push_back("tool");
+      for (const PartSpec& p : spec.device->parts) names.push_back(p.name);
+    }
+  }
+  std::sort(names.begin() + 2, names.end());
+  names.erase(std::unique(names.begin() + 2, names.end()), names.end());
+  names.erase(std::remove_if(names.begin() + 2, names.end(), [](const std::string& n) { return n == "origin" || n == "top"; }),
+              names.end());
+  return names;
+}
+
+
 bool Workcell::is_a(int t, int ancestor) const {
   for (; t >= 0; t = types[t].base)
     if (t == ancestor) return true;

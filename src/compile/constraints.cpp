@@ -189,34 +189,6 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
 
 namespace {
 
-/// The frames a target of type `t` offers: origin, top, the type's named frames (its bases'
-/// too), and for devices their parts and tool.
-std::vector<std::string> frame_names(const Workcell& wc, int t) {
-  std::vector<std::string> names = {"origin", "top"};
-  for (int k = t; k >= 0; k = wc.types[k].base) {
-    const TypeSpec& spec = *wc.types[k].spec;
-    for (const FrameSpec& f : spec.frames) names.push_back(f.name);
-    if (spec.device) {
-      names.push_back("tool");
-      for (const PartSpec& p : spec.device->parts) names.push_back(p.name);
-    }
-  }
-  std::sort(names.begin() + 2, names.end());
-  names.erase(std::unique(names.begin() + 2, names.end()), names.end());
-  names.erase(std::remove_if(names.begin() + 2, names.end(), [](const std::string& n) { return n == "origin" || n == "top"; }),
-              names.end());
-  return names;
-}
-
-Eigen::Isometry3d literal_pose(CompileState& st, const PoseSpec& p, std::string_view what) {
-  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 3; ++k) {
-    if (p.xyz[k].present) xyz[k] = literal_si(p.xyz[k], Dim::Length, fmt::format("{} xyz", what), st.diag).value_or(0);
-    if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, fmt::format("{} rpy", what), st.diag).value_or(0);
-  }
-  return make_pose(xyz, rpy);
-}
-
 ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   ReachCheck rc;
   rc.device = object_ref(st, r.device, "reach device");
@@ -245,7 +217,7 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   auto add = [&](const std::vector<int>& objects, const std::string& frame, SourceMark where) {
     for (int o : objects) {
       if (o == rc.device) continue;  // "*" selects the device too
-      auto names = frame_names(st.wc, st.wc.objects[o].type);
+      auto names = st.wc.frame_names(st.wc.objects[o].type);
       if (std::find(names.begin(), names.end(), frame) == names.end()) {
         st.diag.error(where, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
                                               st.wc.objects[o].name, st.wc.types[st.wc.objects[o].type].name,
@@ -275,14 +247,14 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
     st.diag.error(r.targets.mark, "reach targets selects no objects (add allow_empty: true if that is intended)");
   for (const auto& [pose, mark] : r.poses) {
     ReachCheck::Target t;
-    t.pose = literal_pose(st, pose, "reach target");
+    t.pose = literal_pose(pose, "reach target", st.diag);
     const Eigen::Vector3d& p = t.pose.translation();
     t.text = fmt::format("[{:g}, {:g}, {:g}]", stable(si_to_file(p.x(), Dim::Length)), stable(si_to_file(p.y(), Dim::Length)),
                          stable(si_to_file(p.z(), Dim::Length)));
     rc.targets.push_back(std::move(t));
   }
   rc.match_orientation = r.match_orientation;
-  rc.offset = literal_pose(st, r.offset, "reach offset");
+  rc.offset = literal_pose(r.offset, "reach offset", st.diag);
   if (r.position_tol.present) rc.position_tol_si = literal_si(r.position_tol, Dim::Length, "position_tol", st.diag).value_or(1e-3);
   if (r.angle_tol.present) rc.angle_tol_si = literal_si(r.angle_tol, Dim::Angle, "angle_tol", st.diag).value_or(rc.angle_tol_si);
   for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})

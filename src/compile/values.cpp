@@ -1,5 +1,7 @@
 #include "compile/values.h"
 
+#include "core/pose.h"
+
 #include <fmt/format.h>
 
 namespace sscs {
@@ -60,6 +62,15 @@ SourceMark mark_at(const Scalar& s, size_t pos) {
   SourceMark m = s.mark;
   m.column += static_cast<uint32_t>(pos + (s.quoted ? 1 : 0));
   return m;
+}
+
+Eigen::Isometry3d literal_pose(const PoseSpec& p, std::string_view what, Diagnostics& diag) {
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (p.xyz[k].present) xyz[k] = literal_si(p.xyz[k], Dim::Length, fmt::format("{} xyz", what), diag).value_or(0);
+    if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, fmt::format("{} rpy", what), diag).value_or(0);
+  }
+  return make_pose(xyz, rpy);
 }
 
 }  // namespace sscs

@@ -1,6 +1,8 @@
 #pragma once
 /// Reading written values as SI numbers: plain numbers in file units, unit literals with a
 /// dimension check, or expressions (parsed later in dependency order). Internal to compile.
+#include <Eigen/Geometry>
+
 #include <string_view>
 
 #include "core/diagnostics.h"
@@ -24,6 +26,9 @@ ParsedValue parse_value(const Scalar& s, Dim dim, std::string_view what, Diagnos
 
 /// Like parse_value but an expression is an error: for limits, tolerances and type bounds.
 std::optional<double> literal_si(const Scalar& s, Dim dim, std::string_view what, Diagnostics& diag);
+
+/// A pose written with literal values (file units; no expressions): a target, an offset.
+Eigen::Isometry3d literal_pose(const PoseSpec& p, std::string_view what, Diagnostics& diag);
 
 /// Where an expression's column `pos` lands in the file: the scalar's mark plus the offset,
 /// plus one for the opening quote.

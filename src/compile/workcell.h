@@ -152,6 +152,9 @@ struct Workcell {
 
   /// Index of the object named `name`, or -1. O(log n).
   int find_object(std::string_view name) const;
+  /// The frames an object of type `t` offers as a target: `origin`, `top`, then sorted, its
+  /// type's named frames (its bases' too) and, for devices, their parts and `tool`.
+  std::vector<std::string> frame_names(int t) const;
   /// Whether type `t` is `ancestor` or derives from it.
   bool is_a(int t, int ancestor) const;
   /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.

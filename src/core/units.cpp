@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <numbers>
 
+#include <fmt/format.h>
+
 namespace sscs {
 
 namespace {
@@ -142,6 +144,11 @@ std::string known_units(Dim dim) {
       out += u.word;
     }
   return out;
+}
+
+std::string with_unit(double si, Dim dim) {
+  const char* unit = file_unit(dim);
+  return *unit ? fmt::format("{:g} {}", si_to_file(si, dim), unit) : fmt::format("{:g}", si_to_file(si, dim));
 }
 
 }  // namespace sscs

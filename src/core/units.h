@@ -54,4 +54,7 @@ double stable(double v);
 /// SI value -> the number printed in reports (in file units).
 inline double si_to_file(double si, Dim dim) { return si / file_unit_to_si(dim); }
 
+/// An SI value as reports print it: in the file unit, with the unit ("90 deg", "1.5 m", "3").
+std::string with_unit(double si, Dim dim);
+
 }  // namespace sscs

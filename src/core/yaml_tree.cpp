@@ -62,8 +62,8 @@ Node Node::find(std::string_view k) const {
 std::string Node::describe() const {
   switch (kind()) {
     case Kind::Null: return "nothing";
-    case Kind::Map: return "a mapping";
-    case Kind::Sequence: return "a sequence";
+    case Kind::Map: return size() == 0 ? "an empty mapping" : "a mapping";
+    case Kind::Sequence: return size() == 0 ? "an empty sequence" : "a sequence";
     case Kind::Scalar: {
       std::string_view t = text();
       if (t.size() > 40) return fmt::format("'{}...'", t.substr(0, 37));

@@ -38,6 +38,13 @@ std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) cons
 
 Eigen::Isometry3d Device::tool_pose(const Eigen::VectorXd& q) const { return part_poses(q)[tool_part] * X_part_tool; }
 
+std::vector<char> Device::tool_parts() const {
+  std::vector<char> out(parts.size(), 0);
+  for (size_t p = 0; p < parts.size(); ++p)  // parents come first
+    out[p] = static_cast<int>(p) == tool_part || (parts[p].parent >= 0 && out[parts[p].parent]);
+  return out;
+}
+
 bool Device::within_limits(const Eigen::VectorXd& q, double eps) const {
   for (int k = 0; k < dof(); ++k)
     if (q[k] < joint(k).lower - eps || q[k] > joint(k).upper + eps) return false;

@@ -52,8 +52,7 @@ Chain::Chain(const Device& device, int tip_part, const Eigen::Isometry3d& X_part
     links_.push_back(link);
     acc.setIdentity();
   }
-  tip_ = acc * X_part_tip;
-  fixed_ = tip_;
+  tip_ = acc * X_part_tip;  // with no moving joint: the whole chain
   reach_bound_ = bound + tip_.translation().norm();
 }
 
@@ -75,7 +74,7 @@ Eigen::Isometry3d Chain::forward(const Eigen::VectorXd& q) const {
     if (l.revolute) T.linear() = T.linear() * Eigen::AngleAxisd(q[k], l.axis).toRotationMatrix();
     else T.translation() += T.linear() * (l.axis * q[k]);
   }
-  return links_.empty() ? fixed_ : T * tip_;
+  return T * tip_;
 }
 
 Eigen::Isometry3d Chain::forward(const Eigen::VectorXd& q, Eigen::Matrix<double, 6, Eigen::Dynamic>& J) const {
@@ -91,7 +90,6 @@ Eigen::Isometry3d Chain::forward(const Eigen::VectorXd& q, Eigen::Matrix<double,
     if (l.revolute) T.linear() = T.linear() * Eigen::AngleAxisd(q[k], l.axis).toRotationMatrix();
     else T.translation() += z * q[k];
   }
-  if (links_.empty()) return fixed_;
   T = T * tip_;
   const Eigen::Vector3d tip = T.translation();
   for (int k = 0; k < size(); ++k) {

@@ -50,7 +50,6 @@ class Chain {
   };
   std::vector<Link> links_;
   Eigen::Isometry3d tip_ = Eigen::Isometry3d::Identity();  ///< after the last moving joint
-  Eigen::Isometry3d fixed_ = Eigen::Isometry3d::Identity();  ///< root to tip when no joint moves
   double reach_bound_ = 0;
   Eigen::Vector3d base_point_ = Eigen::Vector3d::Zero();
 };

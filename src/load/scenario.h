@@ -40,7 +40,6 @@ struct MoveToSpec {
   TargetSpec target;
   PoseSpec offset;
   bool linear = false;            ///< `path: linear`
-  SourceMark path_mark;
 };
 struct GraspSpec {
   Scalar object;

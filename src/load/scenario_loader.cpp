@@ -172,7 +172,6 @@ StepSpec read_step(yaml::Node node, Diagnostics& diag) {
     if (!m) diag.error(path.mark(), "'path' applies to move_to steps");
     else if (word == "linear") m->linear = true;
     else if (word != "joint") load::expected(diag, path, "joint or linear", "path");
-    if (m) m->path_mark = path.mark();
   }
   r.finish();
   return s;

@@ -118,7 +118,6 @@ struct DeviceSpec {
   SourceMark home_mark;
   bool kinematic = false;  ///< `driven: kinematic`
   Scalar urdf;             ///< as written; its contents fill `parts`
-  std::string urdf_path;   ///< resolved
 };
 
 struct TypeSpec {

@@ -215,24 +215,24 @@ class Converter {
 void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
                Diagnostics& diag) {
   const Scalar& at = device.urdf;
-  device.urdf_path = resolve_mesh_path(type_file, at.text);
+  const std::string urdf_path = resolve_mesh_path(type_file, at.text);
   std::error_code ec;
-  if (!fs::is_regular_file(device.urdf_path, ec)) {
-    diag.error(at.mark, fmt::format("URDF file '{}' does not exist ({})", at.text, device.urdf_path));
+  if (!fs::is_regular_file(urdf_path, ec)) {
+    diag.error(at.mark, fmt::format("URDF file '{}' does not exist ({})", at.text, urdf_path));
     return;
   }
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   {
     CapturedLog capture;
-    model = urdf::parseURDFFile(device.urdf_path);
+    model = urdf::parseURDFFile(urdf_path);
     log = capture.text();
   }
   if (!model || !model->getRoot()) {
     diag.error(at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log));
     return;
   }
-  Converter convert(at, device.urdf_path, package_paths, diag);
+  Converter convert(at, urdf_path, package_paths, diag);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};
   for (size_t i = 0; i < order.size(); ++i)

@@ -29,8 +29,6 @@ constexpr double kGraspReach = 0.02;
 double joint_speed(const Joint& j) { return j.velocity > 0 ? j.velocity : j.type == JointType::Revolute ? kRevoluteSpeed : kPrismaticSpeed; }
 double joint_accel(const Joint& j) { return j.acceleration > 0 ? j.acceleration : 2 * joint_speed(j); }
 
-std::string with_unit(double si, Dim dim) { return fmt::format("{:g} {}", stable(si_to_file(si, dim)), file_unit(dim)); }
-
 class Planner {
  public:
   Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(diag) {}
@@ -204,7 +202,7 @@ class Planner {
       end = move_joints(st, m, target, f, start);
     } else if (const auto* mt = std::get_if<MoveToSpec>(&step.action)) {
       auto target = target_pose(mt->target);
-      Eigen::Isometry3d offset = literal_pose(mt->offset);
+      Eigen::Isometry3d offset = literal_pose(mt->offset, "offset", diag_);
       if (!target) return t0;
       Eigen::Isometry3d X = *target * offset;
       if (mt->linear) end = move_linear(st, d, X, step, index, start);
@@ -263,7 +261,7 @@ class Planner {
   }
 
   std::optional<Eigen::Isometry3d> target_pose(const TargetSpec& t) {
-    if (t.pose) return literal_pose(*t.pose);
+    if (t.pose) return literal_pose(*t.pose, "move_to target", diag_);
     const std::string& text = t.ref.text;
     auto dot = text.rfind('.');
     Scalar obj = t.ref;
@@ -275,25 +273,14 @@ class Planner {
     int o = object(obj, "move_to target");
     if (o < 0) return std::nullopt;
     const ObjectGeometry& g = geometry_.objects[o];
-    if (frame != "origin" && frame != "top" && !g.frame(frame)) {
-      std::vector<std::string> names = {"origin", "top"};
-      for (const auto& [n, X] : g.frames_world)
-        if (n != "top") names.push_back(n);
+    std::vector<std::string> names = wc_.frame_names(wc_.objects[o].type);
+    if (std::find(names.begin(), names.end(), frame) == names.end()) {
       diag_.error(mark_at(t.ref, dot + 1), fmt::format("'{}' is not a frame of {}; its frames: {}{}", frame, obj.text,
                                                       fmt::join(names, ", "), did_you_mean(frame, names)));
       return std::nullopt;
     }
     // The frame rides on the object wherever planning has moved it.
     return object_pose(o) * (g.X_world_object.inverse() * g.frame_pose(frame));
-  }
-
-  Eigen::Isometry3d literal_pose(const PoseSpec& p) {
-    Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) {
-      if (p.xyz[k].present) xyz[k] = literal_si(p.xyz[k], Dim::Length, "xyz", diag_).value_or(0);
-      if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, "rpy", diag_).value_or(0);
-    }
-    return make_pose(xyz, rpy);
   }
 
   IkOptions ik_options() const {

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/pose.h"
 #include "kinematics/device.h"
 #include "simulate/world.h"
 
@@ -35,10 +36,6 @@ constexpr double kLimitTolerance = 1e-3;      // rad or m past a joint limit bef
 constexpr double kSettleLimit = 5.0;          // s after the last step for released objects to settle
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
 constexpr double kRad = 180 / 3.14159265358979323846;
-
-Eigen::Vector3d rpy_of(const Eigen::Matrix3d& R) {
-  return {std::atan2(R(2, 1), R(2, 2)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)), std::atan2(R(1, 0), R(0, 0))};
-}
 
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
 double r9(double x) { return std::round(x * 1e9) / 1e9; }
@@ -184,10 +181,7 @@ class Run {
   bool gripper_meets_its_load(const PhysicsContact& c, double t) const {
     for (auto [dev, part, other] : {std::tuple{c.a, c.part_a, c.b}, std::tuple{c.b, c.part_b, c.a}}) {
       if (dev < 0 || part < 0 || other < 0 || !geometry_.objects[dev].device) continue;
-      const Device& m = *geometry_.objects[dev].device;
-      bool tool = false;
-      for (int k = part; k >= 0 && !tool; k = m.parts[k].parent) tool = k == m.tool_part;
-      if (!tool) continue;
+      if (!geometry_.objects[dev].device->tool_parts()[part]) continue;
       int next = -1, last = -1;
       for (const PlannedStep& ps : plan_.steps) {
         if (ps.device != dev) continue;
@@ -281,7 +275,7 @@ class Run {
       for (int j = 0; j < m.dof(); ++j)
         row += fmt::format(",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kRad : q[j]);
       Eigen::Isometry3d X = world_.part_pose(dr.object, m.tool_part) * m.X_part_tool;
-      Eigen::Vector3d rpy = rpy_of(X.linear()) * kRad;
+      Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kRad;
       row += fmt::format(",{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", X.translation().x(), X.translation().y(),
                          X.translation().z(), rpy.x(), rpy.y(), rpy.z());
       dr.csv += row;
@@ -289,7 +283,7 @@ class Run {
     for (size_t o = 0; o < wc_.objects.size(); ++o) {
       if (!world_.dynamic(static_cast<int>(o))) continue;
       Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
-      Eigen::Vector3d rpy = rpy_of(X.linear()) * kRad;
+      Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kRad;
       objects_csv_ += fmt::format("{:.4f},{},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", t, wc_.objects[o].name,
                                   X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
     }

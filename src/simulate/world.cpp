@@ -481,10 +481,7 @@ void PhysicsWorld::grasp(int device, int o) {
   const Device& d = *w.geometry.objects[device].device;
   Impl::Grip grip;
   grip.object = o;
-  grip.tool_parts.assign(d.parts.size(), 0);
-  for (size_t p = 0; p < d.parts.size(); ++p)
-    for (int k = static_cast<int>(p); k >= 0 && !grip.tool_parts[p]; k = d.parts[k].parent)
-      if (k == d.tool_part) grip.tool_parts[p] = 1;
+  grip.tool_parts = d.tool_parts();
   dBodyID tool = it->second.bodies[d.tool_part];
   grip.joint = dJointCreateFixed(w.world, nullptr);
   dJointAttach(grip.joint, w.bodies[o], tool);  // a null tool body (a fixed tool) holds it to the world
