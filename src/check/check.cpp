@@ -405,6 +405,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
   report.results.reserve(wc.constraints.size());
   CollisionWorld world(geometry);
   for (size_t i = 0; i < wc.constraints.size(); ++i) {
+    if (!options.only.empty() && !options.only[i]) continue;
     const Constraint& c = wc.constraints[i];
     auto tally = [&](const CheckResult& r) {
       if (r.status == Status::Pass) ++report.passed;

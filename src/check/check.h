@@ -36,6 +36,8 @@ struct CheckOptions {
   /// Write a message for passing results too. A text report prints only failures, so it turns
   /// this off: on a vault of 200,000 constraints the messages are a third of the check stage.
   bool describe_passes = true;
+  /// When not empty: check only the constraints marked here (indexed like Workcell::constraints).
+  std::vector<char> only;
 };
 
 /// Checks every constraint at the workcell's values and geometry.

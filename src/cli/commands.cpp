@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <csignal>
+
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -291,9 +293,16 @@ int run_export(const Common& common, const std::string& vault, const std::string
 
 }  // namespace
 
-int run_simulate(const Common& common, const std::string& scenario, std::string out) {
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle) {
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
+  if (!bundle.empty() && std::filesystem::path(bundle).extension() != ".zip") {
+    std::cerr << fmt::format("sscs: error: --bundle expects a .zip file, found '{}'\n", bundle);
+    return kInputError;
+  }
   Sources sources;
   Diagnostics diag;
   auto spec = load_scenario(scenario, sources, diag);
@@ -314,16 +323,29 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
   }
-  if (out.empty()) out = "run-" + spec->name;
-  RunOptions run{out, spec->name, !common.quiet};
+  if (out.empty() && bundle.empty()) out = "run-" + spec->name;
+  RunInputs inputs = collect_run_inputs(*spec, options.overrides, *wc, geometry, sources);
+  RunOptions run{out, bundle, spec->name, RunOptions::Progress::None, &inputs, &g_interrupted};
+  if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
+  struct sigaction action = {}, old_int = {}, old_term = {};
+  action.sa_handler = on_interrupt;
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
   std::string error;
   RunSummary summary = run_simulation(*wc, geometry, *plan, run, &error);
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  if (summary.interrupted) {
+    std::cerr << "sscs: interrupted; nothing written\n";
+    return 128 + SIGINT;
+  }
   if (!error.empty()) {
     std::cerr << "sscs: error: " << error << "\n";
     return kInternalError;
   }
+  std::string where = out.empty() ? bundle : bundle.empty() ? out : fmt::format("{} and {}", out, bundle);
   std::cout << fmt::format("{}: {}, cycle time {:g} s, {} collisions, {} events; written to {}\n", spec->name,
-                           run_status_name(summary.status), stable(summary.cycle_time), summary.collisions, summary.events, out);
+                           run_status_name(summary.status), stable(summary.cycle_time), summary.collisions, summary.events, where);
   return summary.status == RunStatus::Ok ? kOk : kViolations;
 }
 
@@ -366,16 +388,17 @@ int run_cli(int argc, char** argv) {
     export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
     common.add_to(export_cmd);
 
-    std::string sim_scenario, sim_out;
-    CLI::App* sim_cmd = app.add_subcommand("simulate", "run a scenario in ODE physics and write its logs (in progress)");
+    std::string sim_scenario, sim_out, sim_bundle;
+    CLI::App* sim_cmd = app.add_subcommand("simulate", "run a scenario in ODE physics and write its logs");
     sim_cmd->add_option("SCENARIO", sim_scenario, "scenario file")->required();
-    sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario>), replaced atomically");
+    sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario> unless --bundle), replaced atomically");
+    sim_cmd->add_option("--bundle", sim_bundle, "write the run as one zip archive too (or only, without --out)");
     common.add_to(sim_cmd);
 
     std::vector<std::string> compare_runs;
     std::string compare_format = "text";
     CLI::App* compare_cmd = app.add_subcommand("compare", "summaries of simulation runs side by side");
-    compare_cmd->add_option("RUN", compare_runs, "run folders written by sscs simulate")->required();
+    compare_cmd->add_option("RUN", compare_runs, "run folders or bundles (.zip) written by sscs simulate")->required();
     compare_cmd->add_option("--format", compare_format, "text, json or csv")->check(CLI::IsMember({"text", "json", "csv"}));
 
     try {
@@ -387,7 +410,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     return kInputError;
   } catch (const std::exception& e) {

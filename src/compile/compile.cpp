@@ -700,7 +700,8 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   st.wc.path = spec.path;
   st.wc.description = spec.description;
 
-  std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
+  std::vector<std::pair<std::string, SourceMark>> dirs;
+  if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
   for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
   for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
   st.wc.types = load_library(dirs, sources, diag, options.package_paths);

@@ -54,6 +54,30 @@ double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* 
   return std::max(depth, 0.0);
 }
 
+/// Signed distance between two placed shapes: minus the penetration depth when they collide.
+double signed_distance(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
+  fcl::CollisionResultd cres;
+  if (fcl::collide(a, b, creq, cres) > 0) {
+    double depth = 0;
+    for (size_t k = 0; k < cres.numContacts(); ++k) depth = std::max(depth, cres.getContact(k).penetration_depth);
+    return -std::max(depth, 0.0);
+  }
+  // The independent GJK with a tight tolerance: libccd's default is off by centimetres on rotated boxes.
+  fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
+  fcl::DistanceResultd dres;
+  fcl::distance(a, b, dreq, dres);
+  // FCL answers -1 when its distance query finds contact that the collision query did not:
+  // they touch.
+  return std::max(dres.min_distance, 0.0);
+}
+
+/// Distance between two axis-aligned boxes (0 when they overlap).
+double box_gap(const fcl::AABBd& a, const fcl::AABBd& b) {
+  Eigen::Vector3d gap = (a.min_ - b.max_).cwiseMax(b.min_ - a.max_).cwiseMax(0.0);
+  return gap.norm();
+}
+
 }  // namespace
 
 struct CollisionWorld::Impl {
@@ -62,6 +86,27 @@ struct CollisionWorld::Impl {
   std::map<int, std::vector<std::unique_ptr<fcl::CollisionObjectd>>> parts;
   // FCL geometry per shape (device parts are placed anew for each configuration).
   std::unordered_map<const Shape*, std::shared_ptr<fcl::CollisionGeometryd>> shapes;
+  // Objects moved since the model was built: their bounds now.
+  std::unordered_map<int, fcl::AABBd> moved_bounds;
+
+  fcl::AABBd bounds(int object) {
+    auto it = moved_bounds.find(object);
+    if (it != moved_bounds.end()) return it->second;
+    const Eigen::AlignedBox3d& b = geometry.objects[object].bbox_world;
+    return fcl::AABBd(b.min(), b.max());
+  }
+
+  void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
+    auto& list = of(object);
+    fcl::AABBd box;
+    for (size_t k = 0; k < list.size(); ++k) {
+      list[k]->setTransform(fcl::Transform3d(X_world_shape[k].matrix()));
+      list[k]->computeAABB();
+      if (k == 0) box = list[k]->getAABB();
+      else box += list[k]->getAABB();
+    }
+    if (!list.empty()) moved_bounds[object] = box;
+  }
 
   std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
     auto& g = shapes[&s];
@@ -122,7 +167,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b) {
@@ -130,25 +175,9 @@ std::optional<double> CollisionWorld::distance(int a, int b) {
   const auto& pb = impl_->of(b);
   if (pa.empty() || pb.empty()) return std::nullopt;
   double best = INFINITY;
-  double deepest = 0;
   for (const auto& x : pa)
-    for (const auto& y : pb) {
-      fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
-      fcl::CollisionResultd cres;
-      if (fcl::collide(x.get(), y.get(), creq, cres) > 0) {
-        double depth = 0;
-        for (size_t k = 0; k < cres.numContacts(); ++k) depth = std::max(depth, cres.getContact(k).penetration_depth);
-        deepest = std::max(deepest, std::max(depth, 0.0));
-        best = std::min(best, 0.0);
-        continue;
-      }
-      // The independent GJK with a tight tolerance: libccd's default is off by centimetres on rotated boxes.
-      fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
-      fcl::DistanceResultd dres;
-      fcl::distance(x.get(), y.get(), dreq, dres);
-      best = std::min(best, dres.min_distance);
-    }
-  return deepest > 0 ? -deepest : best;
+    for (const auto& y : pb) best = std::min(best, signed_distance(x.get(), y.get()));
+  return best;
 }
 
 std::vector<Collision> CollisionWorld::self_collisions(int object) {
@@ -200,6 +229,46 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
       }
   }
   return deepest;
+}
+
+void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  std::vector<Eigen::Isometry3d> X;
+  for (const Shape& s : g.shapes) X.push_back(X_world_object * s.X_object_shape);
+  impl_->place(object, X);
+}
+
+void CollisionWorld::move_parts(int object, const std::vector<Eigen::Isometry3d>& X_world_part) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  std::vector<Eigen::Isometry3d> X;
+  for (const Shape& s : g.shapes)
+    X.push_back(X_world_part[s.part] * g.X_object_part[s.part].inverse() * s.X_object_shape);
+  impl_->place(object, X);
+}
+
+std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<int>& skip, double reach) {
+  std::vector<Proximity> out;
+  const auto& mine = impl_->of(object);
+  if (mine.empty()) return out;
+  const fcl::AABBd box = impl_->bounds(object);
+  const auto& objects = impl_->geometry.objects;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    int other = static_cast<int>(o);
+    if (other == object || objects[o].shapes.empty()) continue;
+    if (std::find(skip.begin(), skip.end(), other) != skip.end()) continue;
+    if (box_gap(box, impl_->bounds(other)) > reach) continue;
+    const auto& theirs = impl_->of(other);
+    std::optional<Proximity> best;
+    for (size_t i = 0; i < mine.size(); ++i)
+      for (size_t k = 0; k < theirs.size(); ++k) {
+        if (best && box_gap(mine[i]->getAABB(), theirs[k]->getAABB()) >= best->distance) continue;
+        double d = signed_distance(mine[i].get(), theirs[k].get());
+        if (!best || d < best->distance)
+          best = Proximity{other, objects[object].shapes[i].part, objects[o].shapes[k].part, d};
+      }
+    if (best) out.push_back(*best);
+  }
+  return out;
 }
 
 std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vector<int>& objects, double margin) {

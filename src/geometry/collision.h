@@ -20,8 +20,17 @@ struct Collision {
   double depth = 0;     ///< penetration depth, m
 };
 
+/// How close one object came to another: the nearest pair of their shapes.
+struct Proximity {
+  int other = -1;
+  int part = -1;        ///< the moving object's part (devices), else -1
+  int other_part = -1;  ///< the other object's part (devices), else -1
+  double distance = 0;  ///< m; minus the penetration depth when they interpenetrate
+};
+
 /// FCL collision objects for the shapes of a GeometryModel, built on first use per object.
-/// Not copyable; one per check run.
+/// Objects start where the model places them; a simulation moves them (`move`, `move_parts`)
+/// and asks how close they come (`proximity`). Not copyable; one per check or run.
 class CollisionWorld {
  public:
   explicit CollisionWorld(const GeometryModel& geometry);
@@ -47,6 +56,15 @@ class CollisionWorld {
   std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                             const std::vector<int>& ignore, int target = -1,
                                             const std::vector<char>& tool_parts = {});
+
+  /// Places `object` at a new world pose (a carried or fallen object).
+  void move(int object, const Eigen::Isometry3d& X_world_object);
+  /// Places a device's parts at new world poses (one per part: its current joint values).
+  void move_parts(int object, const std::vector<Eigen::Isometry3d>& X_world_part);
+
+  /// For every object other than `object` and those in `skip`, whose bounds come within `reach`
+  /// of its bounds: the distance between their nearest shapes, at their current placements.
+  std::vector<Proximity> proximity(int object, const std::vector<int>& skip, double reach);
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

@@ -332,6 +332,27 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
   return model;
 }
 
+void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object, const std::vector<Eigen::Isometry3d>* X_object_part) {
+  const Eigen::Isometry3d move = X_world_object * g.X_world_object.inverse();
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> part_frames;
+  if (g.device && X_object_part) {
+    const Device& d = *g.device;
+    for (Shape& s : g.shapes)
+      s.X_object_shape = (*X_object_part)[s.part] * g.X_object_part[s.part].inverse() * s.X_object_shape;
+    g.X_object_part = *X_object_part;
+    for (size_t p = 0; p < d.parts.size(); ++p) part_frames.emplace_back(d.parts[p].name, X_world_object * g.X_object_part[p]);
+    part_frames.emplace_back("tool", X_world_object * g.X_object_part[d.tool_part] * d.X_part_tool);
+  }
+  // A device's part and tool frames follow its parts; the type's own frames follow the object.
+  for (auto& [name, X] : g.frames_world) {
+    auto part = std::find_if(part_frames.begin(), part_frames.end(), [&](const auto& f) { return f.first == name; });
+    X = part != part_frames.end() ? part->second : move * X;
+  }
+  g.X_world_object = X_world_object;
+  g.bbox_world.setEmpty();
+  for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
+}
+
 const Eigen::Isometry3d* ObjectGeometry::frame(std::string_view name) const {
   for (const auto& [n, X] : frames_world)
     if (n == name) return &X;

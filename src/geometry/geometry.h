@@ -57,6 +57,12 @@ struct GeometryModel {
   std::vector<ObjectGeometry> objects;
 };
 
+/// Moves an object's geometry to a new world pose and, for a device given `X_object_part`, its
+/// parts to new poses (its joint values now): shapes, bounds and frames follow. For simulations
+/// that re-check constraints during a motion; the object's children stay where they were.
+void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object,
+            const std::vector<Eigen::Isometry3d>* X_object_part = nullptr);
+
 /// World-frame axis-aligned bounds of one shape placed at X_world_shape.
 Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);
 

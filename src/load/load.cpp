@@ -2,11 +2,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
+#include "core/digest.h"
 #include "core/names.h"
 #include "core/units.h"
 #include "load/load.h"
@@ -27,18 +26,13 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
 
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    diag.error(where, fmt::format("cannot read '{}': {}", path, std::strerror(errno)));
+  errno = 0;
+  std::optional<std::string> text = read_file_bytes(path);
+  if (!text) {
+    diag.error(where, fmt::format("cannot read '{}': {}", path, errno ? std::strerror(errno) : "read error"));
     return 0;
   }
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) {
-    diag.error(where, fmt::format("cannot read '{}': read error", path));
-    return 0;
-  }
-  return sources.add(path, std::move(buf).str());
+  return sources.add(path, std::move(*text));
 }
 
 namespace load {

@@ -246,6 +246,8 @@ struct VaultSpec {
   std::string path;
   std::string description;
   std::vector<Scalar> library;  ///< extra type folders, relative to the vault file
+  /// false in the vaults a run writes into resolved/: they carry every type they use.
+  bool standard_library = true;
   std::vector<Scalar> plugins;
   std::vector<ParameterSpec> parameters;
   std::vector<ObjectSpec> objects;

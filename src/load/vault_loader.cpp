@@ -289,6 +289,7 @@ std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics
   v.mark = name.valid() ? name.mark() : root.mark();
   v.description = load::text(root.take("description"), "description", diag);
   v.library = load::scalar_list(root.take("library"), "library", diag);
+  v.standard_library = load::boolean(root.take("standard_library"), "standard_library", diag, true);
   v.plugins = load::scalar_list(root.take("plugins"), "plugins", diag);
   MapReader params(root.take("parameters"), "parameters", diag);
   for (auto& [k, val] : params.rest()) v.parameters.push_back(read_parameter(k, val, diag));

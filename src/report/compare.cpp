@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include <fmt/format.h>
+
+#include "core/archive.h"
+#include "core/digest.h"
 
 namespace fs = std::filesystem;
 
@@ -72,20 +74,21 @@ std::string csv_field(const std::string& s) {
 bool read_runs(const std::vector<std::string>& paths, std::vector<RunRecord>& runs, std::string* error) {
   for (const std::string& p : paths) {
     std::error_code ec;
+    std::optional<std::string> text;
+    std::string where;
     if (fs::is_regular_file(p, ec) && fs::path(p).extension() == ".zip") {
-      *error = fmt::format("{}: comparing bundles needs --bundle support, which this sscs version does not have yet; "
-                           "compare run folders", p);
-      return false;
+      where = p + ":summary.json";
+      if (!(text = read_zip_entry(p, "summary.json", error))) return false;
+    } else {
+      where = (fs::path(p) / "summary.json").string();
+      if (!(text = read_file_bytes(where))) {
+        *error = fmt::format("{}: not a run folder or bundle (expected {})", p, where);
+        return false;
+      }
     }
-    fs::path summary = fs::path(p) / "summary.json";
-    std::ifstream in(summary);
-    if (!in) {
-      *error = fmt::format("{}: not a run folder (expected {})", p, summary.string());
-      return false;
-    }
-    RunRecord r{p, nlohmann::ordered_json::parse(in, nullptr, false)};
+    RunRecord r{p, nlohmann::ordered_json::parse(*text, nullptr, false)};
     if (r.summary.is_discarded() || !r.summary.is_object() || !r.summary.contains("devices") || !r.summary.contains("events")) {
-      *error = fmt::format("{}: not a summary written by sscs simulate", summary.string());
+      *error = fmt::format("{}: not a summary written by sscs simulate", where);
       return false;
     }
     runs.push_back(std::move(r));

@@ -2,17 +2,26 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <algorithm>
 #include <map>
 #include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/archive.h"
+#include "core/files.h"
 #include "core/pose.h"
+#include "check/check.h"
+#include "core/units.h"
+#include "geometry/collision.h"
 #include "kinematics/device.h"
 #include "simulate/world.h"
 
@@ -36,6 +45,8 @@ constexpr double kLimitTolerance = 1e-3;      // rad or m past a joint limit bef
 constexpr double kSettleLimit = 5.0;          // s after the last step for released objects to settle
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
 constexpr double kRad = 180 / 3.14159265358979323846;
+constexpr double kClearanceReach = 2.0;       // m: clearances beyond this are not tracked
+constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
 double r9(double x) { return std::round(x * 1e9) / 1e9; }
@@ -44,7 +55,11 @@ class Run {
  public:
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
-        world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}) {}
+        world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}), nearby_(geometry),
+        live_(geometry), live_values_(wc.values) {
+    recheck_.describe_passes = false;
+    recheck_.only = rechecked_constraints();
+  }
 
   RunSummary run() {
     const SimSettings& s = plan_.settings;
@@ -64,10 +79,18 @@ class Run {
         const PlannedStep& ps = plan_.steps[i];
         if (!started[i] && ps.start <= t + dt / 2) {
           started[i] = 1;
+          current_step_ = i;
+          current_action_ = ps.device >= 0 ? fmt::format("{} {}", ps.kind, wc_.objects[ps.device].name) : ps.kind;
+          if (options_.progress == RunOptions::Progress::Lines)
+            std::cerr << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
           step_event(t, "step_start", ps);
           if (ps.kind == "grasp") {
             world_.grasp(ps.device, ps.object);
             event(t, "grasp", {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
+            // What the load stood on when lifted is no clearance to report.
+            nearby_.move(ps.object, world_.pose(ps.object));
+            for (const Proximity& p : nearby_.proximity(ps.object, chain(ps.object), kSupportGap))
+              supports_.insert({ps.object, p.other});
           } else if (ps.kind == "release" && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
             world_.release(ps.device);
@@ -80,7 +103,10 @@ class Run {
           step_event(t, "step_end", ps);
         }
       }
-      if (k % every == 0) record(t);
+      if (k % every == 0) {
+        record(t);
+        observe(t);
+      }
       if (plan_.failure && plan_.failure->t <= t + dt / 2) {
         const PlanFailure& f = *plan_.failure;
         nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
@@ -100,8 +126,13 @@ class Run {
         failed_ = true;
         break;
       }
-      if (options_.progress && k % std::max(1L, std::lround(1.0 / dt)) == 0)
-        std::cerr << fmt::format("simulate: t = {:.1f} s of {:.1f} s\n", t, plan_.end);
+      if (options_.interrupted && *options_.interrupted) {
+        interrupted_ = true;
+        break;
+      }
+      if (options_.progress == RunOptions::Progress::Live && k % std::max(1L, std::lround(0.1 / dt)) == 0)
+        std::cerr << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
+                                 plan_.end, s.limit, current_step_ + 1, plan_.steps.size(), current_action_);
       for (const DeviceRun& dr : devices_) {
         Eigen::VectorXd q1 = dr.track->at(t + dt);
         world_.drive(dr.object, q1, (q1 - dr.track->at(t)) / dt);
@@ -109,31 +140,46 @@ class Run {
       world_.step();
       after_step(world_.time());
     }
+    if (options_.progress == RunOptions::Progress::Live) std::cerr << "\r\x1b[K";
     return finish(k * dt);
   }
 
+  /// Writes every output into a hidden temporary folder beside the target, then renames it
+  /// (and/or packs it into the bundle): nothing under the requested names until complete.
   std::string write(const RunSummary& summary, std::string* error) {
-    fs::path out(options_.out_dir);
-    fs::path tmp = out.parent_path() / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
+    fs::path target(options_.out_dir.empty() ? options_.bundle : options_.out_dir);
+    fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
     std::error_code ec;
     fs::remove_all(tmp, ec);
-    fs::create_directories(tmp / "trajectories", ec);
-    if (ec) return *error = fmt::format("cannot create '{}': {}", tmp.string(), ec.message());
-    auto put = [&](const fs::path& p, const std::string& text) {
+    auto put = [&](const std::string& rel, const std::string& text) {
+      if (!error->empty()) return;
+      fs::path p = tmp / rel;
+      fs::create_directories(p.parent_path(), ec);
       std::ofstream f(p, std::ios::binary);
       f << text;
-      if (!f) *error = fmt::format("cannot write '{}'", p.string());
+      if (ec || !f) *error = fmt::format("cannot write '{}': {}", p.string(), ec ? ec.message() : std::strerror(errno));
     };
-    put(tmp / "summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
+    put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
     std::string events;
     for (const auto& e : events_) events += fmt::format("{}\n", e.dump());
-    put(tmp / "events.jsonl", events);
-    for (const DeviceRun& dr : devices_) put(tmp / "trajectories" / fmt::format("{}.csv", wc_.objects[dr.object].name), dr.csv);
-    put(tmp / "objects.csv", fmt::format("t,object,x,y,z,roll,pitch,yaw\n{}", objects_csv_));
-    if (!error->empty()) return *error;
-    if (fs::exists(out, ec)) fs::remove_all(out, ec);
-    fs::rename(tmp, out, ec);
-    if (ec) *error = fmt::format("cannot move the run into '{}': {}", out.string(), ec.message());
+    put("events.jsonl", events);
+    for (const DeviceRun& dr : devices_) put(fmt::format("trajectories/{}.csv", wc_.objects[dr.object].name), dr.csv);
+    put("objects.csv", fmt::format("t,object,x,y,z,roll,pitch,yaw\n{}", objects_csv_));
+    if (options_.inputs)
+      for (const auto& [rel, bytes] : options_.inputs->resolved) put(rel, bytes);
+    if (error->empty() && !options_.bundle.empty()) {
+      std::string zip_tmp = temp_path_for(options_.bundle);
+      *error = zip_folder(tmp.string(), zip_tmp);
+      if (error->empty()) *error = commit_file(zip_tmp, options_.bundle);
+      else std::remove(zip_tmp.c_str());
+    }
+    if (error->empty() && !options_.out_dir.empty()) {
+      fs::path out(options_.out_dir);
+      if (fs::exists(out, ec)) fs::remove_all(out, ec);
+      fs::rename(tmp, out, ec);
+      if (ec) *error = fmt::format("cannot move the run into '{}': {}", out.string(), ec.message());
+    }
+    fs::remove_all(tmp, ec);
     return *error;
   }
 
@@ -221,6 +267,7 @@ class Run {
           it->second = true;
           int other = o == c.a ? c.b : c.a;
           event(t, "landed", {{"object", wc_.objects[o].name}, {"on", part_name(other, -1)}});
+          supports_.insert({o, other});
         }
       }
     }
@@ -261,6 +308,130 @@ class Run {
     }
   }
 
+  /// The object and its parents up to the root: what it stands in is not a clearance.
+  std::vector<int> chain(int o) const {
+    std::vector<int> out;
+    for (int k = o; k >= 0; k = wc_.objects[k].parent) out.push_back(k);
+    return out;
+  }
+
+  /// The objects the plan moves: its devices and what they grasp.
+  std::set<int> movers() const {
+    std::set<int> out;
+    for (const Track& t : plan_.tracks) out.insert(t.object);
+    for (const PlannedStep& ps : plan_.steps)
+      if (ps.kind == "grasp") out.insert(ps.object);
+    return out;
+  }
+
+  /// Constraints re-checked during the motion: bounds, expressions, clearances and containment
+  /// that read a device or an object the plan moves. (Overlaps are the physics' collisions;
+  /// reach is a property of the design, not of one motion.)
+  std::vector<char> rechecked_constraints() const {
+    std::set<int> moving = movers();
+    std::vector<char> only(wc_.constraints.size(), 0);
+    bool any = false;
+    for (size_t i = 0; i < wc_.constraints.size(); ++i) {
+      const Constraint& c = wc_.constraints[i];
+      const auto* spatial = std::get_if<SpatialCheck>(&c.body);
+      bool kind = std::holds_alternative<BoundCheck>(c.body) || std::holds_alternative<ExprCheck>(c.body) ||
+                  (spatial && spatial->kind != SpatialCheck::Kind::NoOverlap);
+      bool reads = std::any_of(c.subjects.begin(), c.subjects.end(), [&](int o) { return moving.count(o) > 0; });
+      only[i] = kind && reads;
+      any = any || only[i];
+    }
+    if (!any) only.clear();
+    return only;
+  }
+
+  /// At the trajectory rate: clearances between what moves and everything else, and the
+  /// constraints that depend on the motion.
+  void observe(double t) {
+    std::vector<int> loads;
+    for (const DeviceRun& dr : devices_) {
+      const Device& m = *geometry_.objects[dr.object].device;
+      std::vector<Eigen::Isometry3d> X_world_part(m.parts.size()), X_object_part(m.parts.size());
+      const Eigen::Isometry3d X_object_world = geometry_.objects[dr.object].X_world_object.inverse();
+      for (size_t p = 0; p < m.parts.size(); ++p) {
+        X_world_part[p] = world_.part_pose(dr.object, static_cast<int>(p));
+        X_object_part[p] = X_object_world * X_world_part[p];
+      }
+      nearby_.move_parts(dr.object, X_world_part);
+      repose(live_.objects[dr.object], geometry_.objects[dr.object].X_world_object, &X_object_part);
+      Eigen::VectorXd q = world_.joints(dr.object);
+      const Object& obj = wc_.objects[dr.object];
+      for (int j = 0; j < m.dof(); ++j) live_values_[obj.first_slot + kFirstAttributeSlot + m.joint(j).attribute] = q[j];
+      if (world_.held(dr.object) >= 0) loads.push_back(world_.held(dr.object));
+    }
+    for (size_t o = 0; o < wc_.objects.size(); ++o) {
+      if (!world_.dynamic(static_cast<int>(o))) continue;
+      const Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
+      nearby_.move(static_cast<int>(o), X);
+      repose(live_.objects[o], X);
+      const Object& obj = wc_.objects[o];
+      Eigen::Isometry3d local = (obj.parent >= 0 ? live_.objects[obj.parent].X_world_object.inverse() : Eigen::Isometry3d::Identity()) * X;
+      Eigen::Vector3d rpy = rotation_to_rpy(local.linear());
+      for (int k = 0; k < 3; ++k) {
+        live_values_[obj.first_slot + kLocationSlot + k] = local.translation()[k];
+        live_values_[obj.first_slot + kOrientationSlot + k] = rpy[k];
+      }
+    }
+    for (const DeviceRun& dr : devices_) {
+      std::vector<int> skip = chain(dr.object);
+      for (int o : handled(dr.object, t)) skip.push_back(o);
+      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach)) note_clearance(t, dr.object, p);
+    }
+    for (int o : loads) {
+      std::vector<int> skip = chain(o);
+      for (const DeviceRun& dr : devices_)
+        if (world_.held(dr.object) == o) skip.push_back(dr.object);
+      for (const Proximity& p : nearby_.proximity(o, skip, kClearanceReach)) note_clearance(t, o, p);
+    }
+    if (!recheck_.only.empty()) recheck(t);
+  }
+
+  /// The loads a device's tool deals with around time t: held, about to be grasped, just released.
+  std::vector<int> handled(int device, double t) const {
+    std::vector<int> out;
+    if (world_.held(device) >= 0) out.push_back(world_.held(device));
+    int next = -1;
+    for (const PlannedStep& ps : plan_.steps) {
+      if (ps.device != device || ps.object < 0) continue;
+      if (ps.kind == "grasp" && ps.start >= t && next < 0) next = ps.object;
+      if (ps.kind == "release" && ps.start <= t) out.push_back(ps.object);
+    }
+    if (next >= 0) out.push_back(next);
+    return out;
+  }
+
+  void note_clearance(double t, int moving, const Proximity& p) {
+    auto key = std::make_pair(moving, p.other);
+    auto it = seen_.find(key);
+    if (it != seen_.end() && it->second.distance <= p.distance) return;
+    seen_[key] = {p.distance, t, part_name(moving, p.part), part_name(p.other, p.other_part)};
+  }
+
+  void recheck(double t) {
+    CheckReport report = check(wc_, live_, live_values_, recheck_);
+    for (const CheckResult& r : report.results) {
+      auto key = std::make_pair(r.constraint, r.subjects);
+      bool failing = r.status != Status::Pass;
+      bool was = failing_[key];
+      failing_[key] = failing;
+      if (!failing || was) continue;
+      const Constraint& c = wc_.constraints[r.constraint];
+      std::vector<std::string> subjects;
+      for (int o : r.subjects) subjects.push_back(wc_.objects[o].name);
+      nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
+                                  {"subjects", subjects}};
+      if (r.margin) f["margin"] = r9(*r.margin);
+      f["unit"] = file_unit(r.dim);
+      f["message"] = r.message;
+      event(t, "constraint", f);
+      if (c.severity != Severity::Warning) ++constraint_failures_;
+    }
+  }
+
   void record(double t) {
     for (DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
@@ -295,9 +466,23 @@ class Run {
     s.simulated = t_end;
     s.events = events_.size();
     s.collisions = counts_.count("collision") ? counts_.at("collision") : 0;
-    bool violations = s.collisions > 0 || counts_.count("joint_limit") || counts_.count("tracking_error");
+    bool violations = s.collisions > 0 || counts_.count("joint_limit") || counts_.count("tracking_error") ||
+                      constraint_failures_ > 0;
+    s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;
+  }
+
+  /// The closest approach of anything that moved to anything else, over the whole run; pairs
+  /// where a load met what it was lifted from or set on are left out (that contact is the job).
+  nlohmann::ordered_json min_clearance_json() const {
+    const std::pair<const std::pair<int, int>, Seen>* best = nullptr;
+    for (const auto& entry : seen_) {
+      if (supports_.count(entry.first)) continue;
+      if (!best || entry.second.distance < best->second.distance) best = &entry;
+    }
+    if (!best) return nullptr;
+    return {{"distance", r9(best->second.distance)}, {"a", best->second.a}, {"b", best->second.b}, {"t", r9(best->second.t)}};
   }
 
   nlohmann::ordered_json summary_json(const RunSummary& s) const {
@@ -328,9 +513,16 @@ class Run {
                                               {"tool_path_length", r9(dr.path)}};
     }
     j["devices"] = std::move(devices);
+    j["min_clearance"] = min_clearance_json();
     nlohmann::ordered_json counts = nlohmann::ordered_json::object();
     for (const auto& [kind, n] : counts_) counts[kind] = n;
     j["events"] = std::move(counts);
+    if (options_.inputs) {
+      auto inputs = nlohmann::ordered_json::array();
+      for (const InputFile& f : options_.inputs->files) inputs.push_back({{"path", f.path}, {"sha256", f.sha256}});
+      j["inputs"] = std::move(inputs);
+      if (!options_.inputs->not_copied.empty()) j["inputs_not_in_resolved"] = options_.inputs->not_copied;
+    }
     j["sscs_version"] = SSCS_VERSION;
     return j;
   }
@@ -349,6 +541,24 @@ class Run {
   std::set<std::pair<int, int>> over_limit_;
   std::string objects_csv_;
   bool failed_ = false;
+  bool interrupted_ = false;
+  size_t current_step_ = 0;
+  std::string current_action_;
+  // Clearances: per (moving object, other object) the closest approach seen.
+  struct Seen {
+    double distance;
+    double t;
+    std::string a, b;
+  };
+  CollisionWorld nearby_;
+  std::map<std::pair<int, int>, Seen> seen_;
+  std::set<std::pair<int, int>> supports_;  // (load, what it was lifted from or landed on)
+  // Constraint re-checks: the workcell's geometry and slot values as the motion has them now.
+  GeometryModel live_;
+  std::vector<double> live_values_;
+  CheckOptions recheck_;
+  std::map<std::pair<int, std::vector<int>>, bool> failing_;
+  size_t constraint_failures_ = 0;
 };
 
 }  // namespace
@@ -357,7 +567,7 @@ RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, con
                           std::string* error) {
   Run run(wc, geometry, plan, options);
   RunSummary summary = run.run();
-  if (!options.out_dir.empty()) run.write(summary, error);
+  if (!summary.interrupted && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, error);
   return summary;
 }
 

@@ -4,11 +4,13 @@
 /// and releases happen at their planned times, contacts become events, and the run writes
 /// summary.json, events.jsonl, trajectories/<device>.csv and objects.csv into a folder that
 /// appears under its final name only when complete.
+#include <csignal>
 #include <string>
 
 #include "compile/workcell.h"
 #include "geometry/geometry.h"
 #include "simulate/plan.h"
+#include "simulate/resolved.h"
 
 namespace sscs {
 
@@ -21,15 +23,22 @@ struct RunSummary {
   double simulated = 0;    ///< s: including settling after the last step
   size_t events = 0;
   size_t collisions = 0;
+  bool interrupted = false;  ///< stopped through RunOptions::interrupted; nothing was written
 };
 
 struct RunOptions {
-  std::string out_dir;          ///< written atomically: a temporary folder renamed at the end
+  std::string out_dir;          ///< written atomically: a temporary folder renamed at the end ("" for none)
+  std::string bundle;           ///< the same tree as one zip archive ("" for none), also atomic
   std::string scenario_name;
-  bool progress = false;        ///< print progress lines on stderr
+  /// Progress on stderr: none, a line per step (logs), or one line updated in place (a terminal).
+  enum class Progress : uint8_t { None, Lines, Live } progress = Progress::None;
+  const RunInputs* inputs = nullptr;  ///< their digests go in summary.json, resolved/ in the run
+  /// Set (by a signal handler) to stop the run: then nothing is written.
+  const volatile std::sig_atomic_t* interrupted = nullptr;
 };
 
-/// Runs the plan. Returns the summary; `error` is set when the output could not be written.
+/// Runs the plan and writes its outputs. Returns the summary; `error` is set when the output
+/// could not be written (then nothing is left under the requested names).
 RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
                           std::string* error);
 

@@ -1,0 +1,87 @@
+#include "core/archive.h"
+
+#include <zip.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+namespace {
+
+constexpr time_t kBundleTime = 315532800;  // 1980-01-01 00:00 UTC, the earliest zip time
+
+std::string zip_message(int code) {
+  zip_error_t e;
+  zip_error_init_with_code(&e, code);
+  std::string s = zip_error_strerror(&e);
+  zip_error_fini(&e);
+  return s;
+}
+
+}  // namespace
+
+std::string zip_folder(const std::string& folder, const std::string& zip_path) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file()) files.push_back(fs::relative(it->path(), folder).generic_string());
+  if (ec) return fmt::format("cannot list '{}': {}", folder, ec.message());
+  std::sort(files.begin(), files.end());
+
+  int code = 0;
+  zip_t* za = zip_open(zip_path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
+  if (!za) return fmt::format("cannot create '{}': {}", zip_path, zip_message(code));
+  for (const std::string& name : files) {
+    std::string path = (fs::path(folder) / name).string();
+    zip_source_t* src = zip_source_file(za, path.c_str(), 0, -1);
+    zip_int64_t index = src ? zip_file_add(za, name.c_str(), src, ZIP_FL_ENC_UTF_8) : -1;
+    if (index < 0) {
+      if (src) zip_source_free(src);
+      std::string msg = fmt::format("cannot add '{}' to '{}': {}", name, zip_path, zip_strerror(za));
+      zip_discard(za);
+      return msg;
+    }
+    bool png = fs::path(name).extension() == ".png";  // already compressed
+    zip_set_file_compression(za, static_cast<zip_uint64_t>(index), png ? ZIP_CM_STORE : ZIP_CM_DEFLATE, png ? 0 : 6);
+    zip_file_set_mtime(za, static_cast<zip_uint64_t>(index), kBundleTime, 0);
+    zip_file_set_external_attributes(za, static_cast<zip_uint64_t>(index), 0, ZIP_OPSYS_UNIX, 0100644u << 16);
+  }
+  if (zip_close(za) != 0) {
+    std::string msg = fmt::format("cannot write '{}': {}", zip_path, zip_strerror(za));
+    zip_discard(za);
+    return msg;
+  }
+  return "";
+}
+
+std::optional<std::string> read_zip_entry(const std::string& zip_path, const std::string& name, std::string* error) {
+  int code = 0;
+  std::unique_ptr<zip_t, decltype(&zip_discard)> za(zip_open(zip_path.c_str(), ZIP_RDONLY, &code), &zip_discard);
+  if (!za) {
+    *error = fmt::format("{}: not a readable zip archive ({})", zip_path, zip_message(code));
+    return std::nullopt;
+  }
+  zip_stat_t st;
+  zip_stat_init(&st);
+  if (zip_stat(za.get(), name.c_str(), 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE)) {
+    *error = fmt::format("{}: no {} in this archive", zip_path, name);
+    return std::nullopt;
+  }
+  std::unique_ptr<zip_file_t, decltype(&zip_fclose)> f(zip_fopen(za.get(), name.c_str(), 0), &zip_fclose);
+  std::string bytes(st.size, '\0');
+  if (!f || zip_fread(f.get(), bytes.data(), st.size) != static_cast<zip_int64_t>(st.size)) {
+    *error = fmt::format("{}: cannot read {}: {}", zip_path, name, zip_strerror(za.get()));
+    return std::nullopt;
+  }
+  return bytes;
+}
+
+}  // namespace sscs

@@ -1,0 +1,18 @@
+#pragma once
+/// Zip archives through libzip: a run folder packed into one bundle, and files read back out of
+/// one. Bundles are reproducible: entries in sorted order with a fixed timestamp, so the same
+/// run gives the same bytes.
+#include <optional>
+#include <string>
+
+namespace sscs {
+
+/// Packs every file under `folder` into a new zip at `zip_path` (paths relative to `folder`,
+/// '/'-separated; PNG files stored, the rest deflated). Returns an error message or "".
+std::string zip_folder(const std::string& folder, const std::string& zip_path);
+
+/// The bytes of entry `name` in the zip at `zip_path`; nullopt with `error` set when the file is
+/// not a readable zip or has no such entry.
+std::optional<std::string> read_zip_entry(const std::string& zip_path, const std::string& name, std::string* error);
+
+}  // namespace sscs

@@ -1,0 +1,15 @@
+#pragma once
+/// Content digests of input files, for run summaries (OpenSSL's SHA-256).
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sscs {
+
+/// Lower-case hex SHA-256 of `bytes`.
+std::string sha256_hex(std::string_view bytes);
+
+/// The bytes of the file at `path`, or nullopt when it cannot be read.
+std::optional<std::string> read_file_bytes(const std::string& path);
+
+}  // namespace sscs
