@@ -29,7 +29,7 @@ const std::optional<std::string>* change_for(const std::vector<TopLevelChange>& 
 }
 
 bool blank_or_comment(std::string_view line) {
-  size_t i = line.find_first_not_of(" \t\r");
+  size_t i = line.find_first_not_of(" \t\r\n");
   return i == std::string_view::npos || line[i] == '#';
 }
 

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <unordered_map>
 
 #include "kinematics/device.h"
@@ -55,21 +56,29 @@ double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* 
 }
 
 /// Signed distance between two placed shapes: minus the penetration depth when they collide.
+/// The distance query first: apart is the common case, and only contact needs the depth.
 double signed_distance(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
-  fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
-  fcl::CollisionResultd cres;
-  if (fcl::collide(a, b, creq, cres) > 0) {
-    double depth = 0;
-    for (size_t k = 0; k < cres.numContacts(); ++k) depth = std::max(depth, cres.getContact(k).penetration_depth);
-    return -std::max(depth, 0.0);
-  }
   // The independent GJK with a tight tolerance: libccd's default is off by centimetres on rotated boxes.
   fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
   fcl::DistanceResultd dres;
   fcl::distance(a, b, dreq, dres);
-  // FCL answers -1 when its distance query finds contact that the collision query did not:
-  // they touch.
-  return std::max(dres.min_distance, 0.0);
+  if (dres.min_distance > 0) return dres.min_distance;
+  // In contact (FCL answers 0 or -1): the depth from the collision query, 0 when only touching.
+  fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
+  fcl::CollisionResultd cres;
+  if (fcl::collide(a, b, creq, cres) == 0) return 0;
+  double depth = 0;
+  for (size_t k = 0; k < cres.numContacts(); ++k) depth = std::max(depth, cres.getContact(k).penetration_depth);
+  return -std::max(depth, 0.0);
+}
+
+/// How far any point of a placed shape has moved since it was at `X_then`: the displacement of
+/// its origin plus the turn (rad) times the farthest the shape reaches from its origin.
+double travel(const fcl::CollisionObjectd& shape, const fcl::Transform3d& X_then) {
+  const fcl::Transform3d& X = shape.getTransform();
+  const fcl::CollisionGeometryd& g = *shape.collisionGeometry();
+  double turn = Eigen::AngleAxisd(X.linear() * X_then.linear().transpose()).angle();
+  return (X.translation() - X_then.translation()).norm() + turn * (g.aabb_center.norm() + g.aabb_radius);
 }
 
 /// Distance between two axis-aligned boxes (0 when they overlap).
@@ -88,6 +97,13 @@ struct CollisionWorld::Impl {
   std::unordered_map<const Shape*, std::shared_ptr<fcl::CollisionGeometryd>> shapes;
   // Objects moved since the model was built: their bounds now.
   std::unordered_map<int, fcl::AABBd> moved_bounds;
+  // proximity(): the last distance measured per shape pair (object, other, shape, other's
+  // shape), with both shapes' placements then.
+  struct Measured {
+    double distance;
+    fcl::Transform3d X_a, X_b;
+  };
+  std::map<std::tuple<int, int, size_t, size_t>, Measured> measured;
 
   fcl::AABBd bounds(int object) {
     auto it = moved_bounds.find(object);
@@ -167,7 +183,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b) {
@@ -246,7 +262,8 @@ void CollisionWorld::move_parts(int object, const std::vector<Eigen::Isometry3d>
   impl_->place(object, X);
 }
 
-std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<int>& skip, double reach) {
+std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<int>& skip, double reach,
+                                                 const std::function<double(int other)>& below) {
   std::vector<Proximity> out;
   const auto& mine = impl_->of(object);
   if (mine.empty()) return out;
@@ -256,17 +273,30 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
     int other = static_cast<int>(o);
     if (other == object || objects[o].shapes.empty()) continue;
     if (std::find(skip.begin(), skip.end(), other) != skip.end()) continue;
-    if (box_gap(box, impl_->bounds(other)) > reach) continue;
+    const double limit = below ? std::min(reach, below(other)) : reach;
+    if (box_gap(box, impl_->bounds(other)) > limit) continue;
+    // Branch and bound: shape pairs in order of a lower bound of their distance, until no bound
+    // is below the nearest pair found. The bound: their boxes' gap, or the distance measured
+    // last time less how far either shape has moved since (conservative advancement).
     const auto& theirs = impl_->of(other);
-    std::optional<Proximity> best;
+    std::vector<std::tuple<double, size_t, size_t>> pairs;
     for (size_t i = 0; i < mine.size(); ++i)
       for (size_t k = 0; k < theirs.size(); ++k) {
-        if (best && box_gap(mine[i]->getAABB(), theirs[k]->getAABB()) >= best->distance) continue;
-        double d = signed_distance(mine[i].get(), theirs[k].get());
-        if (!best || d < best->distance)
-          best = Proximity{other, objects[object].shapes[i].part, objects[o].shapes[k].part, d};
+        double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
+        auto last = impl_->measured.find({object, other, i, k});
+        if (last != impl_->measured.end())
+          bound = std::max(bound, last->second.distance - travel(*mine[i], last->second.X_a) - travel(*theirs[k], last->second.X_b));
+        if (bound < limit) pairs.emplace_back(bound, i, k);
       }
-    if (best) out.push_back(*best);
+    std::sort(pairs.begin(), pairs.end());
+    std::optional<Proximity> best;
+    for (auto [bound, i, k] : pairs) {
+      if (best && bound >= best->distance) break;
+      double d = signed_distance(mine[i].get(), theirs[k].get());
+      impl_->measured[{object, other, i, k}] = {d, mine[i]->getTransform(), theirs[k]->getTransform()};
+      if (!best || d < best->distance) best = Proximity{other, objects[object].shapes[i].part, objects[o].shapes[k].part, d};
+    }
+    if (best && best->distance < limit) out.push_back(*best);
   }
   return out;
 }

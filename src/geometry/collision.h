@@ -1,6 +1,7 @@
 #pragma once
 /// Distances, overlaps and containment between objects' geometry, through FCL.
 #include <memory>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -64,7 +65,10 @@ class CollisionWorld {
 
   /// For every object other than `object` and those in `skip`, whose bounds come within `reach`
   /// of its bounds: the distance between their nearest shapes, at their current placements.
-  std::vector<Proximity> proximity(int object, const std::vector<int>& skip, double reach);
+  /// `below(other)`, when given, narrows the reach per object: a caller tracking the closest
+  /// approach of each pair needs only distances below the closest seen so far.
+  std::vector<Proximity> proximity(int object, const std::vector<int>& skip, double reach,
+                                   const std::function<double(int other)>& below = {});
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

@@ -296,9 +296,16 @@ class Run {
           over_limit_.erase(key);
         }
       }
-      Eigen::Vector3d planned =
-          (geometry_.objects[dr.object].X_world_object * m.tool_pose(dr.track->at(t))).translation();
-      double lag = (tool - planned).norm();
+    }
+  }
+
+  /// At the trajectory rate: a tool that lags its plan by more than kTrackingTolerance is an
+  /// event (once, until it is back within half of it).
+  void check_tracking(double t) {
+    for (DeviceRun& dr : devices_) {
+      const Device& m = *geometry_.objects[dr.object].device;
+      Eigen::Vector3d planned = (geometry_.objects[dr.object].X_world_object * m.tool_pose(dr.track->at(t))).translation();
+      double lag = (dr.tool_prev - planned).norm();
       if (lag > kTrackingTolerance && !dr.lagging) {
         dr.lagging = true;
         event(t, "tracking_error", {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}});
@@ -379,14 +386,18 @@ class Run {
     for (const DeviceRun& dr : devices_) {
       std::vector<int> skip = chain(dr.object);
       for (int o : handled(dr.object, t)) skip.push_back(o);
-      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach)) note_clearance(t, dr.object, p);
+      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach, closest_seen(dr.object)))
+        note_clearance(t, dr.object, p);
     }
     for (int o : loads) {
       std::vector<int> skip = chain(o);
       for (const DeviceRun& dr : devices_)
         if (world_.held(dr.object) == o) skip.push_back(dr.object);
-      for (const Proximity& p : nearby_.proximity(o, skip, kClearanceReach)) note_clearance(t, o, p);
+      for (auto [load, support] : supports_)
+        if (load == o) skip.push_back(support);
+      for (const Proximity& p : nearby_.proximity(o, skip, kClearanceReach, closest_seen(o))) note_clearance(t, o, p);
     }
+    check_tracking(t);
     if (!recheck_.only.empty()) recheck(t);
   }
 
@@ -402,6 +413,14 @@ class Run {
     }
     if (next >= 0) out.push_back(next);
     return out;
+  }
+
+  /// The closest approach of `moving` to each other object so far: only closer ones are news.
+  std::function<double(int)> closest_seen(int moving) const {
+    return [this, moving](int other) {
+      auto it = seen_.find({moving, other});
+      return it == seen_.end() ? INFINITY : it->second.distance;
+    };
   }
 
   void note_clearance(double t, int moving, const Proximity& p) {

@@ -532,6 +532,15 @@ double PhysicsWorld::floor_z() const { return impl_->floor; }
 double PhysicsWorld::mass(int o) const { return impl_->masses[o]; }
 const std::vector<PhysicsContact>& PhysicsWorld::contacts() const { return impl_->contacts; }
 
+OdeHandles PhysicsWorld::ode_handles(int object) const {
+  const Impl& w = *impl_;
+  OdeHandles h{w.world, w.space, w.contact_group, &Impl::near_callback, const_cast<Impl*>(&w), {}};
+  auto it = w.devices.find(object);
+  if (it != w.devices.end() && !it->second.kinematic)
+    for (const auto& rec : it->second.joints) h.motors.push_back({rec.joint, rec.type == JointType::Revolute, rec.q_attach});
+  return h;
+}
+
 Eigen::Isometry3d PhysicsWorld::pose(int o) const {
   const Impl& w = *impl_;
   if (!w.bodies[o]) return w.geometry.objects[o].X_world_object;

@@ -15,7 +15,30 @@
 #include "compile/workcell.h"
 #include "geometry/geometry.h"
 
+struct dxWorld;
+struct dxSpace;
+struct dxJointGroup;
+struct dxJoint;
+struct dxGeom;
+
 namespace sscs {
+
+/// The raw ODE objects of a PhysicsWorld: for tools/bench/sim_vs_bare_ode, which steps the same
+/// bodies, joints and geoms in a bare loop to measure what sscs adds around ODE.
+struct OdeHandles {
+  dxWorld* world = nullptr;
+  dxSpace* space = nullptr;
+  dxJointGroup* contact_group = nullptr;
+  /// sscs's near callback for dSpaceCollide (its contact filters and surface), with its data.
+  void (*near_callback)(void*, dxGeom*, dxGeom*) = nullptr;
+  void* near_data = nullptr;
+  struct Motor {
+    dxJoint* joint = nullptr;  ///< null for a device joint without a motor
+    bool revolute = true;
+    double q_attach = 0;       ///< the joint value ODE measures from
+  };
+  std::vector<Motor> motors;   ///< the device's, in joint order
+};
 
 struct PhysicsOptions {
   double timestep = 1e-3;   ///< s
@@ -75,6 +98,9 @@ class PhysicsWorld {
   /// Contacts of the last step between distinct objects (or an object and the floor), deepest
   /// point per pair.
   const std::vector<PhysicsContact>& contacts() const;
+
+  /// The ODE world, space and contact group, and the motors of device `object` (if any).
+  OdeHandles ode_handles(int object) const;
 
  private:
   struct Impl;

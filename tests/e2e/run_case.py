@@ -206,6 +206,68 @@ def simulate(sscs, root):
         for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv"]:
             if open(os.path.join(out, f), "rb").read() != open(os.path.join(again, f), "rb").read():
                 fail(f"{f} differs between two runs")
+        # The rerun from resolved/ gives the same bytes, and its resolved/ is the same again.
+        rerun = os.path.join(tmp, "rerun")
+        p = run(sscs, tmp, ["simulate", os.path.join(out, "resolved", "scenario.yaml"), "--out", rerun, "--quiet"])
+        if p.returncode != 0:
+            fail("rerun from resolved/", p)
+        for f in ["events.jsonl", "trajectories/Robot.csv", "objects.csv", "resolved/vault.yaml", "resolved/scenario.yaml"]:
+            if open(os.path.join(out, f), "rb").read() != open(os.path.join(rerun, f), "rb").read():
+                fail(f"{f} differs between the run and its rerun from resolved/")
+        resolved = sorted(os.path.relpath(os.path.join(d, f), os.path.join(out, "resolved"))
+                          for d, _, fs in os.walk(os.path.join(out, "resolved")) for f in fs)
+        expected = ["library/meshes/eur_pallet.obj"] + [f"library/types/{t}.yaml" for t in
+                                                        ["arm6", "door", "drum", "pallet", "rack", "room"]] + ["scenario.yaml", "vault.yaml"]
+        if resolved != expected:
+            fail(f"resolved/ holds {resolved}, expected {expected}")
+        vault = open(os.path.join(out, "resolved", "vault.yaml")).read()
+        if "library: [library]\nstandard_library: false\n" not in vault or "# Type A packages" not in vault:
+            fail(f"resolved/vault.yaml: {vault}")
+        # Every input's sha256, checked against the files themselves.
+        import hashlib
+        inputs = {os.path.basename(i["path"]): i["sha256"] for i in summary["inputs"]}
+        for name, path in [("arm-loads-drum.yaml", arm), ("cell.yaml", "scenarios/drum-transfer/cell.yaml"),
+                           ("eur_pallet.obj", "library/meshes/eur_pallet.obj"), ("arm6.yaml", "library/types/arm6.yaml")]:
+            if inputs.get(name) != hashlib.sha256(open(os.path.join(root, path), "rb").read()).hexdigest():
+                fail(f"sha256 of {name} in summary.json: {inputs.get(name)}")
+        # The closest approach: the arm passes the rack's upright; nothing it handles counts.
+        mc = summary["min_clearance"]
+        if not (0.05 < mc["distance"] < 1.0) or mc["b"] != "Rack_A" or not mc["a"].startswith("Robot."):
+            fail(f"min_clearance {mc}")
+        # --bundle: the same tree in one zip, byte-identical across runs; compare reads it.
+        import zipfile
+        bundles = [os.path.join(tmp, f"b{i}.zip") for i in (1, 2)]
+        for b in bundles:
+            p = run(sscs, root, ["simulate", arm, "--bundle", b, "--quiet"])
+            if p.returncode != 0 or os.path.exists(os.path.join(root, "run-arm-loads-drum")):
+                fail("--bundle alone writes the bundle only", p)
+        if open(bundles[0], "rb").read() != open(bundles[1], "rb").read():
+            fail("two bundles of the same run differ")
+        names = zipfile.ZipFile(bundles[0]).namelist()
+        for f in ["summary.json", "events.jsonl", "objects.csv", "trajectories/Robot.csv", "resolved/scenario.yaml"]:
+            if f not in names:
+                fail(f"bundle lacks {f}: {names}")
+        if zipfile.ZipFile(bundles[0]).read("events.jsonl") != open(os.path.join(out, "events.jsonl"), "rb").read():
+            fail("the bundle's events.jsonl differs from the folder's")
+        p = run(sscs, root, ["compare", bundles[0], out, "--format", "csv"])
+        rows = p.stdout.splitlines()
+        if p.returncode != 0 or len(rows) != 3 or rows[1].split(",")[1:] != rows[2].split(",")[1:]:
+            fail("compare of a bundle and the same run's folder", p)
+        # A vault rule that reads the moving drum is re-checked during the motion: the store that
+        # allows a 0.3 m lift sees a constraint event when the arm lifts it 0.4 m.
+        high = os.path.join(tmp, "too-high")
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/too-high.yaml", "--out", high, "--quiet"])
+        events = [json.loads(line) for line in open(os.path.join(high, "events.jsonl"))]
+        hits = [e for e in events if e["kind"] == "constraint"]
+        if p.returncode != 1 or "too-high: violations" not in p.stdout or len(hits) != 1 or \
+                hits[0]["constraint"] != "drum within the allowed lift height" or hits[0]["subjects"] != ["Drum_1"] or \
+                not -0.01 < hits[0]["margin"] < 0:
+            fail(f"too-high scenario: {hits}", p)
+        # The lift starts after the grasp at 1.865 s; the drum's bottom (0.144 m) passes 0.3 m
+        # 0.156 m later: 0.4 s accelerating at 0.5 m/s^2 to 0.2 m/s (0.04 m), then 0.116 m at
+        # 0.2 m/s (0.58 s): 2.845 s, plus up to one 20 ms log interval.
+        if not 2.84 <= hits[0]["t"] <= 2.866:
+            fail(f"the constraint event comes at {hits[0]['t']} s")
         # The same transfer by the gantry, then both side by side.
         gantry = os.path.join(tmp, "gantry")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/gantry-loads-drum.yaml", "--out", gantry, "--quiet"])
@@ -244,9 +306,14 @@ def simulate(sscs, root):
                                     cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             time.sleep(0.5)
             proc.send_signal(sig)
-            proc.wait(timeout=60)
+            code = proc.wait(timeout=60)
             if os.path.exists(out):
                 fail(f"a run stopped by signal {int(sig)} left {out}")
+            if sig == signal.SIGINT and code != 130:
+                fail(f"an interrupted run exits 130, not {code}")
+        left = [f for f in os.listdir(tmp) if f.startswith(".")]
+        if left:
+            fail(f"an interrupted run left temporary files: {left}")
         # An unreachable target fails the run promptly, exit 1, with the event.
         out = os.path.join(tmp, "unreachable")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])

@@ -150,5 +150,38 @@ TEST_F(Collision, ConstraintsReportFailingPairs) {
   EXPECT_EQ(rep.results[2].status, Status::Pass);
 }
 
+TEST_F(Collision, ProximityFollowsMovedObjects) {
+  Built b = build(*this,
+                  "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [3, 0, 0]}\n"
+                  "  - {type: cube, name: Far, location: [30, 0, 0]}\n", kShapes);
+  CollisionWorld w(b.geometry);
+  auto near = w.proximity(0, {}, 5.0);
+  ASSERT_EQ(near.size(), 1u);  // Far is beyond reach
+  EXPECT_EQ(near[0].other, 1);
+  EXPECT_NEAR(near[0].distance, 2.0, 1e-6);
+  EXPECT_TRUE(w.proximity(0, {1}, 5.0).empty());  // skipped
+  // A moved 1.5 m towards B, then into it.
+  w.move(0, Eigen::Isometry3d(Eigen::Translation3d(1.5, 0, 0)));
+  EXPECT_NEAR(w.proximity(0, {}, 5.0)[0].distance, 0.5, 1e-6);
+  EXPECT_NEAR(*w.distance(0, 1), 0.5, 1e-6);
+  w.move(0, Eigen::Isometry3d(Eigen::Translation3d(2.75, 0, 0)));
+  EXPECT_NEAR(w.proximity(0, {}, 5.0)[0].distance, -0.75, 1e-6);
+  // Far, moved near, now counts.
+  w.move(2, Eigen::Isometry3d(Eigen::Translation3d(2.75, 0, 3)));
+  EXPECT_EQ(w.proximity(0, {1}, 5.0).size(), 1u);
+}
+
+TEST_F(Collision, ReposedGeometryMovesShapesBoundsAndFrames) {
+  Built b = build(*this, "  - {type: drum, name: D, location: [1, 2, 0]}\n");
+  ObjectGeometry g = b.geometry.objects[0];
+  const double h = b.geometry.objects[0].frame("top")->translation().z();
+  Eigen::Isometry3d X = Eigen::Isometry3d(Eigen::Translation3d(4, 5, 1)) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX());
+  repose(g, X);
+  EXPECT_TRUE(g.frame("top")->translation().isApprox(Eigen::Vector3d(4, 5, 1 - h), 1e-12));
+  EXPECT_NEAR(g.bbox_world.min().z(), 1 - h, 1e-9);  // upside down, hanging below its origin
+  EXPECT_NEAR(g.bbox_world.max().z(), 1, 1e-9);
+  EXPECT_NEAR(g.bbox_world.center().x(), 4, 1e-9);
+}
+
 }  // namespace
 }  // namespace sscs::testing

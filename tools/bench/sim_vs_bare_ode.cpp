@@ -1,0 +1,140 @@
+// sscs's simulation loop side by side with a bare ODE loop over the same world, on a scenario
+// (default: the arm drum transfer, without frames). Three runs of the same number of steps:
+//
+//   sscs     run_simulation: motors, contacts, events, trajectory and object logs, clearances
+//            and constraint re-checks at the trajectory rate (everything but writing files);
+//   physics  sscs's PhysicsWorld alone: drive() and step() with grasps and releases on time,
+//            no events and no logs;
+//   bare     the same ODE bodies, joints and geoms (built by PhysicsWorld, not timed) stepped by
+//            a plain loop: motor velocities set with dJointSetHingeParam from the plan plus the
+//            same feedback, dSpaceCollide with the same collision callback, dWorldStep.
+//
+// Prints the time per step of each (best of N repetitions), sscs/bare, the share of the run
+// spent on logging and event checks ((sscs - physics) / sscs), and the real-time factor
+// (simulated seconds per wall second). Targets (issue 6): <= 1.5x, <= 10 %, >= 20x.
+//
+//   sim_vs_bare_ode [scenario=scenarios/drum-transfer/arm-loads-drum.yaml] [repetitions=5]
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "compile/compile.h"
+#include "geometry/geometry.h"
+#include "simulate/plan.h"
+#include "simulate/simulate.h"
+#include "simulate/world.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace sscs;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Grasps and releases due at step k (they are rare: two in the arm scenario).
+void handle_steps(PhysicsWorld& world, const Plan& plan, double t, std::vector<char>& done) {
+  const double dt = plan.settings.timestep;
+  for (size_t i = 0; i < plan.steps.size(); ++i) {
+    const PlannedStep& ps = plan.steps[i];
+    if (done[i] || ps.start > t + dt / 2) continue;
+    done[i] = 1;
+    if (ps.kind == "grasp") world.grasp(ps.device, ps.object);
+    if (ps.kind == "release" && world.held(ps.device) >= 0) world.release(ps.device);
+  }
+}
+
+double physics_only(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps) {
+  PhysicsWorld world(wc, g, PhysicsOptions{plan.settings.timestep, plan.settings.gravity});
+  for (const Track& t : plan.tracks) world.add_device(t.object, t.q_start);
+  std::vector<char> done(plan.steps.size(), 0);
+  const double dt = plan.settings.timestep;
+  auto t0 = Clock::now();
+  for (long k = 0; k < steps; ++k) {
+    const double t = k * dt;
+    handle_steps(world, plan, t, done);
+    for (const Track& tr : plan.tracks) {
+      Eigen::VectorXd q1 = tr.at(t + dt);
+      world.drive(tr.object, q1, (q1 - tr.at(t)) / dt);
+    }
+    world.step();
+  }
+  return seconds_since(t0);
+}
+
+double bare_ode(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps) {
+  PhysicsWorld world(wc, g, PhysicsOptions{plan.settings.timestep, plan.settings.gravity});
+  for (const Track& t : plan.tracks) world.add_device(t.object, t.q_start);
+  std::vector<OdeHandles> handles;
+  for (const Track& t : plan.tracks) handles.push_back(world.ode_handles(t.object));
+  const OdeHandles& ode = handles.at(0);
+  std::vector<char> done(plan.steps.size(), 0);
+  const double dt = plan.settings.timestep;
+  auto t0 = Clock::now();
+  for (long k = 0; k < steps; ++k) {
+    const double t = k * dt;
+    handle_steps(world, plan, t, done);
+    for (size_t d = 0; d < plan.tracks.size(); ++d) {
+      const Track& tr = plan.tracks[d];
+      Eigen::VectorXd q1 = tr.at(t + dt), qd = (q1 - tr.at(t)) / dt;
+      for (size_t j = 0; j < handles[d].motors.size(); ++j) {
+        const OdeHandles::Motor& m = handles[d].motors[j];
+        if (!m.joint) continue;
+        double q = m.q_attach + (m.revolute ? dJointGetHingeAngle(m.joint) : dJointGetSliderPosition(m.joint));
+        double v = qd[j] + 20 * (q1[j] - q);
+        if (m.revolute) dJointSetHingeParam(m.joint, dParamVel, v);
+        else dJointSetSliderParam(m.joint, dParamVel, v);
+      }
+    }
+    dSpaceCollide(ode.space, ode.near_data, ode.near_callback);
+    dWorldStep(ode.world, dt);
+    dJointGroupEmpty(ode.contact_group);
+  }
+  return seconds_since(t0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scenario = argc > 1 ? argv[1] : "scenarios/drum-transfer/arm-loads-drum.yaml";
+  int reps = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
+  Sources sources;
+  Diagnostics diag;
+  auto spec = load_scenario(scenario, sources, diag);
+  CompileOptions options;
+  if (spec)
+    for (const auto& [name, value] : spec->set) options.overrides.emplace_back(name, value.text);
+  auto wc = spec && !diag.has_errors() ? compile_file(spec->vault_path, options, sources, diag) : std::nullopt;
+  GeometryModel geometry;
+  if (wc) geometry = build_geometry(*wc, diag);
+  auto plan = wc && !diag.has_errors() ? plan_scenario(*spec, *wc, geometry, diag) : std::nullopt;
+  if (diag.has_errors() || !plan) {
+    std::fputs(diag.format(sources, false).c_str(), stderr);
+    return 2;
+  }
+  double full = 1e9, phys = 1e9, bare = 1e9;
+  double simulated = 0;
+  long steps = 0;
+  for (int r = 0; r < reps; ++r) {
+    RunOptions run;  // no output folder: everything but writing the files
+    std::string error;
+    auto t0 = Clock::now();
+    RunSummary s = run_simulation(*wc, geometry, *plan, run, &error);
+    full = std::min(full, seconds_since(t0));
+    simulated = s.simulated;
+    steps = std::lround(s.simulated / plan->settings.timestep);
+  }
+  for (int r = 0; r < reps; ++r) phys = std::min(phys, physics_only(*wc, geometry, *plan, steps));
+  for (int r = 0; r < reps; ++r) bare = std::min(bare, bare_ode(*wc, geometry, *plan, steps));
+  std::printf("%s: %ld steps of %g ms (%.3f s simulated), best of %d\n", scenario.c_str(), steps,
+              plan->settings.timestep * 1e3, simulated, reps);
+  std::printf("  %-8s %10s %12s\n", "", "wall (s)", "us / step");
+  for (auto [name, t] : {std::pair{"sscs", full}, {"physics", phys}, {"bare", bare}})
+    std::printf("  %-8s %10.4f %12.2f\n", name, t, t / steps * 1e6);
+  std::printf("  sscs / bare time per step:      %.2fx   (target <= 1.5x)\n", full / bare);
+  std::printf("  logging and event checks:       %.1f %%  (target <= 10 %%)\n", 100 * (full - phys) / full);
+  std::printf("  real-time factor:               %.1fx   (target >= 20x)\n", simulated / full);
+  return 0;
+}
