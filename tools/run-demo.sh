@@ -24,4 +24,4 @@ echo
 echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
 echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
 echo "3D model: $out/demo.glb (open in Blender or any glTF viewer)"
-echo "simulation run: $out/arm-loads-drum/ (summary.json, events.jsonl, trajectories/Robot.csv, objects.csv)"
+echo "simulation run: $out/arm-loads-drum/ (summary.json, events.jsonl, trajectories/Robot.csv, objects.csv; rerun it with sscs simulate $out/arm-loads-drum/resolved/scenario.yaml)"

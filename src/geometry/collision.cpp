@@ -263,7 +263,8 @@ void CollisionWorld::move_parts(int object, const std::vector<Eigen::Isometry3d>
 }
 
 std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<int>& skip, double reach,
-                                                 const std::function<double(int other)>& below) {
+                                                 const std::function<double(int other)>& below,
+                                                 const std::vector<char>& parts) {
   std::vector<Proximity> out;
   const auto& mine = impl_->of(object);
   if (mine.empty()) return out;
@@ -282,6 +283,8 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
     std::vector<std::tuple<double, size_t, size_t>> pairs;
     for (size_t i = 0; i < mine.size(); ++i)
       for (size_t k = 0; k < theirs.size(); ++k) {
+        int part = objects[object].shapes[i].part;
+        if (!parts.empty() && (part < 0 || !parts[part])) continue;
         double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
         auto last = impl_->measured.find({object, other, i, k});
         if (last != impl_->measured.end())

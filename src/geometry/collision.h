@@ -66,9 +66,11 @@ class CollisionWorld {
   /// For every object other than `object` and those in `skip`, whose bounds come within `reach`
   /// of its bounds: the distance between their nearest shapes, at their current placements.
   /// `below(other)`, when given, narrows the reach per object: a caller tracking the closest
-  /// approach of each pair needs only distances below the closest seen so far.
+  /// approach of each pair needs only distances below the closest seen so far. `parts`, when
+  /// given, limits a device to the parts marked (e.g. those that move).
   std::vector<Proximity> proximity(int object, const std::vector<int>& skip, double reach,
-                                   const std::function<double(int other)>& below = {});
+                                   const std::function<double(int other)>& below = {},
+                                   const std::vector<char>& parts = {});
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

@@ -40,6 +40,15 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
     out[1].values.push_back(r.summary.value("status", ""));
     out[2].values.push_back(fmt::format("{:.3f}", r.summary.value("cycle_time", 0.0)));
   }
+  Metric clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
+  for (const RunRecord& r : runs) {
+    const auto& mc = r.summary.contains("min_clearance") ? r.summary["min_clearance"] : nlohmann::ordered_json();
+    bool has = mc.is_object();
+    clearance.values.push_back(has ? fmt::format("{:.3f}", mc.value("distance", 0.0)) : "> 2");
+    pair.values.push_back(has ? fmt::format("{} / {}", mc.value("a", ""), mc.value("b", "")) : "");
+  }
+  out.push_back(std::move(clearance));
+  out.push_back(std::move(pair));
   for (const std::string& d : devices) {
     Metric path{d + " tool path", "m", {}}, travel{d + " joint travel", "deg|m", {}};
     for (const RunRecord& r : runs) {
@@ -130,7 +139,7 @@ std::string compare_json(const std::vector<RunRecord>& runs) {
   for (const RunRecord& r : runs) {
     nlohmann::ordered_json e;
     e["run"] = r.path;
-    for (const char* k : {"scenario", "vault", "status", "cycle_time", "devices", "events"})
+    for (const char* k : {"scenario", "vault", "status", "cycle_time", "min_clearance", "devices", "events"})
       if (r.summary.contains(k)) e[k] = r.summary[k];
     arr.push_back(std::move(e));
   }

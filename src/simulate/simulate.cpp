@@ -66,7 +66,8 @@ class Run {
     const double dt = s.timestep;
     for (const Track& t : plan_.tracks) {
       world_.add_device(t.object, t.q_start);
-      devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), {}, false});
+      devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), {}, false,
+                          moving_parts(*geometry_.objects[t.object].device)});
     }
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
     std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
@@ -193,6 +194,7 @@ class Run {
     Eigen::VectorXd travel;
     std::string csv;
     bool lagging = false;
+    std::vector<char> moving_parts;  // parts below a revolute or prismatic joint
   };
 
   Eigen::Vector3d tool_now(int d) const {
@@ -315,6 +317,16 @@ class Run {
     }
   }
 
+  /// Parts that a joint moves: clearances of the others are the design's, not the motion's.
+  static std::vector<char> moving_parts(const Device& m) {
+    std::vector<char> out(m.parts.size(), 0);
+    for (size_t p = 0; p < m.parts.size(); ++p) {
+      const Part& part = m.parts[p];
+      out[p] = part.parent >= 0 && (out[part.parent] || part.joint.type != JointType::Fixed);
+    }
+    return out;
+  }
+
   /// The object and its parents up to the root: what it stands in is not a clearance.
   std::vector<int> chain(int o) const {
     std::vector<int> out;
@@ -386,7 +398,7 @@ class Run {
     for (const DeviceRun& dr : devices_) {
       std::vector<int> skip = chain(dr.object);
       for (int o : handled(dr.object, t)) skip.push_back(o);
-      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach, closest_seen(dr.object)))
+      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach, closest_seen(dr.object), dr.moving_parts))
         note_clearance(t, dr.object, p);
     }
     for (int o : loads) {

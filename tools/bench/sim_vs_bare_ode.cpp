@@ -46,36 +46,39 @@ void handle_steps(PhysicsWorld& world, const Plan& plan, double t, std::vector<c
   }
 }
 
-double physics_only(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps) {
+/// Builds the run's world with its devices, then times `steps` steps of `advance(world, k, t)`
+/// (grasps and releases handled on time around it).
+template <typename Advance>
+double timed_steps(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps, Advance advance) {
   PhysicsWorld world(wc, g, PhysicsOptions{plan.settings.timestep, plan.settings.gravity});
   for (const Track& t : plan.tracks) world.add_device(t.object, t.q_start);
   std::vector<char> done(plan.steps.size(), 0);
   const double dt = plan.settings.timestep;
   auto t0 = Clock::now();
   for (long k = 0; k < steps; ++k) {
-    const double t = k * dt;
-    handle_steps(world, plan, t, done);
+    handle_steps(world, plan, k * dt, done);
+    advance(world, k * dt);
+  }
+  return seconds_since(t0);
+}
+
+double physics_only(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps) {
+  const double dt = plan.settings.timestep;
+  return timed_steps(wc, g, plan, steps, [&](PhysicsWorld& world, double t) {
     for (const Track& tr : plan.tracks) {
       Eigen::VectorXd q1 = tr.at(t + dt);
       world.drive(tr.object, q1, (q1 - tr.at(t)) / dt);
     }
     world.step();
-  }
-  return seconds_since(t0);
+  });
 }
 
 double bare_ode(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps) {
-  PhysicsWorld world(wc, g, PhysicsOptions{plan.settings.timestep, plan.settings.gravity});
-  for (const Track& t : plan.tracks) world.add_device(t.object, t.q_start);
-  std::vector<OdeHandles> handles;
-  for (const Track& t : plan.tracks) handles.push_back(world.ode_handles(t.object));
-  const OdeHandles& ode = handles.at(0);
-  std::vector<char> done(plan.steps.size(), 0);
   const double dt = plan.settings.timestep;
-  auto t0 = Clock::now();
-  for (long k = 0; k < steps; ++k) {
-    const double t = k * dt;
-    handle_steps(world, plan, t, done);
+  std::vector<OdeHandles> handles;
+  return timed_steps(wc, g, plan, steps, [&](PhysicsWorld& world, double t) {
+    if (handles.empty())  // once, before the first step (not worth timing apart)
+      for (const Track& tr : plan.tracks) handles.push_back(world.ode_handles(tr.object));
     for (size_t d = 0; d < plan.tracks.size(); ++d) {
       const Track& tr = plan.tracks[d];
       Eigen::VectorXd q1 = tr.at(t + dt), qd = (q1 - tr.at(t)) / dt;
@@ -88,11 +91,11 @@ double bare_ode(const Workcell& wc, const GeometryModel& g, const Plan& plan, lo
         else dJointSetSliderParam(m.joint, dParamVel, v);
       }
     }
+    const OdeHandles& ode = handles.at(0);
     dSpaceCollide(ode.space, ode.near_data, ode.near_callback);
     dWorldStep(ode.world, dt);
     dJointGroupEmpty(ode.contact_group);
-  }
-  return seconds_since(t0);
+  });
 }
 
 }  // namespace
