@@ -21,7 +21,10 @@
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
 #include "core/timer.h"
+#include "render/gl.h"
+#include "render/renderer.h"
 #include "report/compare.h"
+#include "core/files.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -293,6 +296,75 @@ int run_export(const Common& common, const std::string& vault, const std::string
 
 }  // namespace
 
+struct RenderArgs {
+  std::string vault, out, eye, target, size = "1280x720";
+  double fov = 45;
+};
+
+/// "x,y,z" -> a vector; false when it is not three numbers.
+bool parse_vec3(const std::string& text, Eigen::Vector3d& v) {
+  double x, y, z;
+  char tail;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &tail) != 3) return false;
+  v = {x, y, z};
+  return v.allFinite();
+}
+
+int run_render(const Common& common, const RenderArgs& args) {
+  int width = 0, height = 0;
+  char tail;
+  if (std::sscanf(args.size.c_str(), "%dx%d%c", &width, &height, &tail) != 2 || width < 16 || height < 16 ||
+      width > 8192 || height > 8192) {
+    std::cerr << fmt::format("sscs: error: --size expects WIDTHxHEIGHT between 16 and 8192, found '{}'\n", args.size);
+    return kInputError;
+  }
+  if (std::filesystem::path(args.out).extension() != ".png") {
+    std::cerr << fmt::format("sscs: error: --out expects a .png file, found '{}'\n", args.out);
+    return kInputError;
+  }
+  if (!(args.fov > 1 && args.fov < 179)) {
+    std::cerr << fmt::format("sscs: error: --fov expects degrees between 1 and 179, found {:g}\n", args.fov);
+    return kInputError;
+  }
+  Eigen::Vector3d eye, target;
+  for (auto [text, v, name] : {std::tuple{&args.eye, &eye, "--eye"}, std::tuple{&args.target, &target, "--target"}})
+    if (!text->empty() && !parse_vec3(*text, *v)) {
+      std::cerr << fmt::format("sscs: error: {} expects x,y,z in metres, found '{}'\n", name, *text);
+      return kInputError;
+    }
+  CompileOptions options;
+  if (!common.overrides(options)) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  auto wc = compile_file(args.vault, options, sources, diag);
+  GeometryModel geometry;
+  if (wc) geometry = build_geometry(*wc, diag);
+  if (diag.has_errors()) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;
+  }
+  RenderOptions ro;
+  ro.width = width;
+  ro.height = height;
+  Renderer renderer(*wc, geometry, ro);
+  Camera camera = framing_camera(renderer.bounds(), args.fov, double(width) / height);
+  if (!args.target.empty()) camera.target = target;
+  if (!args.eye.empty()) camera.eye = eye;
+  if ((camera.eye - camera.target).norm() < 1e-9) {
+    std::cerr << "sscs: error: --eye and --target are the same point\n";
+    return kInputError;
+  }
+  if (std::string err = write_file_atomic(args.out, encode_png(renderer.render(camera))); !err.empty()) {
+    std::cerr << "sscs: error: " << err << "\n";
+    return kInputError;
+  }
+  if (!common.quiet)
+    std::cout << fmt::format("wrote {} ({}x{}, eye [{:.2f}, {:.2f}, {:.2f}], target [{:.2f}, {:.2f}, {:.2f}], fov {:g})\n",
+                             args.out, width, height, camera.eye.x(), camera.eye.y(), camera.eye.z(), camera.target.x(),
+                             camera.target.y(), camera.target.z(), camera.fov);
+  return kOk;
+}
+
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
@@ -395,6 +467,16 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_option("--bundle", sim_bundle, "write the run as one zip archive too (or only, without --out)");
     common.add_to(sim_cmd);
 
+    RenderArgs render_args;
+    CLI::App* render_cmd = app.add_subcommand("render", "one still image of a vault (PNG, offscreen OpenGL)");
+    render_cmd->add_option("VAULT", render_args.vault, "vault file")->required();
+    render_cmd->add_option("--out", render_args.out, "output .png file")->required();
+    render_cmd->add_option("--eye", render_args.eye, "camera position x,y,z (m); default: a three-quarter view framing the vault");
+    render_cmd->add_option("--target", render_args.target, "point looked at x,y,z (m); default: the vault's centre");
+    render_cmd->add_option("--fov", render_args.fov, "vertical field of view, degrees (default 45)");
+    render_cmd->add_option("--size", render_args.size, "WIDTHxHEIGHT in pixels (default 1280x720)");
+    common.add_to(render_cmd);
+
     std::vector<std::string> compare_runs;
     std::string compare_format = "text";
     CLI::App* compare_cmd = app.add_subcommand("compare", "summaries of simulation runs side by side");
@@ -412,7 +494,11 @@ int run_cli(int argc, char** argv) {
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
     if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
+    if (render_cmd->parsed()) return run_render(common, render_args);
     return kInputError;
+  } catch (const gl::RenderUnavailable& e) {
+    std::cerr << "sscs: error: " << e.what() << "\n";
+    return kInternalError;
   } catch (const std::exception& e) {
     std::cerr << "sscs: internal error: " << e.what() << "\n";
     return kInternalError;

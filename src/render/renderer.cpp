@@ -1,0 +1,365 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "geometry/export.h"
+#include "kinematics/device.h"
+#include "render/gl.h"
+
+namespace sscs {
+
+namespace {
+
+constexpr const char* kSolidVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 model;
+uniform mat4 view_projection;
+uniform mat3 normal_matrix;
+out vec3 world_normal;
+void main() {
+  world_normal = normal_matrix * normal;
+  gl_Position = view_projection * model * vec4(position, 1.0);
+}
+)";
+
+constexpr const char* kSolidFragment = R"(#version 330 core
+in vec3 world_normal;
+uniform vec3 albedo;      // linear light
+out vec4 color;
+const vec3 key_direction = normalize(vec3(-0.45, -0.6, -0.66));   // sunlight from above, behind the default eye
+const vec3 sky = vec3(0.62, 0.68, 0.78);
+const vec3 ground = vec3(0.30, 0.27, 0.24);
+void main() {
+  vec3 n = normalize(world_normal);
+  if (!gl_FrontFacing) n = -n;
+  float key = max(dot(n, -key_direction), 0.0);
+  vec3 ambient = mix(ground, sky, 0.5 + 0.5 * n.z);
+  vec3 lit = albedo * (0.55 * ambient + 0.75 * key);
+  color = vec4(pow(clamp(lit, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);   // back to sRGB
+}
+)";
+
+constexpr const char* kLineVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 line_color;
+uniform mat4 view_projection;
+out vec3 vertex_color;
+void main() {
+  vertex_color = line_color;
+  gl_Position = view_projection * vec4(position, 1.0);
+}
+)";
+
+constexpr const char* kLineFragment = R"(#version 330 core
+in vec3 vertex_color;
+out vec4 color;
+void main() { color = vec4(vertex_color, 1.0); }
+)";
+
+/// Triangles with per-corner normals: a corner takes the average of the neighbouring faces
+/// within 30 degrees of its own face (smooth cylinders and spheres, crisp box edges).
+std::vector<float> shaded_triangles(const TriangleMesh& m) {
+  const size_t nt = m.triangles.size();
+  std::vector<Eigen::Vector3d> face(nt);
+  std::vector<std::vector<size_t>> faces_of(m.vertices.size());
+  for (size_t t = 0; t < nt; ++t) {
+    const Eigen::Vector3i& tri = m.triangles[t];
+    Eigen::Vector3d n = (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]);
+    face[t] = n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitZ();
+    for (int k = 0; k < 3; ++k) faces_of[tri[k]].push_back(t);
+  }
+  const double crease = std::cos(30 * 3.14159265358979323846 / 180);
+  std::vector<float> out;
+  out.reserve(nt * 18);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      int v = m.triangles[t][k];
+      Eigen::Vector3d n = Eigen::Vector3d::Zero();
+      for (size_t f : faces_of[v])
+        if (face[f].dot(face[t]) >= crease) n += face[f];
+      n = n.norm() > 0 ? n.normalized() : face[t];
+      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(m.vertices[v][c]));
+      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(n[c]));
+    }
+  return out;
+}
+
+Eigen::Matrix4f to_float(const Eigen::Matrix4d& M) { return M.cast<float>(); }
+
+}  // namespace
+
+Eigen::Vector3f color_of(const std::string& hex) {
+  if (hex.size() != 7) return Eigen::Vector3f(0.52f, 0.52f, 0.52f);  // #C0C0C0 in linear light
+  Eigen::Vector3f c;
+  for (int i = 0; i < 3; ++i) {
+    float s = static_cast<float>(std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16)) / 255.0f;
+    c[i] = std::pow(s, 2.2f);
+  }
+  return c;
+}
+
+ScenePose ScenePose::of(const GeometryModel& geometry) {
+  ScenePose p;
+  for (const ObjectGeometry& g : geometry.objects) {
+    p.X_world_object.push_back(g.X_world_object);
+    p.X_object_part.push_back(g.X_object_part);
+  }
+  return p;
+}
+
+struct Renderer::Impl {
+  RenderOptions options;
+  gl::Context context;
+  const gl::Api& gl;
+  const GeometryModel& geometry;
+  struct Mesh {
+    GLuint vao = 0, vbo = 0;
+    GLsizei count = 0;
+  };
+  std::vector<Mesh> meshes;
+  struct Item {
+    int object = -1;
+    int part = -1;                     ///< device part it hangs on, or -1: the object's frame
+    Eigen::Isometry3d X_anchor_shape;  ///< the shape in its part's (or object's) frame
+    size_t mesh = 0;
+    Eigen::Vector3f albedo;
+    bool inside = false;               ///< a container: drawn from the inside
+  };
+  std::vector<Item> items;
+  Mesh lines;
+  GLuint solid = 0, line = 0;
+  GLuint fbo = 0, color_rb = 0, depth_rb = 0, resolve_fbo = 0, resolve_rb = 0;
+  Eigen::AlignedBox3d bounds;
+
+  Impl(const Workcell& wc, const GeometryModel& geometry_, const RenderOptions& o)
+      : options(o), context(o.width, o.height), gl(context.api()), geometry(geometry_) {
+    solid = program(kSolidVertex, kSolidFragment);
+    line = program(kLineVertex, kLineFragment);
+    framebuffers();
+    upload(wc);
+    grid();
+  }
+
+  ~Impl() {
+    for (const Mesh& m : meshes) release(m);
+    release(lines);
+    gl.DeleteProgram(solid);
+    gl.DeleteProgram(line);
+    GLuint fbos[] = {fbo, resolve_fbo}, rbs[] = {color_rb, depth_rb, resolve_rb};
+    gl.DeleteFramebuffers(2, fbos);
+    gl.DeleteRenderbuffers(3, rbs);
+  }
+
+  void release(const Mesh& m) {
+    gl.DeleteBuffers(1, &m.vbo);
+    gl.DeleteVertexArrays(1, &m.vao);
+  }
+
+  GLuint shader(GLenum kind, const char* source) {
+    GLuint s = gl.CreateShader(kind);
+    gl.ShaderSource(s, 1, &source, nullptr);
+    gl.CompileShader(s);
+    GLint ok = 0;
+    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      char log[2048];
+      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+      throw std::runtime_error(fmt::format("shader does not compile: {}", log));
+    }
+    return s;
+  }
+
+  GLuint program(const char* vertex, const char* fragment) {
+    GLuint p = gl.CreateProgram();
+    GLuint vs = shader(GL_VERTEX_SHADER, vertex), fs = shader(GL_FRAGMENT_SHADER, fragment);
+    gl.AttachShader(p, vs);
+    gl.AttachShader(p, fs);
+    gl.LinkProgram(p);
+    gl.DeleteShader(vs);
+    gl.DeleteShader(fs);
+    GLint ok = 0;
+    gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+      char log[2048];
+      gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+      throw std::runtime_error(fmt::format("shader program does not link: {}", log));
+    }
+    return p;
+  }
+
+  void framebuffers() {
+    const int w = options.width, h = options.height, n = std::max(1, options.samples);
+    gl.GenFramebuffers(1, &fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.GenRenderbuffers(1, &color_rb);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, color_rb);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_RGBA8, w, h);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb);
+    gl.GenRenderbuffers(1, &depth_rb);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, depth_rb);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_DEPTH_COMPONENT24, w, h);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error(fmt::format("cannot make a {}x{} framebuffer with {} samples", w, h, n));
+    gl.GenFramebuffers(1, &resolve_fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
+    gl.GenRenderbuffers(1, &resolve_rb);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, resolve_rb);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_RGBA8, w, h);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_rb);
+    if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("cannot make the resolve framebuffer");
+  }
+
+  /// A vertex array of interleaved (position, normal or colour) floats.
+  Mesh buffer(const std::vector<float>& data) {
+    Mesh m;
+    m.count = static_cast<GLsizei>(data.size() / 6);
+    gl.GenVertexArrays(1, &m.vao);
+    gl.BindVertexArray(m.vao);
+    gl.GenBuffers(1, &m.vbo);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+    gl.EnableVertexAttribArray(0);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    gl.EnableVertexAttribArray(1);
+    gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    return m;
+  }
+
+  /// One vertex buffer per distinct shape (an array of 200 racks shares its meshes).
+  void upload(const Workcell& wc) {
+    std::map<std::string, size_t> known;
+    std::vector<char> container(wc.objects.size(), 0);
+    for (const Object& o : wc.objects)
+      if (o.parent >= 0) container[o.parent] = 1;
+    for (size_t o = 0; o < geometry.objects.size(); ++o) {
+      const ObjectGeometry& g = geometry.objects[o];
+      bounds.extend(g.bbox_world);
+      for (const Shape& s : g.shapes) {
+        Shape local = s;
+        local.X_object_shape.setIdentity();
+        std::string key = fmt::format("{}|{}|{}|{}|{}|{}", static_cast<int>(s.kind), fmt::join(s.box_size, ","), s.radius,
+                                      s.length, static_cast<const void*>(s.mesh.get()), fmt::join(s.scale, ","));
+        auto [it, fresh] = known.try_emplace(key, meshes.size());
+        if (fresh) meshes.push_back(buffer(shaded_triangles(tessellate(local))));
+        Item item;
+        item.object = static_cast<int>(o);
+        item.mesh = it->second;
+        item.part = g.device ? s.part : -1;
+        item.X_anchor_shape = item.part >= 0 ? g.X_object_part[item.part].inverse() * s.X_object_shape : s.X_object_shape;
+        const std::string& part_color = item.part >= 0 ? g.device->parts[item.part].color : std::string();
+        item.albedo = color_of(part_color.empty() ? wc.objects[o].color : part_color);
+        item.inside = container[o];
+        items.push_back(item);
+      }
+    }
+  }
+
+  /// The ground grid (1 m, or 10 m over large scenes) under the scene, and the world axes.
+  void grid() {
+    std::vector<float> v;
+    auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3f& c) {
+      for (const Eigen::Vector3d* p : {&a, &b}) {
+        for (int k = 0; k < 3; ++k) v.push_back(static_cast<float>((*p)[k]));
+        for (int k = 0; k < 3; ++k) v.push_back(c[k]);
+      }
+    };
+    Eigen::AlignedBox3d b = bounds.isEmpty() ? Eigen::AlignedBox3d(Eigen::Vector3d(-5, -5, 0), Eigen::Vector3d(5, 5, 0)) : bounds;
+    const double z = std::min(0.0, b.min().z()) + 0.002;  // just above a floor at 0
+    const double span = std::max(b.sizes().x(), b.sizes().y());
+    const double step = span > 100 ? 10 : 1;
+    const double x0 = std::floor(b.min().x() / step - 2) * step, x1 = std::ceil(b.max().x() / step + 2) * step;
+    const double y0 = std::floor(b.min().y() / step - 2) * step, y1 = std::ceil(b.max().y() / step + 2) * step;
+    const Eigen::Vector3f grey(0.55f, 0.55f, 0.55f);
+    for (double x = x0; x <= x1 + 1e-9; x += step) add({x, y0, z}, {x, y1, z}, grey);
+    for (double y = y0; y <= y1 + 1e-9; y += step) add({x0, y, z}, {x1, y, z}, grey);
+    // The axes a little above the grid, so they win where they run along a grid line.
+    const double axis = std::max(2.0, 2 * step), za = z + 0.005;
+    add({0, 0, za}, {axis, 0, za}, {0.85f, 0.1f, 0.1f});
+    add({0, 0, za}, {0, axis, za}, {0.1f, 0.7f, 0.1f});
+    add({0, 0, za}, {0, 0, za + axis}, {0.1f, 0.2f, 0.9f});
+    lines = buffer(v);
+  }
+
+  Image draw(const Camera& camera, const ScenePose& pose) {
+    const int w = options.width, h = options.height;
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.Viewport(0, 0, w, h);
+    gl.ClearColor(0.93f, 0.94f, 0.96f, 1.0f);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl.Enable(GL_DEPTH_TEST);
+    if (options.samples > 1) gl.Enable(GL_MULTISAMPLE);
+
+    // Depth range from the scene's bounds as seen from the eye.
+    double far = 10;
+    if (!bounds.isEmpty())
+      for (int c = 0; c < 8; ++c)
+        far = std::max(far, (bounds.corner(Eigen::AlignedBox3d::CornerType(c)) - camera.eye).norm());
+    const Eigen::Matrix4d VP = projection_matrix(camera.fov, double(w) / h, std::max(0.01, far * 1e-4), 2 * far + 100) *
+                               view_matrix(camera);
+    const Eigen::Matrix4f vp = to_float(VP);
+
+    gl.UseProgram(solid);
+    const GLint u_model = gl.GetUniformLocation(solid, "model"), u_vp = gl.GetUniformLocation(solid, "view_projection"),
+                u_normal = gl.GetUniformLocation(solid, "normal_matrix"), u_albedo = gl.GetUniformLocation(solid, "albedo");
+    gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp.data());
+    for (const Item& it : items) {
+      Eigen::Isometry3d X = pose.X_world_object[it.object];
+      if (it.part >= 0) X = X * pose.X_object_part[it.object][it.part];
+      X = X * it.X_anchor_shape;
+      const Eigen::Matrix4f model = to_float(X.matrix());
+      const Eigen::Matrix3f normal = X.linear().inverse().transpose().cast<float>();
+      gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
+      gl.UniformMatrix3fv(u_normal, 1, GL_FALSE, normal.data());
+      gl.Uniform3f(u_albedo, it.albedo.x(), it.albedo.y(), it.albedo.z());
+      // A container is seen from the inside: its faces towards the eye are not drawn.
+      if (it.inside) {
+        gl.Enable(GL_CULL_FACE);
+        gl.CullFace(GL_FRONT);
+      } else {
+        gl.Disable(GL_CULL_FACE);
+      }
+      gl.BindVertexArray(meshes[it.mesh].vao);
+      gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);
+    }
+    gl.Disable(GL_CULL_FACE);
+    if (options.grid) {
+      gl.UseProgram(line);
+      gl.UniformMatrix4fv(gl.GetUniformLocation(line, "view_projection"), 1, GL_FALSE, vp.data());
+      gl.BindVertexArray(lines.vao);
+      gl.DrawArrays(GL_LINES, 0, lines.count);
+    }
+
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+    gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
+    gl.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo);
+    std::vector<uint8_t> rgba(static_cast<size_t>(w) * h * 4);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    if (GLenum e = gl.GetError(); e != GL_NO_ERROR) throw std::runtime_error(fmt::format("OpenGL error 0x{:x}", e));
+    Image img{w, h, std::vector<uint8_t>(static_cast<size_t>(w) * h * 3)};
+    for (int y = 0; y < h; ++y)  // OpenGL's rows start at the bottom
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) img.rgb[(static_cast<size_t>(y) * w + x) * 3 + c] = rgba[(static_cast<size_t>(h - 1 - y) * w + x) * 4 + c];
+    return img;
+  }
+};
+
+Renderer::Renderer(const Workcell& wc, const GeometryModel& geometry, const RenderOptions& options)
+    : impl_(std::make_unique<Impl>(wc, geometry, options)) {}
+Renderer::~Renderer() = default;
+
+Image Renderer::render(const Camera& camera, const ScenePose& pose) { return impl_->draw(camera, pose); }
+Image Renderer::render(const Camera& camera) { return impl_->draw(camera, ScenePose::of(impl_->geometry)); }
+const Eigen::AlignedBox3d& Renderer::bounds() const { return impl_->bounds; }
+std::string Renderer::gl_renderer() const { return impl_->context.renderer(); }
+
+}  // namespace sscs

@@ -1,0 +1,54 @@
+#pragma once
+/// The render stage: a workcell drawn offscreen (OSMesa, OpenGL 3.3 core) with shaders and
+/// vertex buffers uploaded once per mesh: lit shading (a directional key light and a sky/ground
+/// hemisphere), each object's or device part's colour, a ground grid and world axes, 4x MSAA.
+/// Objects that hold others (rooms, containers) are drawn from the inside (their near walls
+/// culled), so what they hold stays visible.
+#include <memory>
+#include <vector>
+
+#include "compile/workcell.h"
+#include "geometry/geometry.h"
+#include "render/camera.h"
+#include "render/image.h"
+
+namespace sscs {
+
+/// Where everything is in one frame: each object's world pose and, for devices, each part's
+/// pose in the object's frame. Starts as the geometry's own placement.
+struct ScenePose {
+  std::vector<Eigen::Isometry3d> X_world_object;
+  std::vector<std::vector<Eigen::Isometry3d>> X_object_part;
+  static ScenePose of(const GeometryModel& geometry);
+};
+
+struct RenderOptions {
+  int width = 1280, height = 720;
+  bool grid = true;  ///< ground grid and world axes
+  int samples = 4;   ///< MSAA samples (1: none)
+};
+
+class Renderer {
+ public:
+  /// Creates the context and uploads every mesh. Throws gl::RenderUnavailable (no OSMesa) or
+  /// std::runtime_error (a shader or framebuffer problem).
+  Renderer(const Workcell& wc, const GeometryModel& geometry, const RenderOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  Image render(const Camera& camera, const ScenePose& pose);
+  Image render(const Camera& camera);  ///< at the geometry's own placement
+  /// The scene's world bounds (for framing cameras).
+  const Eigen::AlignedBox3d& bounds() const;
+  std::string gl_renderer() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// "#RRGGBB" -> linear-light RGB in [0, 1] (sRGB decoded); grey for "".
+Eigen::Vector3f color_of(const std::string& hex);
+
+}  // namespace sscs

@@ -1,0 +1,108 @@
+// Offscreen rendering against camera geometry: where a box lands on the image, and that the
+// same scene renders to the same pixels twice.
+#include <algorithm>
+
+#include "render/camera.h"
+#include "render/renderer.h"
+#include "vault_fixture.h"
+
+namespace sscs::testing {
+namespace {
+
+using Render = VaultTest;
+
+const std::vector<std::pair<std::string, std::string>> kCube = {
+    {"cube", "sscs: 1\ntype: cube\ncolor: \"#FF0000\"\nattributes:\n  side: {type: length, default: 1}\n"
+             "geometry:\n  - box: {size: [side, side, side], xyz: [0, 0, \"side/2\"]}\n"}};
+
+struct Scene {
+  Workcell wc;
+  GeometryModel geometry;
+};
+
+Scene scene(VaultTest& t, const std::string& objects) {
+  t.options.library_dirs = {t.type_dir(kCube)};
+  Scene s{t.must_compile("objects:\n" + objects), {}};
+  s.geometry = build_geometry(s.wc, t.diag);
+  return s;
+}
+
+/// Bounds (x0, y0, x1, y1) of the pixels that are clearly red.
+Eigen::Vector4d red_bounds(const Image& img) {
+  Eigen::Vector4d b(1e9, 1e9, -1e9, -1e9);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* p = img.pixel(x, y);
+      if (p[0] > 100 && p[1] < 60 && p[2] < 60) b = Eigen::Vector4d(std::min(b[0], double(x)), std::min(b[1], double(y)),
+                                                                     std::max(b[2], double(x + 1)), std::max(b[3], double(y + 1)));
+    }
+  return b;
+}
+
+TEST(Camera, TargetProjectsToTheImageCentreAndUpIsUp) {
+  Camera c{{10, -10, 8}, {1, 2, 3}, 50};
+  Eigen::Vector2d centre = project_to_pixel(c, 640, 480, c.target);
+  EXPECT_NEAR(centre.x(), 320, 1e-9);
+  EXPECT_NEAR(centre.y(), 240, 1e-9);
+  // A point above the target is higher on the image (smaller y).
+  EXPECT_LT(project_to_pixel(c, 640, 480, c.target + Eigen::Vector3d(0, 0, 1)).y(), 240);
+  // fov: a point at the top edge of the view, by hand: the ray at fov/2 above the axis.
+  Camera level{{0, -10, 0}, {0, 0, 0}, 90};
+  EXPECT_NEAR(project_to_pixel(level, 640, 480, {0, 0, 10}).y(), 0, 1e-9);  // tan(45) * 10 m at 10 m
+}
+
+TEST(Camera, FramingKeepsEveryCornerInView) {
+  Eigen::AlignedBox3d box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(40, 10, 6));
+  Camera c = framing_camera(box, 45, 16.0 / 9);
+  for (int k = 0; k < 8; ++k) {
+    Eigen::Vector2d p = project_to_pixel(c, 1280, 720, box.corner(Eigen::AlignedBox3d::CornerType(k)));
+    EXPECT_GE(p.x(), 0);
+    EXPECT_LE(p.x(), 1280);
+    EXPECT_GE(p.y(), 0);
+    EXPECT_LE(p.y(), 720);
+  }
+}
+
+TEST_F(Render, BoxLandsOnThePixelsTheCameraPredicts) {
+  Scene s = scene(*this, "  - {type: cube, name: A, location: [1, 2, 0], side: 1.5}\n");
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.grid = false;
+  Renderer r(s.wc, s.geometry, o);
+  Camera cam{{6, -4, 5}, {1.5, 2.5, 0.5}, 40};
+  Image img = r.render(cam);
+  // The cube's eight corners through the same camera matrices.
+  Eigen::Vector4d expect(1e9, 1e9, -1e9, -1e9);
+  for (int k = 0; k < 8; ++k) {
+    // Centred on its location in x and y, standing on it.
+    Eigen::Vector3d corner(1 + 1.5 * ((k & 1) - 0.5), 2 + 1.5 * (((k >> 1) & 1) - 0.5), 1.5 * ((k >> 2) & 1));
+    Eigen::Vector2d p = project_to_pixel(cam, o.width, o.height, corner);
+    expect = Eigen::Vector4d(std::min(expect[0], p.x()), std::min(expect[1], p.y()), std::max(expect[2], p.x()),
+                             std::max(expect[3], p.y()));
+  }
+  Eigen::Vector4d got = red_bounds(img);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(got[k], expect[k], 2.0) << "edge " << k;
+  EXPECT_GT(expect[2] - expect[0], 40);  // a box of a good size, not a few pixels
+}
+
+TEST_F(Render, SameSceneSamePixelsAndPosesMoveObjects) {
+  Scene s = scene(*this, "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [3, 0, 0]}\n");
+  RenderOptions o;
+  o.width = 200;
+  o.height = 150;
+  Renderer r(s.wc, s.geometry, o);
+  Camera cam = framing_camera(r.bounds(), 45, 200.0 / 150);
+  Image a = r.render(cam), b = r.render(cam);
+  EXPECT_EQ(a.rgb, b.rgb);
+  ScenePose moved = ScenePose::of(s.geometry);
+  moved.X_world_object[1].translation().z() += 0.5;
+  EXPECT_NE(r.render(cam, moved).rgb, a.rgb);
+  // PNG round trip.
+  Image back = decode_png(encode_png(a));
+  EXPECT_EQ(back.width, a.width);
+  EXPECT_EQ(back.rgb, a.rgb);
+}
+
+}  // namespace
+}  // namespace sscs::testing
