@@ -22,6 +22,8 @@
 #include "simulate/simulate.h"
 #include "core/timer.h"
 #include "render/gl.h"
+#include "render/camera_path.h"
+#include "render/frames.h"
 #include "render/renderer.h"
 #include "report/compare.h"
 #include "core/files.h"
@@ -368,7 +370,8 @@ int run_render(const Common& common, const RenderArgs& args) {
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
-int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle) {
+int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle,
+                 bool no_frames) {
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
   if (!bundle.empty() && std::filesystem::path(bundle).extension() != ".zip") {
@@ -381,6 +384,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   std::optional<Workcell> wc;
   GeometryModel geometry;
   std::optional<Plan> plan;
+  CameraPath cameras;
   if (spec && !diag.has_errors()) {
     // The scenario's `set:` first; --set on the command line wins.
     std::vector<std::pair<std::string, std::string>> overrides;
@@ -390,6 +394,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
     wc = compile_file(spec->vault_path, options, sources, diag);
     if (wc) geometry = build_geometry(*wc, diag);
     if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
+    if (plan) cameras = compile_cameras(spec->cameras, *wc, diag);
   }
   if (diag.has_errors() || !plan) {
     std::cerr << diag.format(sources, common.color_for(stderr));
@@ -397,14 +402,41 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   }
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
   RunInputs inputs = collect_run_inputs(*spec, options.overrides, *wc, geometry, sources);
-  RunOptions run{out, bundle, spec->name, RunOptions::Progress::None, &inputs, &g_interrupted};
+  RunOptions run;
+  run.out_dir = out;
+  run.bundle = bundle;
+  run.scenario_name = spec->name;
+  run.inputs = &inputs;
+  run.interrupted = &g_interrupted;
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
   struct sigaction action = {}, old_int = {}, old_term = {};
   action.sa_handler = on_interrupt;
   sigaction(SIGINT, &action, &old_int);
   sigaction(SIGTERM, &action, &old_term);
+  run.work_dir = prepare_work_dir(run);
+  std::error_code ec;
+  std::unique_ptr<FrameRecorder> recorder;
   std::string error;
-  RunSummary summary = run_simulation(*wc, geometry, *plan, run, &error);
+  RunSummary summary;
+  try {
+    if (plan->settings.frames && !no_frames) {
+      RenderOptions ro;
+      ro.width = plan->settings.width;
+      ro.height = plan->settings.height;
+      recorder = std::make_unique<FrameRecorder>(*wc, geometry, cameras, ro, run.work_dir + "/frames");
+      run.frame_interval = 1.0 / plan->settings.fps;
+      run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
+      run.before_write = [&] {
+        recorder->finish();
+        return std::string();
+      };
+    }
+    summary = run_simulation(*wc, geometry, *plan, run, &error);
+  } catch (...) {
+    recorder.reset();
+    std::filesystem::remove_all(run.work_dir, ec);
+    throw;
+  }
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
   if (summary.interrupted) {
@@ -465,6 +497,8 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_option("SCENARIO", sim_scenario, "scenario file")->required();
     sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario> unless --bundle), replaced atomically");
     sim_cmd->add_option("--bundle", sim_bundle, "write the run as one zip archive too (or only, without --out)");
+    bool sim_no_frames = false;
+    sim_cmd->add_flag("--no-frames", sim_no_frames, "do not render the scenario's frames");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
@@ -492,7 +526,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     if (render_cmd->parsed()) return run_render(common, render_args);
     return kInputError;

@@ -332,6 +332,15 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
   return model;
 }
 
+ScenePose ScenePose::of(const GeometryModel& geometry) {
+  ScenePose p;
+  for (const ObjectGeometry& g : geometry.objects) {
+    p.X_world_object.push_back(g.X_world_object);
+    p.X_object_part.push_back(g.X_object_part);
+  }
+  return p;
+}
+
 void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object, const std::vector<Eigen::Isometry3d>* X_object_part) {
   const Eigen::Isometry3d move = X_world_object * g.X_world_object.inverse();
   std::vector<std::pair<std::string, Eigen::Isometry3d>> part_frames;

@@ -57,6 +57,15 @@ struct GeometryModel {
   std::vector<ObjectGeometry> objects;
 };
 
+/// Where everything is at one moment of a run: each object's world pose and, for devices, each
+/// part's pose in the object's frame (frames and replays are drawn from these).
+struct ScenePose {
+  std::vector<Eigen::Isometry3d> X_world_object;
+  std::vector<std::vector<Eigen::Isometry3d>> X_object_part;
+  /// The geometry's own placement.
+  static ScenePose of(const GeometryModel& geometry);
+};
+
 /// Moves an object's geometry to a new world pose and, for a device given `X_object_part`, its
 /// parts to new poses (its joint values now): shapes, bounds and frames follow. For simulations
 /// that re-check constraints during a motion; the object's children stay where they were.

@@ -104,15 +104,6 @@ Eigen::Vector3f color_of(const std::string& hex) {
   return c;
 }
 
-ScenePose ScenePose::of(const GeometryModel& geometry) {
-  ScenePose p;
-  for (const ObjectGeometry& g : geometry.objects) {
-    p.X_world_object.push_back(g.X_world_object);
-    p.X_object_part.push_back(g.X_object_part);
-  }
-  return p;
-}
-
 struct Renderer::Impl {
   RenderOptions options;
   gl::Context context;
@@ -161,17 +152,22 @@ struct Renderer::Impl {
     gl.DeleteVertexArrays(1, &m.vao);
   }
 
+  /// Throws with the info log when a shader's or program's status query says it failed.
+  template <typename GetIv, typename GetLog>
+  void require(GLuint object, GetIv get_iv, GetLog get_log, GLenum status, const char* what) {
+    GLint ok = 0;
+    get_iv(object, status, &ok);
+    if (ok) return;
+    char log[2048] = "";
+    get_log(object, sizeof log, nullptr, log);
+    throw std::runtime_error(fmt::format("{}: {}", what, log));
+  }
+
   GLuint shader(GLenum kind, const char* source) {
     GLuint s = gl.CreateShader(kind);
     gl.ShaderSource(s, 1, &source, nullptr);
     gl.CompileShader(s);
-    GLint ok = 0;
-    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048];
-      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-      throw std::runtime_error(fmt::format("shader does not compile: {}", log));
-    }
+    require(s, gl.GetShaderiv, gl.GetShaderInfoLog, GL_COMPILE_STATUS, "shader does not compile");
     return s;
   }
 
@@ -183,13 +179,7 @@ struct Renderer::Impl {
     gl.LinkProgram(p);
     gl.DeleteShader(vs);
     gl.DeleteShader(fs);
-    GLint ok = 0;
-    gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char log[2048];
-      gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-      throw std::runtime_error(fmt::format("shader program does not link: {}", log));
-    }
+    require(p, gl.GetProgramiv, gl.GetProgramInfoLog, GL_LINK_STATUS, "shader program does not link");
     return p;
   }
 

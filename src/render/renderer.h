@@ -14,14 +14,6 @@
 
 namespace sscs {
 
-/// Where everything is in one frame: each object's world pose and, for devices, each part's
-/// pose in the object's frame. Starts as the geometry's own placement.
-struct ScenePose {
-  std::vector<Eigen::Isometry3d> X_world_object;
-  std::vector<std::vector<Eigen::Isometry3d>> X_object_part;
-  static ScenePose of(const GeometryModel& geometry);
-};
-
 struct RenderOptions {
   int width = 1280, height = 720;
   bool grid = true;  ///< ground grid and world axes

@@ -1,5 +1,6 @@
 #include "simulate/simulate.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -108,6 +109,7 @@ class Run {
         record(t);
         observe(t);
       }
+      if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
       if (plan_.failure && plan_.failure->t <= t + dt / 2) {
         const PlanFailure& f = *plan_.failure;
         nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
@@ -148,10 +150,8 @@ class Run {
   /// Writes every output into a hidden temporary folder beside the target, then renames it
   /// (and/or packs it into the bundle): nothing under the requested names until complete.
   std::string write(const RunSummary& summary, std::string* error) {
-    fs::path target(options_.out_dir.empty() ? options_.bundle : options_.out_dir);
-    fs::path tmp = target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
+    fs::path tmp = options_.work_dir.empty() ? run_work_dir(options_) : options_.work_dir;
     std::error_code ec;
-    fs::remove_all(tmp, ec);
     auto put = [&](const std::string& rel, const std::string& text) {
       if (!error->empty()) return;
       fs::path p = tmp / rel;
@@ -315,6 +315,19 @@ class Run {
         dr.lagging = false;
       }
     }
+  }
+
+  /// Where everything is now, for frames.
+  ScenePose scene_pose() const {
+    ScenePose p = ScenePose::of(geometry_);
+    for (const DeviceRun& dr : devices_) {
+      const Eigen::Isometry3d X_object_world = geometry_.objects[dr.object].X_world_object.inverse();
+      auto& parts = p.X_object_part[dr.object];
+      for (size_t k = 0; k < parts.size(); ++k) parts[k] = X_object_world * world_.part_pose(dr.object, static_cast<int>(k));
+    }
+    for (size_t o = 0; o < wc_.objects.size(); ++o)
+      if (world_.dynamic(static_cast<int>(o))) p.X_world_object[o] = world_.pose(static_cast<int>(o));
+    return p;
   }
 
   /// Parts that a joint moves: clearances of the others are the design's, not the motion's.
@@ -574,6 +587,7 @@ class Run {
   bool failed_ = false;
   bool interrupted_ = false;
   size_t current_step_ = 0;
+  int frames_ = 0;
   std::string current_action_;
   // Clearances: per (moving object, other object) the closest approach seen.
   struct Seen {
@@ -594,11 +608,37 @@ class Run {
 
 }  // namespace
 
+std::string run_work_dir(const RunOptions& options) {
+  fs::path target(options.out_dir.empty() ? options.bundle : options.out_dir);
+  return (target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid())).string();
+}
+
+std::string prepare_work_dir(const RunOptions& options) {
+  const fs::path dir = run_work_dir(options);
+  const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
+  const std::string stem = dir.filename().string().substr(0, dir.filename().string().rfind('-') + 1);  // ".NAME.tmp-"
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(parent, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (!name.starts_with(stem)) continue;
+    char* end = nullptr;
+    long pid = std::strtol(name.c_str() + stem.size(), &end, 10);
+    if (*end == '\0' && pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(it->path(), ec);
+  }
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(fmt::format("cannot create '{}': {}", dir.string(), ec.message()));
+  return dir.string();
+}
+
 RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
                           std::string* error) {
   Run run(wc, geometry, plan, options);
   RunSummary summary = run.run();
-  if (!summary.interrupted && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, error);
+  if (!summary.interrupted && options.before_write) *error = options.before_write();
+  if (!summary.interrupted && error->empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, error);
+  std::error_code ec;
+  if (summary.interrupted || !error->empty()) fs::remove_all(options.work_dir.empty() ? run_work_dir(options) : options.work_dir, ec);
   return summary;
 }
 

@@ -5,6 +5,7 @@
 /// summary.json, events.jsonl, trajectories/<device>.csv and objects.csv into a folder that
 /// appears under its final name only when complete.
 #include <csignal>
+#include <functional>
 #include <string>
 
 #include "compile/workcell.h"
@@ -35,10 +36,27 @@ struct RunOptions {
   const RunInputs* inputs = nullptr;  ///< their digests go in summary.json, resolved/ in the run
   /// Set (by a signal handler) to stop the run: then nothing is written.
   const volatile std::sig_atomic_t* interrupted = nullptr;
+  /// Called for frame n at the first step at or after n * frame_interval of simulated time,
+  /// with where everything is then (frame_interval 0: no frames).
+  std::function<void(int n, double t, const ScenePose& pose)> on_frame;
+  double frame_interval = 0;
+  /// Called when the simulation is over, before the outputs are written (frames flushed);
+  /// returns an error message or "".
+  std::function<std::string()> before_write;
+  /// The folder the outputs are assembled in before they are moved into place; "" for
+  /// run_work_dir(*this). A frame sink writes into it too.
+  std::string work_dir;
 };
 
+/// The hidden temporary folder beside the run's target: ".NAME.tmp-PID".
+std::string run_work_dir(const RunOptions& options);
+/// Creates run_work_dir(options) empty, first removing the work folders that killed runs of the
+/// same target left behind (their process is gone). Returns its path; throws on failure.
+std::string prepare_work_dir(const RunOptions& options);
+
 /// Runs the plan and writes its outputs. Returns the summary; `error` is set when the output
-/// could not be written (then nothing is left under the requested names).
+/// could not be written (then nothing is left under the requested names, and the work folder
+/// is removed, as it is when the run is interrupted).
 RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
                           std::string* error);
 

@@ -14,6 +14,7 @@
 """
 import argparse
 import json
+import shutil
 import os
 import shlex
 import subprocess
@@ -200,15 +201,29 @@ def simulate(sscs, root):
             for j, (lo, hi) in limits.items():
                 if not lo - 0.1 <= values[j] <= hi + 0.1:
                     fail(f"{j} = {values[j]} outside [{lo}, {hi}] at t = {values['t']}")
-        # A second run gives the same bytes.
+        # Frames at record.frames.fps (15) of simulated time: duration x fps + 1 of them, listed
+        # with their times in frames/index.csv.
+        index = open(os.path.join(out, "frames", "index.csv")).read().splitlines()
+        frames = sorted(f for f in os.listdir(os.path.join(out, "frames")) if f.endswith(".png"))
+        expected = int(summary["simulated_time"] * 15 + 1e-9) + 1
+        if len(frames) != expected or len(index) != expected + 1 or index[1] != "0,0.0000,frame_000000.png" or \
+                frames[-1] != f"frame_{expected - 1:06d}.png":
+            fail(f"{len(frames)} frames, {len(index) - 1} indexed, expected {expected}")
+        for row in index[1:]:
+            n, t, _ = row.split(",")
+            if not int(n) / 15 - 0.0005 <= float(t) < int(n) / 15 + 0.001:
+                fail(f"frame {n} drawn at {t} s")
+        # A second run gives the same bytes, frames too.
         again = os.path.join(tmp, "again")
         run(sscs, root, ["simulate", arm, "--out", again, "--quiet"])
-        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv"]:
+        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv", "frames/index.csv"] + \
+                [f"frames/{f}" for f in frames]:
             if open(os.path.join(out, f), "rb").read() != open(os.path.join(again, f), "rb").read():
                 fail(f"{f} differs between two runs")
         # The rerun from resolved/ gives the same bytes, and its resolved/ is the same again.
         rerun = os.path.join(tmp, "rerun")
-        p = run(sscs, tmp, ["simulate", os.path.join(out, "resolved", "scenario.yaml"), "--out", rerun, "--quiet"])
+        p = run(sscs, tmp, ["simulate", os.path.join(out, "resolved", "scenario.yaml"), "--out", rerun, "--quiet",
+                            "--no-frames"])
         if p.returncode != 0:
             fail("rerun from resolved/", p)
         for f in ["events.jsonl", "trajectories/Robot.csv", "objects.csv", "resolved/vault.yaml", "resolved/scenario.yaml"]:
@@ -238,7 +253,7 @@ def simulate(sscs, root):
         import zipfile
         bundles = [os.path.join(tmp, f"b{i}.zip") for i in (1, 2)]
         for b in bundles:
-            p = run(sscs, root, ["simulate", arm, "--bundle", b, "--quiet"])
+            p = run(sscs, root, ["simulate", arm, "--bundle", b, "--quiet", "--no-frames"])
             if p.returncode != 0 or os.path.exists(os.path.join(root, "run-arm-loads-drum")):
                 fail("--bundle alone writes the bundle only", p)
         if open(bundles[0], "rb").read() != open(bundles[1], "rb").read():
@@ -311,9 +326,16 @@ def simulate(sscs, root):
                 fail(f"a run stopped by signal {int(sig)} left {out}")
             if sig == signal.SIGINT and code != 130:
                 fail(f"an interrupted run exits 130, not {code}")
-        left = [f for f in os.listdir(tmp) if f.startswith(".")]
+        left = [f for f in os.listdir(tmp) if f.startswith(".") and "killed-9" not in f]
         if left:
             fail(f"an interrupted run left temporary files: {left}")
+        # A killed run cannot clean up its hidden work folder; the next run to that name does.
+        run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", os.path.join(tmp, "killed-9"),
+                         "--quiet"])
+        left = [f for f in os.listdir(tmp) if f.startswith(".")]
+        if left:
+            fail(f"the killed run's work folder is still there: {left}")
+        shutil.rmtree(os.path.join(tmp, "killed-9"))
         # An unreachable target fails the run promptly, exit 1, with the event.
         out = os.path.join(tmp, "unreachable")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", out, "--quiet"])

@@ -1,0 +1,62 @@
+#pragma once
+/// Frames of a run: rendered on the simulation's thread at the frame times, encoded to PNG and
+/// written on a small thread pool while the simulation goes on. The queue between them is
+/// bounded, so memory stays flat however long the run.
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "render/camera_path.h"
+#include "render/renderer.h"
+
+namespace sscs {
+
+struct FrameStats {
+  int frames = 0;
+  double render_s = 0;   ///< drawing and reading back, on the simulation's thread
+  double encode_s = 0;   ///< PNG encoding and writing, summed over the workers
+  double wait_s = 0;     ///< the simulation waiting for a full queue
+};
+
+class FrameRecorder {
+ public:
+  /// Frames go to `dir/frame_NNNNNN.png`, their times to `dir/index.csv` (at finish()).
+  FrameRecorder(const Workcell& wc, const GeometryModel& geometry, CameraPath cameras, const RenderOptions& options,
+                std::string dir, int threads = 2, size_t queue = 4);
+  ~FrameRecorder();
+  FrameRecorder(const FrameRecorder&) = delete;
+  FrameRecorder& operator=(const FrameRecorder&) = delete;
+
+  /// Renders frame `n` of the state at simulated time `t`.
+  void frame(int n, double t, const ScenePose& pose);
+  /// Waits for the queue to drain and writes index.csv. Rethrows a worker's error (a full disk).
+  FrameStats finish();
+  /// The camera at time t (the view sequence of the run).
+  Camera camera_at(double t, const ScenePose& pose) const;
+
+ private:
+  void work();
+  struct Job {
+    int n;
+    Image image;
+  };
+  Renderer renderer_;
+  CameraPath cameras_;
+  double aspect_;
+  std::string dir_;
+  size_t capacity_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Job> queue_;
+  bool closing_ = false;
+  std::exception_ptr error_;
+  std::vector<std::thread> workers_;
+  std::vector<std::pair<int, double>> index_;
+  FrameStats stats_;
+};
+
+}  // namespace sscs
