@@ -92,8 +92,10 @@ CameraPath compile_cameras(const std::vector<CameraKeySpec>& specs, const Workce
         k.radius = *r;
         if (!(k.radius > 0)) diag.error(s.radius.mark, fmt::format("orbit radius must be positive, found {}", s.radius.text));
       }
-      if (auto a = literal_si(s.azimuth, Dim::Angle, "azimuth", diag)) k.azimuth = *a;
-      if (auto e = literal_si(s.elevation, Dim::Angle, "elevation", diag)) k.elevation = *e;
+      if (s.azimuth.present)
+        if (auto a = literal_si(s.azimuth, Dim::Angle, "azimuth", diag)) k.azimuth = *a;
+      if (s.elevation.present)
+        if (auto e = literal_si(s.elevation, Dim::Angle, "elevation", diag)) k.elevation = *e;
     } else {
       k.eye = vec(s.eye, "camera eye");
       k.target = vec(s.target, "camera target");

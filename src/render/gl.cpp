@@ -2,6 +2,9 @@
 
 #include <dlfcn.h>
 
+#include <cstdlib>
+#include <vector>
+
 #include <fmt/format.h>
 
 namespace sscs::gl {
@@ -28,8 +31,11 @@ struct OsMesa {
 const OsMesa& osmesa() {
   static const OsMesa lib = [] {
     OsMesa m;
-    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"})
-      if ((m.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+    // $SSCS_OSMESA names the library to use instead (another Mesa build; tests of its absence).
+    std::vector<std::string> names = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
+    if (const char* chosen = std::getenv("SSCS_OSMESA")) names = {chosen};
+    for (const std::string& name : names)
+      if ((m.lib = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL))) break;
     if (!m.lib) return m;
     m.create = reinterpret_cast<CreateContextAttribs>(dlsym(m.lib, "OSMesaCreateContextAttribs"));
     m.make_current = reinterpret_cast<MakeCurrent>(dlsym(m.lib, "OSMesaMakeCurrent"));
@@ -45,9 +51,10 @@ const OsMesa& osmesa() {
 Context::Context(int width, int height) {
   const OsMesa& m = osmesa();
   if (!m.lib)
-    throw RenderUnavailable(
-        "rendering needs OSMesa (libOSMesa.so.8, Debian package libosmesa6), which is not installed; "
-        "install it or run without frames (--no-frames)");
+    throw RenderUnavailable(fmt::format(
+        "rendering needs OSMesa ({}, Debian package libosmesa6), which cannot be loaded: {}; install it, or "
+        "simulate with --no-frames",
+        std::getenv("SSCS_OSMESA") ? std::getenv("SSCS_OSMESA") : "libOSMesa.so.8", dlerror()));
   if (!m.create || !m.make_current || !m.destroy || !m.proc)
     throw RenderUnavailable("the installed libOSMesa lacks OSMesaCreateContextAttribs (Mesa 11.2 or later is needed)");
   const int attribs[] = {kOsmesaFormat, 0x1908 /* GL_RGBA */, kOsmesaDepthBits, 24, kOsmesaStencilBits, 0,

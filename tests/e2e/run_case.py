@@ -346,11 +346,107 @@ def simulate(sscs, root):
     print("ok simulate")
 
 
+def read_png(path):
+    """(width, height, rows of RGB bytes) of an 8-bit RGB PNG, without third-party modules."""
+    import struct
+    import zlib
+    data = open(path, "rb").read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        fail(f"{path} is not a PNG")
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, color = struct.unpack(">IIBB", body[:10])
+            if depth != 8 or color != 2:
+                fail(f"{path}: expected 8-bit RGB, found depth {depth} colour type {color}")
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride, rows, prev = zlib.decompress(idat), w * 3, [], bytearray(w * 3)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - 3] if i >= 3 else 0
+            b, c = prev[i], prev[i - 3] if i >= 3 else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, rows
+
+
+def write_png(path, w, h, rows):
+    import struct
+    import zlib
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xffffffff)
+    raw = b"".join(b"\x00" + r for r in rows)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                           chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def compare_image(path, golden_path, threshold=2.0):
+    """Mean absolute difference per channel (0-255) below `threshold`; on failure a diff image
+    (differences x4) is written beside the output and named in the message."""
+    if os.environ.get("SSCS_UPDATE_GOLDEN"):
+        shutil.copyfile(path, golden_path)
+        return
+    w, h, got = read_png(path)
+    gw, gh, want = read_png(golden_path)
+    if (w, h) != (gw, gh):
+        fail(f"{path} is {w}x{h}, the golden {golden_path} {gw}x{gh}")
+    total = sum(abs(a - b) for r1, r2 in zip(got, want) for a, b in zip(r1, r2))
+    mad = total / (w * h * 3)
+    if mad >= threshold:
+        diff = os.path.join(os.environ.get("TMPDIR", "/tmp"), os.path.basename(golden_path).replace(".png", "-diff.png"))
+        write_png(diff, w, h, [bytes(min(255, 4 * abs(a - b)) for a, b in zip(r1, r2)) for r1, r2 in zip(got, want)])
+        fail(f"{path} differs from {golden_path}: mean absolute difference {mad:.2f} >= {threshold} (diff: {diff})")
+
+
+def render(sscs, root):
+    """sscs render: a still of the demo vault against its golden image, with no display; the
+    same still twice; a missing OSMesa is exit 3 with nothing written."""
+    import tempfile
+    env = {"DISPLAY": ""}
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "demo.png")
+        p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", out, "--size", "480x270"], env=env)
+        if p.returncode != 0 or "wrote" not in p.stdout:
+            fail("render of the demo vault", p)
+        compare_image(out, os.path.join(root, "tests/golden/demo_render.png"))
+        again = os.path.join(tmp, "again.png")
+        run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", again, "--size", "480x270"], env=env)
+        if open(out, "rb").read() != open(again, "rb").read():
+            fail("two renders of the same vault differ")
+        # An explicit camera: the cell from above looks different from the default view.
+        top = os.path.join(tmp, "top.png")
+        p = run(sscs, root, ["render", "scenarios/drum-transfer/cell.yaml", "--out", top, "--size", "320x240",
+                             "--eye", "5,4,15", "--target", "5,4,0", "--fov", "60"], env=env)
+        if p.returncode != 0 or read_png(top)[:2] != (320, 240):
+            fail("render with --eye/--target/--fov/--size", p)
+        missing = os.path.join(tmp, "missing.png")
+        p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", missing],
+                env=dict(env, SSCS_OSMESA="/nonexistent/libOSMesa.so"))
+        if p.returncode != 3 or "rendering needs OSMesa" not in p.stderr or os.path.exists(missing):
+            fail("a missing OSMesa: exit 3 with a clear message", p)
+    print("ok render")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
@@ -359,6 +455,8 @@ def main():
         bad(a.sscs, a.root, a.file)
     elif a.mode == "simulate":
         simulate(a.sscs, a.root)
+    elif a.mode == "render":
+        render(a.sscs, a.root)
     else:
         cli(a.sscs, a.root)
 
