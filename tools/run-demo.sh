@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, checks the demo vault and simulates the arm loading a drum;
+# Installs what is missing, builds, checks and renders the demo vault and simulates (and films) the arm loading a drum;
 # prints where the reports and the run's logs are.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,6 +16,7 @@ status=0
 "$sscs" check scenarios/demo/demo.yaml --format json --out "$out/report.json" --quiet || true
 "$sscs" check scenarios/demo/demo.yaml --format junit --out "$out/report.xml" --quiet || true
 "$sscs" export scenarios/demo/demo.yaml --out "$out/demo.glb" --quiet
+"$sscs" render scenarios/demo/demo.yaml --out "$out/demo.png" --quiet
 echo
 echo "== sscs simulate scenarios/drum-transfer/arm-loads-drum.yaml"
 "$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" --quiet
@@ -24,4 +25,6 @@ echo
 echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
 echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
 echo "3D model: $out/demo.glb (open in Blender or any glTF viewer)"
+echo "still image: $out/demo.png"
 echo "simulation run: $out/arm-loads-drum/ (summary.json, events.jsonl, trajectories/Robot.csv, objects.csv; rerun it with sscs simulate $out/arm-loads-drum/resolved/scenario.yaml)"
+echo "run frames: $out/arm-loads-drum/frames/ (frame_000000.png ... and index.csv)"
