@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "render/camera.h"
+#include "render/camera_path.h"
 #include "render/renderer.h"
 #include "vault_fixture.h"
 
@@ -61,6 +62,44 @@ TEST(Camera, FramingKeepsEveryCornerInView) {
     EXPECT_GE(p.y(), 0);
     EXPECT_LE(p.y(), 720);
   }
+}
+
+TEST(CameraPath, EasedLinesAndOrbitSweepsAgainstHandValues) {
+  CameraKey a, b, c, d;
+  a.t = 0, a.eye = {10, 0, 0}, a.target = {0, 0, 0}, a.fov = 40;
+  b.t = 2, b.eye = {0, 10, 4}, b.target = {0, 0, 2}, b.fov = 60;
+  c.t = 4, c.orbit = true, c.orbit_point = {1, 1, 0}, c.radius = 5, c.azimuth = 0, c.elevation = 0;
+  d.t = 8, d.orbit = true, d.orbit_point = {1, 1, 0}, d.radius = 5, d.azimuth = M_PI, d.elevation = 0, d.fov = 45;
+  CameraPath path({a, b, c, d});
+  ScenePose none;
+  Eigen::AlignedBox3d box;
+  // Halfway between a and b: smoothstep(0.5) = 0.5, the midpoint.
+  Camera m = path.at(1, none, box, 1.5);
+  EXPECT_TRUE(m.eye.isApprox(Eigen::Vector3d(5, 5, 2)));
+  EXPECT_TRUE(m.target.isApprox(Eigen::Vector3d(0, 0, 1)));
+  EXPECT_NEAR(m.fov, 50, 1e-12);
+  // A quarter of the way: smoothstep(0.25) = 0.15625.
+  EXPECT_TRUE(path.at(0.5, none, box, 1.5).eye.isApprox(Eigen::Vector3d(10 - 10 * 0.15625, 10 * 0.15625, 4 * 0.15625)));
+  // Orbit to orbit about the same point: the azimuth sweeps, the radius stays 5 (not a chord).
+  Camera q = path.at(6, none, box, 1.5);  // halfway: azimuth pi/2
+  EXPECT_TRUE(q.eye.isApprox(Eigen::Vector3d(1, 6, 0), 1e-12));
+  EXPECT_TRUE(q.target.isApprox(Eigen::Vector3d(1, 1, 0)));
+  EXPECT_NEAR((path.at(5, none, box, 1.5).eye - Eigen::Vector3d(1, 1, 0)).norm(), 5, 1e-12);
+  // Holds before the first key and after the last.
+  EXPECT_TRUE(path.at(-1, none, box, 1.5).eye.isApprox(a.eye));
+  EXPECT_TRUE(path.at(99, none, box, 1.5).eye.isApprox(Eigen::Vector3d(-4, 1, 0), 1e-12));
+  EXPECT_NEAR(path.at(99, none, box, 1.5).fov, 45, 1e-12);
+}
+
+TEST(CameraPath, OrbitFollowsItsObject) {
+  CameraKey k;
+  k.orbit = true, k.orbit_object = 0, k.radius = 2, k.azimuth = M_PI / 2, k.elevation = 0;
+  CameraPath path({k});
+  ScenePose pose;
+  pose.X_world_object = {Eigen::Isometry3d(Eigen::Translation3d(3, 4, 1))};
+  Camera c = path.at(0, pose, {}, 1);
+  EXPECT_TRUE(c.target.isApprox(Eigen::Vector3d(3, 4, 1)));
+  EXPECT_TRUE(c.eye.isApprox(Eigen::Vector3d(3, 6, 1), 1e-12));
 }
 
 TEST_F(Render, BoxLandsOnThePixelsTheCameraPredicts) {
