@@ -426,8 +426,12 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
       recorder = std::make_unique<FrameRecorder>(*wc, geometry, cameras, ro, run.work_dir + "/frames");
       run.frame_interval = 1.0 / plan->settings.fps;
       run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
+      run.on_step_end = [&](const PlannedStep& ps, double t, const ScenePose& pose) {
+        std::string who = ps.device >= 0 ? " " + wc->objects[ps.device].name : "";
+        recorder->step_end(ps.index, fmt::format("{}. {}{}  t = {:.2f} s", ps.index + 1, ps.kind, who, t), t, pose);
+      };
       run.before_write = [&] {
-        recorder->finish();
+        recorder->finish(run.work_dir + "/contact_sheet.png");
         return std::string();
       };
     }

@@ -16,7 +16,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 FrameRecorder::FrameRecorder(const Workcell& wc, const GeometryModel& geometry, CameraPath cameras,
                              const RenderOptions& options, std::string dir, int threads, size_t queue)
     : renderer_(wc, geometry, options), cameras_(std::move(cameras)), aspect_(double(options.width) / options.height),
-      dir_(std::move(dir)), capacity_(std::max<size_t>(1, queue)) {
+      dir_(std::move(dir)), capacity_(std::max<size_t>(1, queue)), font_(default_font_path(), 15) {
   std::filesystem::create_directories(dir_);
   for (int i = 0; i < std::max(1, threads); ++i) workers_.emplace_back([this] { work(); });
 }
@@ -47,6 +47,12 @@ void FrameRecorder::frame(int n, double t, const ScenePose& pose) {
   changed_.notify_all();
 }
 
+void FrameRecorder::step_end(size_t index, const std::string& label, double t, const ScenePose& pose) {
+  auto t0 = Clock::now();
+  thumbs_[index] = {downscale(renderer_.render(camera_at(t, pose), pose), 320), label};
+  stats_.render_s += since(t0);
+}
+
 void FrameRecorder::work() {
   for (;;) {
     Job job;
@@ -75,7 +81,7 @@ void FrameRecorder::work() {
   }
 }
 
-FrameStats FrameRecorder::finish() {
+FrameStats FrameRecorder::finish(const std::string& contact_sheet_path) {
   {
     std::lock_guard lock(mutex_);
     closing_ = true;
@@ -90,6 +96,13 @@ FrameStats FrameRecorder::finish() {
   f << csv;
   if (!f) throw std::runtime_error(fmt::format("cannot write '{}/index.csv'", dir_));
   stats_.frames = static_cast<int>(index_.size());
+  if (!thumbs_.empty()) {
+    std::vector<Thumbnail> thumbs;
+    for (auto& [i, t] : thumbs_) thumbs.push_back(std::move(t));
+    std::ofstream sheet(contact_sheet_path, std::ios::binary);
+    sheet << encode_png(contact_sheet(thumbs, font_));
+    if (!sheet) throw std::runtime_error(fmt::format("cannot write '{}'", contact_sheet_path));
+  }
   return stats_;
 }
 

@@ -5,12 +5,15 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "render/camera_path.h"
+#include "render/contact_sheet.h"
+#include "render/text.h"
 #include "render/renderer.h"
 
 namespace sscs {
@@ -33,8 +36,12 @@ class FrameRecorder {
 
   /// Renders frame `n` of the state at simulated time `t`.
   void frame(int n, double t, const ScenePose& pose);
-  /// Waits for the queue to drain and writes index.csv. Rethrows a worker's error (a full disk).
-  FrameStats finish();
+  /// A thumbnail for the contact sheet: the state when step `index` ended (a later call for the
+  /// same index replaces it: a parallel group ends with its last member).
+  void step_end(size_t index, const std::string& label, double t, const ScenePose& pose);
+  /// Waits for the queue to drain, writes index.csv and, when any step ended, the contact sheet
+  /// to `contact_sheet`. Rethrows a worker's error (a full disk).
+  FrameStats finish(const std::string& contact_sheet);
   /// The camera at time t (the view sequence of the run).
   Camera camera_at(double t, const ScenePose& pose) const;
 
@@ -56,6 +63,8 @@ class FrameRecorder {
   std::exception_ptr error_;
   std::vector<std::thread> workers_;
   std::vector<std::pair<int, double>> index_;
+  std::map<size_t, Thumbnail> thumbs_;
+  Font font_;
   FrameStats stats_;
 };
 

@@ -103,6 +103,7 @@ class Run {
         if (started[i] && !ended[i] && ps.end <= t + dt / 2) {
           ended[i] = 1;
           step_event(t, "step_end", ps);
+          if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
         }
       }
       if (k % every == 0) {

@@ -40,6 +40,8 @@ struct RunOptions {
   /// with where everything is then (frame_interval 0: no frames).
   std::function<void(int n, double t, const ScenePose& pose)> on_frame;
   double frame_interval = 0;
+  /// Called when a step ends (with frames: the contact sheet's thumbnails).
+  std::function<void(const PlannedStep& step, double t, const ScenePose& pose)> on_step_end;
   /// Called when the simulation is over, before the outputs are written (frames flushed);
   /// returns an error message or "".
   std::function<std::string()> before_write;

@@ -213,10 +213,20 @@ def simulate(sscs, root):
             n, t, _ = row.split(",")
             if not int(n) / 15 - 0.0005 <= float(t) < int(n) / 15 + 0.001:
                 fail(f"frame {n} drawn at {t} s")
+        # The contact sheet: one labelled thumbnail (320 px wide) per step end, four to a row:
+        # ten steps, three rows.
+        w, h, rows = read_png(os.path.join(out, "contact_sheet.png"))
+        if (w, h) != (10 + 4 * 330, 10 + 3 * (180 + 26 + 10)):
+            fail(f"contact sheet {w}x{h}")
+        # Labels are drawn in dark ink under each thumbnail (FreeType).
+        label = rows[10 + 180 + 4: 10 + 180 + 22]
+        if not any(min(r[i] for i in range(0, 3 * 200)) < 80 for r in label):
+            fail("no label text under the first thumbnail")
         # A second run gives the same bytes, frames too.
         again = os.path.join(tmp, "again")
         run(sscs, root, ["simulate", arm, "--out", again, "--quiet"])
-        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv", "frames/index.csv"] + \
+        for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv", "frames/index.csv",
+                  "contact_sheet.png"] + \
                 [f"frames/{f}" for f in frames]:
             if open(os.path.join(out, f), "rb").read() != open(os.path.join(again, f), "rb").read():
                 fail(f"{f} differs between two runs")

@@ -4,6 +4,8 @@
 
 #include "render/camera.h"
 #include "render/camera_path.h"
+#include "render/contact_sheet.h"
+#include "render/text.h"
 #include "render/renderer.h"
 #include "vault_fixture.h"
 
@@ -141,6 +143,30 @@ TEST_F(Render, SameSceneSamePixelsAndPosesMoveObjects) {
   Image back = decode_png(encode_png(a));
   EXPECT_EQ(back.width, a.width);
   EXPECT_EQ(back.rgb, a.rgb);
+}
+
+TEST(ContactSheet, DownscaleAveragesAndLabelsAreInked) {
+  Image img{4, 2, std::vector<uint8_t>(4 * 2 * 3, 0)};
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y)
+      for (int k = 0; k < 3; ++k) img.rgb[(y * 4 + x) * 3 + k] = 200;  // left half light
+  Image half = downscale(img, 2);
+  ASSERT_EQ(half.width, 2);
+  ASSERT_EQ(half.height, 1);
+  EXPECT_EQ(half.pixel(0, 0)[0], 200);
+  EXPECT_EQ(half.pixel(1, 0)[0], 0);
+  Font font(default_font_path(), 20);
+  EXPECT_GT(font.width("step 1"), font.width("1"));
+  Image canvas{200, 40, std::vector<uint8_t>(200 * 40 * 3, 255)};
+  const uint8_t ink[3] = {0, 0, 0};
+  font.draw(canvas, 5, 30, "Hello", ink);
+  int dark = 0, x_max = 0;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 200; ++x)
+      if (canvas.pixel(x, y)[0] < 128) ++dark, x_max = std::max(x_max, x);
+  EXPECT_GT(dark, 40);
+  EXPECT_LE(x_max, 5 + font.width("Hello"));  // the ink stays within the advance
+  EXPECT_THROW(Font("/nonexistent.ttf", 12), std::runtime_error);
 }
 
 }  // namespace
