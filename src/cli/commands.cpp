@@ -5,6 +5,7 @@
 #include <csignal>
 
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <map>
 #include <iostream>
@@ -25,6 +26,7 @@
 #include "render/camera_path.h"
 #include "render/frames.h"
 #include "render/renderer.h"
+#include "render/replay.h"
 #include "report/compare.h"
 #include "core/files.h"
 #include "report/report.h"
@@ -298,6 +300,46 @@ int run_export(const Common& common, const std::string& vault, const std::string
 
 }  // namespace
 
+/// "WIDTHxHEIGHT" within 16..8192; false (with the message printed) otherwise.
+bool parse_size(const std::string& text, int& width, int& height) {
+  char tail;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &tail) == 2 && width >= 16 && height >= 16 && width <= 8192 &&
+      height <= 8192)
+    return true;
+  std::cerr << fmt::format("sscs: error: --size expects WIDTHxHEIGHT between 16 and 8192, found '{}'\n", text);
+  return false;
+}
+
+/// A scenario loaded, its vault compiled with the overrides (the scenario's `set:`, then
+/// --set), planned, and its cameras (or a camera file's) compiled. Input errors are in `diag`.
+struct PreparedScenario {
+  Sources sources;
+  Diagnostics diag;
+  std::optional<ScenarioSpec> spec;
+  std::optional<Workcell> wc;
+  GeometryModel geometry;
+  std::optional<Plan> plan;
+  CameraPath cameras;
+  std::vector<std::pair<std::string, std::string>> overrides;  ///< in force, in order
+
+  bool prepare(const std::string& path, const CompileOptions& base, const std::string& camera_file = "") {
+    spec = load_scenario(path, sources, diag);
+    if (!spec || diag.has_errors()) return false;
+    CompileOptions options = base;
+    for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
+    overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
+    options.overrides = overrides;
+    wc = compile_file(spec->vault_path, options, sources, diag);
+    if (wc) geometry = build_geometry(*wc, diag);
+    if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
+    std::vector<CameraKeySpec> keys = spec->cameras;
+    if (!camera_file.empty())
+      if (auto file = load_cameras(camera_file, sources, diag)) keys = *file;
+    if (plan && !diag.has_errors()) cameras = compile_cameras(keys, *wc, diag);
+    return plan && !diag.has_errors();
+  }
+};
+
 struct RenderArgs {
   std::string vault, out, eye, target, size = "1280x720";
   double fov = 45;
@@ -314,12 +356,7 @@ bool parse_vec3(const std::string& text, Eigen::Vector3d& v) {
 
 int run_render(const Common& common, const RenderArgs& args) {
   int width = 0, height = 0;
-  char tail;
-  if (std::sscanf(args.size.c_str(), "%dx%d%c", &width, &height, &tail) != 2 || width < 16 || height < 16 ||
-      width > 8192 || height > 8192) {
-    std::cerr << fmt::format("sscs: error: --size expects WIDTHxHEIGHT between 16 and 8192, found '{}'\n", args.size);
-    return kInputError;
-  }
+  if (!parse_size(args.size, width, height)) return kInputError;
   if (std::filesystem::path(args.out).extension() != ".png") {
     std::cerr << fmt::format("sscs: error: --out expects a .png file, found '{}'\n", args.out);
     return kInputError;
@@ -367,6 +404,72 @@ int run_render(const Common& common, const RenderArgs& args) {
   return kOk;
 }
 
+struct ReplayArgs {
+  std::string run, out, camera, size;
+};
+
+/// `sscs replay RUN --out DIR [--camera FILE] [--size WxH]`: the run's frames drawn again from
+/// its logs (at the run's frame times, or every 1/fps of its duration), with its own cameras or
+/// those of a camera file. Written to a hidden folder and renamed when complete.
+int run_replay(const Common& common, const ReplayArgs& args) {
+  namespace fs = std::filesystem;
+  const std::string scenario = (fs::path(args.run) / "resolved" / "scenario.yaml").string();
+  if (!fs::is_regular_file(scenario)) {
+    std::cerr << fmt::format("sscs: error: {}: not a run folder (expected {})\n", args.run, scenario);
+    return kInputError;
+  }
+  CompileOptions options;
+  if (!common.overrides(options)) return kInputError;
+  PreparedScenario ps;
+  if (!ps.prepare(scenario, options, args.camera)) {
+    std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
+    return kInputError;
+  }
+  const Workcell& wc = *ps.wc;
+  const Plan& plan = *ps.plan;
+  RenderOptions ro;
+  ro.width = plan.settings.width;
+  ro.height = plan.settings.height;
+  if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
+  std::string error;
+  auto recorded = RecordedRun::read(args.run, wc, ps.geometry, &error);
+  if (!recorded) {
+    std::cerr << "sscs: error: " << error << "\n";
+    return kInputError;
+  }
+  // The run's own frame times when it recorded frames; else every 1/fps of its duration.
+  std::vector<double> times;
+  if (std::ifstream index(fs::path(args.run) / "frames" / "index.csv"); index) {
+    std::string line;
+    std::getline(index, line);
+    while (std::getline(index, line)) times.push_back(std::stod(line.substr(line.find(',') + 1)));
+  } else {
+    for (int n = 0; n <= static_cast<int>(recorded->duration() * plan.settings.fps + 1e-9); ++n)
+      times.push_back(static_cast<double>(n) / plan.settings.fps);
+  }
+  const fs::path out(args.out);
+  const fs::path work = out.parent_path() / fmt::format(".{}.tmp-{}", out.filename().string(), getpid());
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  try {
+    FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, (work / "frames").string());
+    for (size_t n = 0; n < times.size(); ++n) recorder.frame(static_cast<int>(n), times[n], recorded->at(times[n]));
+    recorder.finish((work / "contact_sheet.png").string());
+  } catch (...) {
+    fs::remove_all(work, ec);
+    throw;
+  }
+  fs::remove_all(out, ec);
+  fs::rename(work, out, ec);
+  if (ec) {
+    fs::remove_all(work, ec);
+    std::cerr << fmt::format("sscs: error: cannot write '{}'\n", args.out);
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("replayed {} frames of {} into {}\n", times.size(), args.run, args.out);
+  return kOk;
+}
+
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
@@ -378,30 +481,17 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
     std::cerr << fmt::format("sscs: error: --bundle expects a .zip file, found '{}'\n", bundle);
     return kInputError;
   }
-  Sources sources;
-  Diagnostics diag;
-  auto spec = load_scenario(scenario, sources, diag);
-  std::optional<Workcell> wc;
-  GeometryModel geometry;
-  std::optional<Plan> plan;
-  CameraPath cameras;
-  if (spec && !diag.has_errors()) {
-    // The scenario's `set:` first; --set on the command line wins.
-    std::vector<std::pair<std::string, std::string>> overrides;
-    for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
-    overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
-    options.overrides = std::move(overrides);
-    wc = compile_file(spec->vault_path, options, sources, diag);
-    if (wc) geometry = build_geometry(*wc, diag);
-    if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
-    if (plan) cameras = compile_cameras(spec->cameras, *wc, diag);
-  }
-  if (diag.has_errors() || !plan) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
+  PreparedScenario ps;
+  if (!ps.prepare(scenario, options)) {
+    std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
     return kInputError;
   }
+  const auto& spec = ps.spec;
+  const auto& wc = ps.wc;
+  const auto& plan = ps.plan;
+  const GeometryModel& geometry = ps.geometry;
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
-  RunInputs inputs = collect_run_inputs(*spec, options.overrides, *wc, geometry, sources);
+  RunInputs inputs = collect_run_inputs(*spec, ps.overrides, *wc, geometry, ps.sources);
   RunOptions run;
   run.out_dir = out;
   run.bundle = bundle;
@@ -423,7 +513,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
       RenderOptions ro;
       ro.width = plan->settings.width;
       ro.height = plan->settings.height;
-      recorder = std::make_unique<FrameRecorder>(*wc, geometry, cameras, ro, run.work_dir + "/frames");
+      recorder = std::make_unique<FrameRecorder>(*wc, geometry, ps.cameras, ro, run.work_dir + "/frames");
       run.frame_interval = 1.0 / plan->settings.fps;
       run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
       run.on_step_end = [&](const PlannedStep& ps, double t, const ScenePose& pose) {
@@ -515,6 +605,14 @@ int run_cli(int argc, char** argv) {
     render_cmd->add_option("--size", render_args.size, "WIDTHxHEIGHT in pixels (default 1280x720)");
     common.add_to(render_cmd);
 
+    ReplayArgs replay_args;
+    CLI::App* replay_cmd = app.add_subcommand("replay", "render a recorded run's frames again, from its logs");
+    replay_cmd->add_option("RUN", replay_args.run, "run folder written by sscs simulate")->required();
+    replay_cmd->add_option("--out", replay_args.out, "output folder (frames/ and index.csv)")->required();
+    replay_cmd->add_option("--camera", replay_args.camera, "camera file (sscs: 1, cameras: [...]); default: the run's cameras");
+    replay_cmd->add_option("--size", replay_args.size, "WIDTHxHEIGHT (default: the run's frame size)");
+    common.add_to(replay_cmd);
+
     std::vector<std::string> compare_runs;
     std::string compare_format = "text";
     CLI::App* compare_cmd = app.add_subcommand("compare", "summaries of simulation runs side by side");
@@ -533,6 +631,7 @@ int run_cli(int argc, char** argv) {
     if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     if (render_cmd->parsed()) return run_render(common, render_args);
+    if (replay_cmd->parsed()) return run_replay(common, replay_args);
     return kInputError;
   } catch (const gl::RenderUnavailable& e) {
     std::cerr << "sscs: error: " << e.what() << "\n";

@@ -83,6 +83,9 @@ struct ScenarioSpec {
 /// Loads a scenario file strictly (unknown and duplicate keys, wrong kinds, names). Returns
 /// nullopt when the file could not be parsed at all; otherwise the spec, every problem reported.
 std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sources, Diagnostics& diag);
+/// Loads a camera file for `sscs replay --camera`: `sscs: 1` and `cameras:` keyframes as in a
+/// scenario.
+std::optional<std::vector<CameraKeySpec>> load_cameras(const std::string& path, Sources& sources, Diagnostics& diag);
 /// Loads a scenario already registered in `sources` (tests).
 std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagnostics& diag);
 

@@ -177,7 +177,29 @@ StepSpec read_step(yaml::Node node, Diagnostics& diag) {
   return s;
 }
 
+std::vector<CameraKeySpec> read_cameras(yaml::Node cameras, Diagnostics& diag) {
+  std::vector<CameraKeySpec> out;
+  if (!cameras.valid()) return out;
+  if (!cameras.is_sequence()) load::expected(diag, cameras, "a sequence of camera keyframes", "cameras");
+  else
+    for (size_t i = 0; i < cameras.size(); ++i) out.push_back(read_camera(cameras.item(i), diag));
+  return out;
+}
+
 }  // namespace
+
+std::optional<std::vector<CameraKeySpec>> load_cameras(const std::string& path, Sources& sources, Diagnostics& diag) {
+  uint32_t file = read_source(path, sources, diag);
+  if (file == 0) return std::nullopt;
+  yaml::Document doc = yaml::parse(sources, file, diag);
+  if (doc.empty()) return std::nullopt;
+  MapReader root(doc.root(), "a camera file", diag);
+  if (!root.ok()) return std::nullopt;
+  load::check_version(root, diag);
+  std::vector<CameraKeySpec> keys = read_cameras(root.require("cameras"), diag);
+  root.finish();
+  return keys;
+}
 
 std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sources, Diagnostics& diag) {
   uint32_t file = read_source(path, sources, diag);
@@ -225,12 +247,7 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
     }
     record.finish();
   }
-  yaml::Node cameras = root.take("cameras");
-  if (cameras.valid()) {
-    if (!cameras.is_sequence()) load::expected(diag, cameras, "a sequence of camera keyframes", "cameras");
-    else
-      for (size_t i = 0; i < cameras.size(); ++i) sc.cameras.push_back(read_camera(cameras.item(i), diag));
-  }
+  sc.cameras = read_cameras(root.take("cameras"), diag);
   yaml::Node steps = root.require("steps");
   if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
     load::expected(diag, steps, "a non-empty sequence of steps", "steps");

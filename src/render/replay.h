@@ -1,0 +1,35 @@
+#pragma once
+/// A run's recorded motion read back (trajectories/<device>.csv and objects.csv), so its frames
+/// can be drawn again from other cameras without simulating again (`sscs replay`).
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compile/workcell.h"
+#include "geometry/geometry.h"
+
+namespace sscs {
+
+class RecordedRun {
+ public:
+  /// Reads the logs in run folder `dir`, written for workcell `wc` (compiled from the run's
+  /// resolved/ vault). nullopt with `error` when they are missing or do not match the workcell.
+  static std::optional<RecordedRun> read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry,
+                                         std::string* error);
+  /// Where everything was at time t: joint values and object poses interpolated between the
+  /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
+  ScenePose at(double t) const;
+  double duration() const { return duration_; }
+
+ private:
+  struct Series {
+    std::vector<double> t;
+    std::vector<Eigen::VectorXd> values;  ///< devices: SI joint values; objects: x y z qw qx qy qz
+  };
+  const GeometryModel* geometry_ = nullptr;
+  std::map<int, Series> devices_, objects_;
+  double duration_ = 0;
+};
+
+}  // namespace sscs
