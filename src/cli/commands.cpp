@@ -474,9 +474,19 @@ volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
 int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle,
-                 bool no_frames) {
+                 bool no_frames, const std::string& video) {
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
+  if (!video.empty()) {
+    std::string why = no_frames ? "--video needs frames; it cannot go with --no-frames"
+                    : std::filesystem::path(video).extension() != ".mp4" ? fmt::format("--video expects a .mp4 file, found '{}'", video)
+                    : !FrameRecorder::ffmpeg_available() ? "--video needs ffmpeg, which is not installed (apt-get install ffmpeg); or run without --video"
+                    : "";
+    if (!why.empty()) {
+      std::cerr << "sscs: error: " << why << "\n";
+      return kInputError;
+    }
+  }
   if (!bundle.empty() && std::filesystem::path(bundle).extension() != ".zip") {
     std::cerr << fmt::format("sscs: error: --bundle expects a .zip file, found '{}'\n", bundle);
     return kInputError;
@@ -490,6 +500,10 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   const auto& wc = ps.wc;
   const auto& plan = ps.plan;
   const GeometryModel& geometry = ps.geometry;
+  if (!video.empty() && !plan->settings.frames) {
+    std::cerr << fmt::format("sscs: error: --video needs frames, and scenario '{}' records none (add record.frames)\n", spec->name);
+    return kInputError;
+  }
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
   RunInputs inputs = collect_run_inputs(*spec, ps.overrides, *wc, geometry, ps.sources);
   RunOptions run;
@@ -514,6 +528,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
       ro.width = plan->settings.width;
       ro.height = plan->settings.height;
       recorder = std::make_unique<FrameRecorder>(*wc, geometry, ps.cameras, ro, run.work_dir + "/frames");
+      if (!video.empty()) recorder->record_video(video, plan->settings.fps);
       run.frame_interval = 1.0 / plan->settings.fps;
       run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
       run.on_step_end = [&](const PlannedStep& ps, double t, const ScenePose& pose) {
@@ -593,6 +608,8 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_option("--bundle", sim_bundle, "write the run as one zip archive too (or only, without --out)");
     bool sim_no_frames = false;
     sim_cmd->add_flag("--no-frames", sim_no_frames, "do not render the scenario's frames");
+    std::string sim_video;
+    sim_cmd->add_option("--video", sim_video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
@@ -628,7 +645,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames, sim_video);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);

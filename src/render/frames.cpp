@@ -1,10 +1,17 @@
 #include "render/frames.h"
 
+#include <unistd.h>
+
 #include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <sstream>
 #include <filesystem>
 #include <fstream>
 
 #include <fmt/format.h>
+
+#include "core/files.h"
 
 namespace sscs {
 
@@ -16,12 +23,46 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 FrameRecorder::FrameRecorder(const Workcell& wc, const GeometryModel& geometry, CameraPath cameras,
                              const RenderOptions& options, std::string dir, int threads, size_t queue)
     : renderer_(wc, geometry, options), cameras_(std::move(cameras)), aspect_(double(options.width) / options.height),
-      dir_(std::move(dir)), capacity_(std::max<size_t>(1, queue)), font_(default_font_path(), 15) {
+      dir_(std::move(dir)), capacity_(std::max<size_t>(1, queue)), width_(options.width),
+      height_(options.height), font_(default_font_path(), 15) {
   std::filesystem::create_directories(dir_);
   for (int i = 0; i < std::max(1, threads); ++i) workers_.emplace_back([this] { work(); });
 }
 
+namespace {
+/// `s` for inside single quotes in a shell command.
+std::string shell_quoted(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out;
+}
+}  // namespace
+
+bool FrameRecorder::ffmpeg_available() {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string dir; std::getline(dirs, dir, ':');)
+    if (!dir.empty() && ::access((dir + "/ffmpeg").c_str(), X_OK) == 0) return true;
+  return false;
+}
+
+void FrameRecorder::record_video(const std::string& path, double fps) {
+  video_path_ = path;
+  video_tmp_ = temp_path_for(path);
+  std::string cmd = fmt::format(
+      "ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgb24 -s {}x{} -framerate {:g} -i - -c:v libx264 -preset veryfast "
+      "-pix_fmt yuv420p -movflags +faststart '{}'",
+      width_, height_, fps, shell_quoted(video_tmp_));
+  std::signal(SIGPIPE, SIG_IGN);  // a failed ffmpeg shows as a write error, not a killed sscs
+  video_ = ::popen(cmd.c_str(), "w");
+  if (!video_) throw std::runtime_error("cannot start ffmpeg for --video");
+}
+
 FrameRecorder::~FrameRecorder() {
+  if (video_) {
+    ::pclose(video_);
+    std::remove(video_tmp_.c_str());
+  }
   {
     std::lock_guard lock(mutex_);
     closing_ = true;
@@ -37,6 +78,8 @@ void FrameRecorder::frame(int n, double t, const ScenePose& pose) {
   auto t0 = Clock::now();
   Image image = renderer_.render(camera_at(t, pose), pose);
   stats_.render_s += since(t0);
+  if (video_ && std::fwrite(image.rgb.data(), 1, image.rgb.size(), video_) != image.rgb.size())
+    throw std::runtime_error("ffmpeg stopped taking frames for --video");
   index_.emplace_back(n, t);
   auto t1 = Clock::now();
   std::unique_lock lock(mutex_);
@@ -96,6 +139,15 @@ FrameStats FrameRecorder::finish(const std::string& contact_sheet_path) {
   f << csv;
   if (!f) throw std::runtime_error(fmt::format("cannot write '{}/index.csv'", dir_));
   stats_.frames = static_cast<int>(index_.size());
+  if (video_) {
+    int status = ::pclose(video_);
+    video_ = nullptr;
+    if (status != 0) {
+      std::remove(video_tmp_.c_str());
+      throw std::runtime_error(fmt::format("ffmpeg failed to encode '{}' (exit status {})", video_path_, status));
+    }
+    if (std::string err = commit_file(video_tmp_, video_path_); !err.empty()) throw std::runtime_error(err);
+  }
   if (!thumbs_.empty()) {
     std::vector<Thumbnail> thumbs;
     for (auto& [i, t] : thumbs_) thumbs.push_back(std::move(t));

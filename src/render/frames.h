@@ -3,6 +3,7 @@
 /// written on a small thread pool while the simulation goes on. The queue between them is
 /// bounded, so memory stays flat however long the run.
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <exception>
 #include <map>
@@ -34,6 +35,12 @@ class FrameRecorder {
   FrameRecorder(const FrameRecorder&) = delete;
   FrameRecorder& operator=(const FrameRecorder&) = delete;
 
+  /// Also pipes every frame (raw RGB) to `ffmpeg`, which encodes `path` (H.264 MP4) at `fps`;
+  /// finish() waits for it and moves the file into place. Throws when ffmpeg cannot start.
+  void record_video(const std::string& path, double fps);
+  /// Whether an `ffmpeg` executable is on PATH.
+  static bool ffmpeg_available();
+
   /// Renders frame `n` of the state at simulated time `t`.
   void frame(int n, double t, const ScenePose& pose);
   /// A thumbnail for the contact sheet: the state when step `index` ended (a later call for the
@@ -64,6 +71,9 @@ class FrameRecorder {
   std::vector<std::thread> workers_;
   std::vector<std::pair<int, double>> index_;
   std::map<size_t, Thumbnail> thumbs_;
+  int width_, height_;
+  FILE* video_ = nullptr;
+  std::string video_path_, video_tmp_;
   Font font_;
   FrameStats stats_;
 };

@@ -247,6 +247,20 @@ def simulate(sscs, root):
             fail("a camera file with a misspelt key", p)
         if run(sscs, root, ["replay", tmp, "--out", os.path.join(tmp, "nothing")]).returncode != 2:
             fail("replay of a folder that is not a run exits 2")
+        # --video pipes the raw frames to ffmpeg (a stand-in here that records what it got: the
+        # real encoder is not installed on CI); without ffmpeg on PATH it is an input error.
+        fake = os.path.join(root, "tests/data/fake-ffmpeg")
+        video = os.path.join(tmp, "arm.mp4")
+        p = run(sscs, root, ["simulate", arm, "--out", os.path.join(tmp, "video"), "--video", video, "--quiet"],
+                env={"PATH": fake + os.pathsep + os.environ["PATH"]})
+        got = open(video).read() if os.path.exists(video) else ""
+        if p.returncode != 0 or "-f rawvideo -pix_fmt rgb24 -s 960x540 -framerate 15 -i -" not in got or \
+                f"bytes {expected * 960 * 540 * 3}" not in got:
+            fail(f"--video: {got}", p)
+        p = run(sscs, root, ["simulate", arm, "--out", os.path.join(tmp, "novideo"), "--video", video], env={"PATH": tmp})
+        if p.returncode != 2 or "--video needs ffmpeg, which is not installed" not in p.stderr or \
+                os.path.exists(os.path.join(tmp, "novideo")):
+            fail("--video without ffmpeg", p)
         # A second run gives the same bytes, frames too.
         again = os.path.join(tmp, "again")
         run(sscs, root, ["simulate", arm, "--out", again, "--quiet"])
