@@ -480,7 +480,6 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   if (!video.empty()) {
     std::string why = no_frames ? "--video needs frames; it cannot go with --no-frames"
                     : std::filesystem::path(video).extension() != ".mp4" ? fmt::format("--video expects a .mp4 file, found '{}'", video)
-                    : !FrameRecorder::ffmpeg_available() ? "--video needs ffmpeg, which is not installed (apt-get install ffmpeg); or run without --video"
                     : "";
     if (!why.empty()) {
       std::cerr << "sscs: error: " << why << "\n";
@@ -502,6 +501,10 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
   const GeometryModel& geometry = ps.geometry;
   if (!video.empty() && !plan->settings.frames) {
     std::cerr << fmt::format("sscs: error: --video needs frames, and scenario '{}' records none (add record.frames)\n", spec->name);
+    return kInputError;
+  }
+  if (!video.empty() && !FrameRecorder::ffmpeg_available()) {
+    std::cerr << "sscs: error: --video needs ffmpeg, which is not installed (apt-get install ffmpeg); or run without --video\n";
     return kInputError;
   }
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
