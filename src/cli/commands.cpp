@@ -1,4 +1,5 @@
 #include "cli/commands.h"
+#include "cli/prepared_scenario.h"
 
 #include <unistd.h>
 
@@ -309,36 +310,6 @@ bool parse_size(const std::string& text, int& width, int& height) {
   std::cerr << fmt::format("sscs: error: --size expects WIDTHxHEIGHT between 16 and 8192, found '{}'\n", text);
   return false;
 }
-
-/// A scenario loaded, its vault compiled with the overrides (the scenario's `set:`, then
-/// --set), planned, and its cameras (or a camera file's) compiled. Input errors are in `diag`.
-struct PreparedScenario {
-  Sources sources;
-  Diagnostics diag;
-  std::optional<ScenarioSpec> spec;
-  std::optional<Workcell> wc;
-  GeometryModel geometry;
-  std::optional<Plan> plan;
-  CameraPath cameras;
-  std::vector<std::pair<std::string, std::string>> overrides;  ///< in force, in order
-
-  bool prepare(const std::string& path, const CompileOptions& base, const std::string& camera_file = "") {
-    spec = load_scenario(path, sources, diag);
-    if (!spec || diag.has_errors()) return false;
-    CompileOptions options = base;
-    for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
-    overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
-    options.overrides = overrides;
-    wc = compile_file(spec->vault_path, options, sources, diag);
-    if (wc) geometry = build_geometry(*wc, diag);
-    if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
-    std::vector<CameraKeySpec> keys = spec->cameras;
-    if (!camera_file.empty())
-      if (auto file = load_cameras(camera_file, sources, diag)) keys = *file;
-    if (plan && !diag.has_errors()) cameras = compile_cameras(keys, *wc, diag);
-    return plan && !diag.has_errors();
-  }
-};
 
 struct RenderArgs {
   std::string vault, out, eye, target, size = "1280x720";

@@ -139,6 +139,8 @@ FrameStats FrameRecorder::finish(const std::string& contact_sheet_path) {
   f << csv;
   if (!f) throw std::runtime_error(fmt::format("cannot write '{}/index.csv'", dir_));
   stats_.frames = static_cast<int>(index_.size());
+  stats_.draw_s = renderer_.draw_seconds();
+  stats_.readback_s = renderer_.readback_seconds();
   if (video_) {
     int status = ::pclose(video_);
     video_ = nullptr;

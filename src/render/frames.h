@@ -22,6 +22,7 @@ namespace sscs {
 struct FrameStats {
   int frames = 0;
   double render_s = 0;   ///< drawing and reading back, on the simulation's thread
+  double draw_s = 0, readback_s = 0;  ///< the two parts of render_s
   double encode_s = 0;   ///< PNG encoding and writing, summed over the workers
   double wait_s = 0;     ///< the simulation waiting for a full queue
 };

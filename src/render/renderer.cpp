@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -127,6 +128,7 @@ struct Renderer::Impl {
   GLuint solid = 0, line = 0;
   GLuint fbo = 0, color_rb = 0, depth_rb = 0, resolve_fbo = 0, resolve_rb = 0;
   Eigen::AlignedBox3d bounds;
+  double draw_s = 0, readback_s = 0;
 
   Impl(const Workcell& wc, const GeometryModel& geometry_, const RenderOptions& o)
       : options(o), context(o.width, o.height), gl(context.api()), geometry(geometry_) {
@@ -279,6 +281,8 @@ struct Renderer::Impl {
   }
 
   Image draw(const Camera& camera, const ScenePose& pose) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
     const int w = options.width, h = options.height;
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.Viewport(0, 0, w, h);
@@ -327,6 +331,9 @@ struct Renderer::Impl {
       gl.DrawArrays(GL_LINES, 0, lines.count);
     }
 
+    gl.Finish();  // llvmpipe draws lazily: finish here, so the times split honestly
+    const auto t1 = Clock::now();
+    draw_s += std::chrono::duration<double>(t1 - t0).count();
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
     gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
     gl.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -339,6 +346,7 @@ struct Renderer::Impl {
     for (int y = 0; y < h; ++y)  // OpenGL's rows start at the bottom
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) img.rgb[(static_cast<size_t>(y) * w + x) * 3 + c] = rgba[(static_cast<size_t>(h - 1 - y) * w + x) * 4 + c];
+    readback_s += std::chrono::duration<double>(Clock::now() - t1).count();
     return img;
   }
 };
@@ -351,5 +359,7 @@ Image Renderer::render(const Camera& camera, const ScenePose& pose) { return imp
 Image Renderer::render(const Camera& camera) { return impl_->draw(camera, ScenePose::of(impl_->geometry)); }
 const Eigen::AlignedBox3d& Renderer::bounds() const { return impl_->bounds; }
 std::string Renderer::gl_renderer() const { return impl_->context.renderer(); }
+double Renderer::draw_seconds() const { return impl_->draw_s; }
+double Renderer::readback_seconds() const { return impl_->readback_s; }
 
 }  // namespace sscs

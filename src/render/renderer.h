@@ -34,6 +34,9 @@ class Renderer {
   /// The scene's world bounds (for framing cameras).
   const Eigen::AlignedBox3d& bounds() const;
   std::string gl_renderer() const;
+  /// Seconds spent so far drawing (until the GPU has finished) and reading pixels back.
+  double draw_seconds() const;
+  double readback_seconds() const;
 
  private:
   struct Impl;
