@@ -213,6 +213,11 @@ def simulate(sscs, root):
             n, t, _ = row.split(",")
             if not int(n) / 15 - 0.0005 <= float(t) < int(n) / 15 + 0.001:
                 fail(f"frame {n} drawn at {t} s")
+        # Frames look as they should: the opening view, the arm carrying the drum past the rack,
+        # the drum on the shelf (golden images, mean absolute difference below 2).
+        for n in (0, 75, 150):
+            compare_image(os.path.join(out, "frames", f"frame_{n:06d}.png"),
+                          os.path.join(root, f"tests/golden/arm_frame_{n:06d}.png"))
         # The contact sheet: one labelled thumbnail (320 px wide) per step end, four to a row:
         # ten steps, three rows.
         w, h, rows = read_png(os.path.join(out, "contact_sheet.png"))
@@ -308,6 +313,15 @@ def simulate(sscs, root):
         if open(bundles[0], "rb").read() != open(bundles[1], "rb").read():
             fail("two bundles of the same run differ")
         names = zipfile.ZipFile(bundles[0]).namelist()
+        # With frames, the bundle holds them too, stored (PNG is compressed already).
+        framed = os.path.join(tmp, "framed.zip")
+        p = run(sscs, root, ["simulate", arm, "--bundle", framed, "--quiet"])
+        z = zipfile.ZipFile(framed)
+        pngs = [i for i in z.infolist() if i.filename.startswith("frames/frame_")]
+        if p.returncode != 0 or len(pngs) != len(os.listdir(os.path.join(out, "frames"))) - 1 or any(i.compress_type != zipfile.ZIP_STORED for i in pngs) or \
+                "contact_sheet.png" not in z.namelist() or \
+                z.read("frames/frame_000075.png") != open(os.path.join(out, "frames", "frame_000075.png"), "rb").read():
+            fail("a bundle with frames", p)
         for f in ["summary.json", "events.jsonl", "objects.csv", "trajectories/Robot.csv", "resolved/scenario.yaml"]:
             if f not in names:
                 fail(f"bundle lacks {f}: {names}")
