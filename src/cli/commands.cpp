@@ -30,6 +30,7 @@
 #include "render/replay.h"
 #include "report/compare.h"
 #include "core/files.h"
+#include "core/names.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -312,8 +313,8 @@ bool parse_size(const std::string& text, int& width, int& height) {
 }
 
 struct RenderArgs {
-  std::string vault, out, eye, target, size = "1280x720";
-  double fov = 45;
+  std::string vault, out, eye, target, camera, size = "1280x720";
+  double fov = 0;  ///< 0: not given (45, or the named camera's)
 };
 
 /// "x,y,z" -> a vector; false when it is not three numbers.
@@ -332,7 +333,7 @@ int run_render(const Common& common, const RenderArgs& args) {
     std::cerr << fmt::format("sscs: error: --out expects a .png file, found '{}'\n", args.out);
     return kInputError;
   }
-  if (!(args.fov > 1 && args.fov < 179)) {
+  if (args.fov != 0 && !(args.fov > 1 && args.fov < 179)) {
     std::cerr << fmt::format("sscs: error: --fov expects degrees between 1 and 179, found {:g}\n", args.fov);
     return kInputError;
   }
@@ -353,11 +354,31 @@ int run_render(const Common& common, const RenderArgs& args) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
   }
+  // A named camera of the vault, compiled like a scenario's keyframe.
+  std::optional<CameraPath> named;
+  if (!args.camera.empty()) {
+    auto it = std::find_if(wc->cameras.begin(), wc->cameras.end(), [&](const auto& c) { return c.first == args.camera; });
+    if (it == wc->cameras.end()) {
+      std::vector<std::string> names;
+      for (const auto& c : wc->cameras) names.push_back(c.first);
+      std::cerr << fmt::format("sscs: error: {} has no camera named '{}'; its cameras: {}{}\n", args.vault, args.camera,
+                               names.empty() ? "none (add a cameras: mapping)" : fmt::format("{}", fmt::join(names, ", ")),
+                               did_you_mean(args.camera, names));
+      return kInputError;
+    }
+    named = compile_cameras({it->second}, *wc, diag);
+    if (diag.has_errors()) {
+      std::cerr << diag.format(sources, common.color_for(stderr));
+      return kInputError;
+    }
+  }
   RenderOptions ro;
   ro.width = width;
   ro.height = height;
   Renderer renderer(*wc, geometry, ro);
-  Camera camera = framing_camera(renderer.bounds(), args.fov, double(width) / height);
+  Camera camera = named ? named->at(0, ScenePose::of(geometry), renderer.bounds(), double(width) / height)
+                        : framing_camera(renderer.bounds(), args.fov > 0 ? args.fov : 45, double(width) / height);
+  if (args.fov > 0) camera.fov = args.fov;
   if (!args.target.empty()) camera.target = target;
   if (!args.eye.empty()) camera.eye = eye;
   if ((camera.eye - camera.target).norm() < 1e-9) {
@@ -592,7 +613,8 @@ int run_cli(int argc, char** argv) {
     render_cmd->add_option("--out", render_args.out, "output .png file")->required();
     render_cmd->add_option("--eye", render_args.eye, "camera position x,y,z (m); default: a three-quarter view framing the vault");
     render_cmd->add_option("--target", render_args.target, "point looked at x,y,z (m); default: the vault's centre");
-    render_cmd->add_option("--fov", render_args.fov, "vertical field of view, degrees (default 45)");
+    render_cmd->add_option("--fov", render_args.fov, "vertical field of view, degrees (default 45, or the named camera's)");
+    render_cmd->add_option("--camera", render_args.camera, "a named camera of the vault (its cameras: mapping)");
     render_cmd->add_option("--size", render_args.size, "WIDTHxHEIGHT in pixels (default 1280x720)");
     common.add_to(render_cmd);
 

@@ -699,6 +699,7 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   st.wc.name = spec.name;
   st.wc.path = spec.path;
   st.wc.description = spec.description;
+  st.wc.cameras = spec.cameras;
 
   std::vector<std::pair<std::string, SourceMark>> dirs;
   if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});

@@ -145,6 +145,7 @@ struct Workcell {
   std::vector<Parameter> parameters;
   std::vector<Object> objects;
   std::vector<Constraint> constraints;
+  std::vector<std::pair<std::string, CameraKeySpec>> cameras;  ///< the vault's named views, as written
   std::vector<double> values;       ///< every numeric slot, SI
   std::vector<std::string> texts;   ///< string/enum slots (indexed like values)
 

@@ -237,5 +237,38 @@ nlohmann::ordered_json to_json(yaml::Node node) {
   return nullptr;
 }
 
+CameraKeySpec read_camera(yaml::Node node, Diagnostics& diag, bool keyframe) {
+  CameraKeySpec c;
+  c.mark = node.mark();
+  MapReader r(node, keyframe ? "camera keyframe" : "camera", diag);
+  if (!r.ok()) return c;
+  if (keyframe) c.t = load::scalar(r.require("t"), "camera time", diag);
+  c.fov = load::scalar(r.take("fov"), "fov", diag);
+  yaml::Node orbit = r.take("orbit");
+  yaml::Node eye = r.take("eye");
+  yaml::Node target = r.take("target");
+  if (orbit.valid()) {
+    c.orbit = true;
+    if (eye.valid() || target.valid())
+      diag.error(orbit.mark(), fmt::format("{} has either 'orbit' or 'eye' and 'target', not both",
+                                           keyframe ? "a camera keyframe" : "a camera"));
+    MapReader o(orbit, "orbit", diag);
+    yaml::Node ot = o.require("target");
+    if (ot.is_sequence()) c.orbit_point = load::vec3(ot, "orbit target", diag);
+    else c.orbit_target = load::scalar(ot, "orbit target", diag);
+    c.radius = load::scalar(o.require("radius"), "orbit radius", diag);
+    c.azimuth = load::scalar(o.take("azimuth"), "orbit azimuth", diag);
+    c.elevation = load::scalar(o.take("elevation"), "orbit elevation", diag);
+    if (o.ok()) o.finish();
+  } else {
+    if (!eye.valid() || !target.valid())
+      diag.error(c.mark, fmt::format("{} needs 'eye' and 'target' (or 'orbit')", keyframe ? "a camera keyframe" : "a camera"));
+    c.eye = load::vec3(eye, "camera eye", diag);
+    c.target = load::vec3(target, "camera target", diag);
+  }
+  r.finish();
+  return c;
+}
+
 }  // namespace load
 }  // namespace sscs

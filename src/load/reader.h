@@ -53,6 +53,9 @@ std::string name(yaml::Node node, std::string_view what, Diagnostics& diag);
 bool boolean(yaml::Node node, std::string_view what, Diagnostics& diag, bool fallback = false);
 /// A sequence of exactly three scalars (absent node -> three absent scalars).
 std::array<Scalar, 3> vec3(yaml::Node node, std::string_view what, Diagnostics& diag);
+/// A camera: `eye` and `target`, or `orbit: {target, radius, azimuth, elevation}`, and `fov`;
+/// a scenario's keyframes also have `t`.
+CameraKeySpec read_camera(yaml::Node node, Diagnostics& diag, bool keyframe);
 /// `{xyz: [..], rpy: [..]}` read from `reader` (the keys live beside others).
 PoseSpec pose(MapReader& reader, Diagnostics& diag);
 /// A scalar or a sequence of scalars.

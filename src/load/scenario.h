@@ -13,16 +13,6 @@
 
 namespace sscs {
 
-struct CameraKeySpec {
-  SourceMark mark;
-  Scalar t;
-  std::array<Scalar, 3> eye, target;  ///< world points (absent with `orbit`)
-  Scalar fov;
-  bool orbit = false;
-  Scalar orbit_target;                ///< an object name, or absent with orbit_point
-  std::array<Scalar, 3> orbit_point;
-  Scalar radius, azimuth, elevation;
-};
 
 /// `move_to` target: an object or named frame (`Drum_1.top`), or a world pose.
 struct TargetSpec {

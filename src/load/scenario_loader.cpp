@@ -25,38 +25,6 @@ namespace {
 // The action keys of a step: exactly one of these per step.
 const std::vector<std::string> kActions = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
 
-CameraKeySpec read_camera(yaml::Node node, Diagnostics& diag) {
-  CameraKeySpec c;
-  c.mark = node.mark();
-  MapReader r(node, "camera keyframe", diag);
-  if (!r.ok()) return c;
-  c.t = load::scalar(r.require("t"), "camera time", diag);
-  c.fov = load::scalar(r.take("fov"), "fov", diag);
-  yaml::Node orbit = r.take("orbit");
-  yaml::Node eye = r.take("eye");
-  yaml::Node target = r.take("target");
-  if (orbit.valid()) {
-    c.orbit = true;
-    if (eye.valid() || target.valid())
-      diag.error(orbit.mark(), "a camera keyframe has either 'orbit' or 'eye' and 'target', not both");
-    MapReader o(orbit, "orbit", diag);
-    yaml::Node ot = o.require("target");
-    if (ot.is_sequence()) c.orbit_point = load::vec3(ot, "orbit target", diag);
-    else c.orbit_target = load::scalar(ot, "orbit target", diag);
-    c.radius = load::scalar(o.require("radius"), "orbit radius", diag);
-    c.azimuth = load::scalar(o.take("azimuth"), "orbit azimuth", diag);
-    c.elevation = load::scalar(o.take("elevation"), "orbit elevation", diag);
-    if (o.ok()) o.finish();
-  } else {
-    if (!eye.valid() || !target.valid())
-      diag.error(c.mark, "a camera keyframe needs 'eye' and 'target' (or 'orbit')");
-    c.eye = load::vec3(eye, "camera eye", diag);
-    c.target = load::vec3(target, "camera target", diag);
-  }
-  r.finish();
-  return c;
-}
-
 TargetSpec read_target(yaml::Node node, Diagnostics& diag) {
   TargetSpec t;
   t.mark = node.valid() ? node.mark() : SourceMark{};
@@ -182,7 +150,7 @@ std::vector<CameraKeySpec> read_cameras(yaml::Node cameras, Diagnostics& diag) {
   if (!cameras.valid()) return out;
   if (!cameras.is_sequence()) load::expected(diag, cameras, "a sequence of camera keyframes", "cameras");
   else
-    for (size_t i = 0; i < cameras.size(); ++i) out.push_back(read_camera(cameras.item(i), diag));
+    for (size_t i = 0; i < cameras.size(); ++i) out.push_back(load::read_camera(cameras.item(i), diag, true));
   return out;
 }
 

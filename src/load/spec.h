@@ -240,6 +240,18 @@ struct ConstraintSpec {
   ConstraintKind kind;
 };
 
+/// A camera: a keyframe of a scenario's `cameras:` (with `t`), or a named camera of a vault.
+struct CameraKeySpec {
+  SourceMark mark;
+  Scalar t;
+  std::array<Scalar, 3> eye, target;  ///< world points (absent with `orbit`)
+  Scalar fov;
+  bool orbit = false;
+  Scalar orbit_target;                ///< an object name, or absent with orbit_point
+  std::array<Scalar, 3> orbit_point;
+  Scalar radius, azimuth, elevation;
+};
+
 struct VaultSpec {
   std::string name;
   SourceMark mark;
@@ -252,6 +264,7 @@ struct VaultSpec {
   std::vector<ParameterSpec> parameters;
   std::vector<ObjectSpec> objects;
   std::vector<ConstraintSpec> constraints;
+  std::vector<std::pair<std::string, CameraKeySpec>> cameras;  ///< named views for `sscs render --camera`
 };
 
 }  // namespace sscs

@@ -307,6 +307,11 @@ std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics
     for (size_t i = 0; i < constraints.size() && !diag.full(); ++i)
       if (auto c = read_constraint(constraints.item(i), diag)) v.constraints.push_back(std::move(*c));
   }
+  MapReader cameras(root.take("cameras"), "cameras", diag);
+  for (auto& [k, val] : cameras.rest()) {
+    std::string name = load::name(k, "a camera", diag);
+    v.cameras.emplace_back(name, load::read_camera(val, diag, false));
+  }
   root.finish();
   return v;
 }

@@ -66,7 +66,8 @@ CameraPath compile_cameras(const std::vector<CameraKeySpec>& specs, const Workce
   };
   for (const CameraKeySpec& s : specs) {
     CameraKey k;
-    if (auto t = literal_si(s.t, Dim::Time, "camera t", diag)) k.t = *t;
+    if (s.t.present)  // a vault's named camera has no time
+      if (auto t = literal_si(s.t, Dim::Time, "camera t", diag)) k.t = *t;
     if (!keys.empty() && k.t < keys.back().t)
       diag.error(s.t.mark, fmt::format("camera keyframes must be in time order: t = {} comes after t = {:g} s", s.t.text,
                                        keys.back().t));

@@ -497,6 +497,13 @@ def render(sscs, root):
                              "--eye", "5,4,15", "--target", "5,4,0", "--fov", "60"], env=env)
         if p.returncode != 0 or read_png(top)[:2] != (320, 240):
             fail("render with --eye/--target/--fov/--size", p)
+        # A named camera of the vault: the orbit around the robot, not the default view.
+        named = os.path.join(tmp, "robot.png")
+        p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", named, "--size", "480x270", "--camera", "robot"],
+                env=env)
+        if p.returncode != 0 or "eye [10.02, -1.92, 3.44], target [11.70, 2.70, 0.00], fov 45" not in p.stdout or \
+                read_png(named)[2] == read_png(out)[2]:
+            fail("render --camera robot", p)
         missing = os.path.join(tmp, "missing.png")
         p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", missing],
                 env=dict(env, SSCS_OSMESA="/nonexistent/libOSMesa.so"))
