@@ -314,6 +314,7 @@ bool parse_size(const std::string& text, int& width, int& height) {
 
 struct RenderArgs {
   std::string vault, out, eye, target, camera, size = "1280x720";
+  bool shadows = false;
   double fov = 0;  ///< 0: not given (45, or the named camera's)
 };
 
@@ -375,6 +376,7 @@ int run_render(const Common& common, const RenderArgs& args) {
   RenderOptions ro;
   ro.width = width;
   ro.height = height;
+  ro.shadows = args.shadows;
   Renderer renderer(*wc, geometry, ro);
   Camera camera = named ? named->at(0, ScenePose::of(geometry), renderer.bounds(), double(width) / height)
                         : framing_camera(renderer.bounds(), args.fov > 0 ? args.fov : 45, double(width) / height);
@@ -398,6 +400,7 @@ int run_render(const Common& common, const RenderArgs& args) {
 
 struct ReplayArgs {
   std::string run, out, camera, size;
+  bool shadows = false;
 };
 
 /// `sscs replay RUN --out DIR [--camera FILE] [--size WxH]`: the run's frames drawn again from
@@ -423,6 +426,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
   ro.width = plan.settings.width;
   ro.height = plan.settings.height;
   if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
+  ro.shadows = args.shadows;
   std::string error;
   auto recorded = RecordedRun::read(args.run, wc, ps.geometry, &error);
   if (!recorded) {
@@ -466,7 +470,7 @@ volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
 int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle,
-                 bool no_frames, const std::string& video) {
+                 bool no_frames, const std::string& video, bool shadows) {
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
   if (!video.empty()) {
@@ -522,6 +526,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
       RenderOptions ro;
       ro.width = plan->settings.width;
       ro.height = plan->settings.height;
+      ro.shadows = shadows;
       recorder = std::make_unique<FrameRecorder>(*wc, geometry, ps.cameras, ro, run.work_dir + "/frames");
       if (!video.empty()) recorder->record_video(video, plan->settings.fps);
       run.frame_interval = 1.0 / plan->settings.fps;
@@ -605,6 +610,8 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_flag("--no-frames", sim_no_frames, "do not render the scenario's frames");
     std::string sim_video;
     sim_cmd->add_option("--video", sim_video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
+    bool sim_shadows = false;
+    sim_cmd->add_flag("--shadows", sim_shadows, "frames with shadows of the key light");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
@@ -615,6 +622,7 @@ int run_cli(int argc, char** argv) {
     render_cmd->add_option("--target", render_args.target, "point looked at x,y,z (m); default: the vault's centre");
     render_cmd->add_option("--fov", render_args.fov, "vertical field of view, degrees (default 45, or the named camera's)");
     render_cmd->add_option("--camera", render_args.camera, "a named camera of the vault (its cameras: mapping)");
+    render_cmd->add_flag("--shadows", render_args.shadows, "shadows of the key light");
     render_cmd->add_option("--size", render_args.size, "WIDTHxHEIGHT in pixels (default 1280x720)");
     common.add_to(render_cmd);
 
@@ -624,6 +632,7 @@ int run_cli(int argc, char** argv) {
     replay_cmd->add_option("--out", replay_args.out, "output folder (frames/ and index.csv)")->required();
     replay_cmd->add_option("--camera", replay_args.camera, "camera file (sscs: 1, cameras: [...]); default: the run's cameras");
     replay_cmd->add_option("--size", replay_args.size, "WIDTHxHEIGHT (default: the run's frame size)");
+    replay_cmd->add_flag("--shadows", replay_args.shadows, "frames with shadows of the key light");
     common.add_to(replay_cmd);
 
     std::vector<std::string> compare_runs;
@@ -641,7 +650,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames, sim_video);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames, sim_video, sim_shadows);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);

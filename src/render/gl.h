@@ -66,7 +66,17 @@ struct RenderUnavailable : std::runtime_error {
   X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                                     \
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                           \
   X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample)                               \
-  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)
+  X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                                                             \
+  X(PFNGLGENTEXTURESPROC, GenTextures)                                                                     \
+  X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                               \
+  X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                     \
+  X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                                       \
+  X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                                 \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                                   \
+  X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                                 \
+  X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                         \
+  X(PFNGLDRAWBUFFERPROC, DrawBuffer)                                                                       \
+  X(PFNGLREADBUFFERPROC, ReadBuffer)
 
 struct Api {
 #define SSCS_GL_MEMBER(type, name) type name = nullptr;

@@ -21,17 +21,35 @@ layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 uniform mat4 model;
 uniform mat4 view_projection;
+uniform mat4 light_projection;   // world -> the shadow map's clip space
 uniform mat3 normal_matrix;
 out vec3 world_normal;
+out vec4 light_position;
 void main() {
+  vec4 world = model * vec4(position, 1.0);
   world_normal = normal_matrix * normal;
-  gl_Position = view_projection * model * vec4(position, 1.0);
+  light_position = light_projection * world;
+  gl_Position = view_projection * world;
 }
+)";
+
+constexpr const char* kDepthVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 model;
+uniform mat4 light_projection;
+void main() { gl_Position = light_projection * model * vec4(position, 1.0); }
+)";
+
+constexpr const char* kDepthFragment = R"(#version 330 core
+void main() {}
 )";
 
 constexpr const char* kSolidFragment = R"(#version 330 core
 in vec3 world_normal;
+in vec4 light_position;
 uniform vec3 albedo;      // linear light
+uniform bool shadows;
+uniform sampler2DShadow shadow_map;
 out vec4 color;
 const vec3 key_direction = normalize(vec3(-0.45, -0.6, -0.66));   // sunlight from above, behind the default eye
 const vec3 sky = vec3(0.62, 0.68, 0.78);
@@ -40,6 +58,16 @@ void main() {
   vec3 n = normalize(world_normal);
   if (!gl_FrontFacing) n = -n;
   float key = max(dot(n, -key_direction), 0.0);
+  if (shadows && key > 0.0) {
+    // 3x3 percentage-closer filtering of the shadow map, biased by the surface's slope.
+    vec3 p = light_position.xyz / light_position.w * 0.5 + 0.5;
+    float bias = 0.0015 + 0.003 * (1.0 - key);
+    float lit = 0.0;
+    vec2 texel = 1.0 / vec2(textureSize(shadow_map, 0));
+    for (int x = -1; x <= 1; ++x)
+      for (int y = -1; y <= 1; ++y) lit += texture(shadow_map, vec3(p.xy + vec2(x, y) * texel, p.z - bias));
+    key *= p.z > 1.0 ? 1.0 : lit / 9.0;
+  }
   vec3 ambient = mix(ground, sky, 0.5 + 0.5 * n.z);
   vec3 lit = albedo * (0.55 * ambient + 0.75 * key);
   color = vec4(pow(clamp(lit, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);   // back to sRGB
@@ -125,7 +153,9 @@ struct Renderer::Impl {
   };
   std::vector<Item> items;
   Mesh lines;
-  GLuint solid = 0, line = 0;
+  GLuint solid = 0, line = 0, depth = 0;
+  GLuint shadow_fbo = 0, shadow_map = 0;
+  static constexpr int kShadowSize = 2048;
   GLuint fbo = 0, color_rb = 0, depth_rb = 0, resolve_fbo = 0, resolve_rb = 0;
   Eigen::AlignedBox3d bounds;
   double draw_s = 0, readback_s = 0;
@@ -135,6 +165,7 @@ struct Renderer::Impl {
     solid = program(kSolidVertex, kSolidFragment);
     line = program(kLineVertex, kLineFragment);
     framebuffers();
+    if (options.shadows) shadow_buffers();
     upload(wc);
     grid();
   }
@@ -144,6 +175,9 @@ struct Renderer::Impl {
     release(lines);
     gl.DeleteProgram(solid);
     gl.DeleteProgram(line);
+    if (depth) gl.DeleteProgram(depth);
+    if (shadow_map) gl.DeleteTextures(1, &shadow_map);
+    if (shadow_fbo) gl.DeleteFramebuffers(1, &shadow_fbo);
     GLuint fbos[] = {fbo, resolve_fbo}, rbs[] = {color_rb, depth_rb, resolve_rb};
     gl.DeleteFramebuffers(2, fbos);
     gl.DeleteRenderbuffers(3, rbs);
@@ -207,6 +241,63 @@ struct Renderer::Impl {
     gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_rb);
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw std::runtime_error("cannot make the resolve framebuffer");
+  }
+
+  /// A depth texture the key light renders into; sampled with hardware depth comparison.
+  void shadow_buffers() {
+    depth = program(kDepthVertex, kDepthFragment);
+    gl.GenTextures(1, &shadow_map);
+    gl.BindTexture(GL_TEXTURE_2D, shadow_map);
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, kShadowSize, kShadowSize, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    gl.GenFramebuffers(1, &shadow_fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_map, 0);
+    gl.DrawBuffer(GL_NONE);
+    gl.ReadBuffer(GL_NONE);
+    if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("cannot make the shadow map's framebuffer");
+  }
+
+  /// World -> the key light's clip space: an orthographic box around the scene's bounds.
+  Eigen::Matrix4d light_projection() const {
+    const Eigen::Vector3d dir = Eigen::Vector3d(-0.45, -0.6, -0.66).normalized();  // as in the shader
+    const Eigen::Vector3d centre = bounds.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(bounds.center());
+    const double r = bounds.isEmpty() ? 10 : std::max(0.5 * bounds.diagonal().norm(), 1.0);
+    Camera light{centre - dir * 2 * r, centre, 45};
+    Eigen::Matrix4d P = Eigen::Matrix4d::Identity();
+    P(0, 0) = P(1, 1) = 1 / r;
+    P(2, 2) = -2 / (4 * r);  // depths 0 .. 4r from the light's eye (the scene lies within r .. 3r)
+    P(2, 3) = -1;
+    return P * view_matrix(light);
+  }
+
+  void draw_shadow_map(const ScenePose& pose, const Eigen::Matrix4f& light_vp) {
+    gl.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
+    gl.Viewport(0, 0, kShadowSize, kShadowSize);
+    gl.Clear(GL_DEPTH_BUFFER_BIT);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.UseProgram(depth);
+    gl.UniformMatrix4fv(gl.GetUniformLocation(depth, "light_projection"), 1, GL_FALSE, light_vp.data());
+    const GLint u_model = gl.GetUniformLocation(depth, "model");
+    for (const Item& it : items) {
+      if (it.inside) continue;  // rooms and containers do not shade what they hold
+      const Eigen::Matrix4f model = to_float(world_pose(it, pose).matrix());
+      gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
+      gl.BindVertexArray(meshes[it.mesh].vao);
+      gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);
+    }
+  }
+
+  Eigen::Isometry3d world_pose(const Item& it, const ScenePose& pose) const {
+    Eigen::Isometry3d X = pose.X_world_object[it.object];
+    if (it.part >= 0) X = X * pose.X_object_part[it.object][it.part];
+    return X * it.X_anchor_shape;
   }
 
   /// A vertex array of interleaved (position, normal or colour) floats.
@@ -284,6 +375,8 @@ struct Renderer::Impl {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     const int w = options.width, h = options.height;
+    const Eigen::Matrix4f light_vp = to_float(light_projection());
+    if (options.shadows) draw_shadow_map(pose, light_vp);
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.Viewport(0, 0, w, h);
     gl.ClearColor(0.93f, 0.94f, 0.96f, 1.0f);
@@ -304,10 +397,13 @@ struct Renderer::Impl {
     const GLint u_model = gl.GetUniformLocation(solid, "model"), u_vp = gl.GetUniformLocation(solid, "view_projection"),
                 u_normal = gl.GetUniformLocation(solid, "normal_matrix"), u_albedo = gl.GetUniformLocation(solid, "albedo");
     gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp.data());
+    gl.UniformMatrix4fv(gl.GetUniformLocation(solid, "light_projection"), 1, GL_FALSE, light_vp.data());
+    gl.Uniform1i(gl.GetUniformLocation(solid, "shadows"), options.shadows ? 1 : 0);
+    gl.Uniform1i(gl.GetUniformLocation(solid, "shadow_map"), 0);
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_2D, shadow_map);
     for (const Item& it : items) {
-      Eigen::Isometry3d X = pose.X_world_object[it.object];
-      if (it.part >= 0) X = X * pose.X_object_part[it.object][it.part];
-      X = X * it.X_anchor_shape;
+      const Eigen::Isometry3d X = world_pose(it, pose);
       const Eigen::Matrix4f model = to_float(X.matrix());
       const Eigen::Matrix3f normal = X.linear().inverse().transpose().cast<float>();
       gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());

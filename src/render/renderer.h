@@ -18,6 +18,7 @@ struct RenderOptions {
   int width = 1280, height = 720;
   bool grid = true;  ///< ground grid and world axes
   int samples = 4;   ///< MSAA samples (1: none)
+  bool shadows = false;  ///< shadows of the key light (a 2048x2048 shadow map, 3x3 PCF)
 };
 
 class Renderer {

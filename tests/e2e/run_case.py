@@ -497,6 +497,18 @@ def render(sscs, root):
                              "--eye", "5,4,15", "--target", "5,4,0", "--fov", "60"], env=env)
         if p.returncode != 0 or read_png(top)[:2] != (320, 240):
             fail("render with --eye/--target/--fov/--size", p)
+        # --shadows darkens what the key light cannot reach, and stays repeatable.
+        shadowed = [os.path.join(tmp, f"shadows{i}.png") for i in (1, 2)]
+        for f in shadowed:
+            p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", f, "--size", "480x270", "--shadows"], env=env)
+            if p.returncode != 0:
+                fail("render --shadows", p)
+        if open(shadowed[0], "rb").read() != open(shadowed[1], "rb").read():
+            fail("two renders with shadows differ")
+        light = sum(sum(r) for r in read_png(out)[2])
+        dark = sum(sum(r) for r in read_png(shadowed[0])[2])
+        if not dark < 0.995 * light:  # measured 0.991: the shadows of racks, drums and gantry
+            fail(f"shadows should darken the image: {dark} vs {light}")
         # A named camera of the vault: the orbit around the robot, not the default view.
         named = os.path.join(tmp, "robot.png")
         p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", named, "--size", "480x270", "--camera", "robot"],
