@@ -19,7 +19,9 @@ status=0
 "$sscs" render scenarios/demo/demo.yaml --out "$out/demo.png" --quiet
 echo
 echo "== sscs simulate scenarios/drum-transfer/arm-loads-drum.yaml"
-"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" --quiet
+video=()
+command -v ffmpeg >/dev/null && video=(--video "$out/arm-loads-drum.mp4")
+"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" "${video[@]}" --quiet
 grep -E '"(status|cycle_time)"' "$out/arm-loads-drum/summary.json" | sed 's/^ */  /'
 echo
 echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
@@ -29,3 +31,8 @@ echo "still image: $out/demo.png"
 echo "simulation run: $out/arm-loads-drum/ (summary.json, events.jsonl, trajectories/Robot.csv, objects.csv; rerun it with sscs simulate $out/arm-loads-drum/resolved/scenario.yaml)"
 echo "run frames: $out/arm-loads-drum/frames/ (frame_000000.png ... and index.csv)"
 echo "contact sheet: $out/arm-loads-drum/contact_sheet.png"
+if ((${#video[@]})); then
+  echo "video: $out/arm-loads-drum.mp4"
+else
+  echo "video: not made (ffmpeg is not installed; apt-get install ffmpeg, then run this again)"
+fi
