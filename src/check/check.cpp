@@ -392,6 +392,25 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   out.push_back(std::move(r));
 }
 
+/// A plugin's class over the attribute values in their file units; its margin's unit becomes
+/// the result's dimension.
+void check_plugin(const Constraint& c, const PluginCheck& pc, const State& st, CheckResult& r) {
+  std::vector<sscs_value> values;
+  for (const Operand& op : pc.inputs)
+    values.push_back({op.text.c_str(), si_to_file(read(op, st), op.dim), file_unit(op.dim)});
+  PluginOutcome out = pc.plugins->check(*pc.cls, c.name, values, pc.args_json);
+  r.message = out.message;
+  if (!out.ok) {
+    r.status = Status::Error;
+    return;
+  }
+  r.status = out.pass ? Status::Pass : Status::Fail;
+  r.dim = Dim::None;
+  for (Dim d : {Dim::Length, Dim::Angle, Dim::Mass, Dim::Time})
+    if (out.unit == file_unit(d)) r.dim = d;
+  r.margin = out.margin;
+}
+
 }  // namespace
 
 CheckReport check(const Workcell& wc, const GeometryModel& geometry, const CheckOptions& options) {
@@ -412,6 +431,15 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
       else if (c.severity == Severity::Warning) ++report.warnings;
       else ++report.failed;
     };
+    if (const auto* pc = std::get_if<PluginCheck>(&c.body)) {
+      CheckResult r;
+      r.constraint = static_cast<int>(i);
+      r.subjects = c.subjects;
+      check_plugin(c, *pc, values, r);
+      tally(r);
+      report.results.push_back(std::move(r));
+      continue;
+    }
     if (const auto* d = std::get_if<DeferredCheck>(&c.body)) {
       CheckResult r;
       r.constraint = static_cast<int>(i);

@@ -46,11 +46,13 @@ struct Common {
   std::vector<std::string> package_paths;
   std::vector<std::string> set;
   bool quiet = false;
+  bool allow_vault_plugins = false;
   std::string color = "auto";
 
   void add_to(CLI::App* app) {
     app->add_option("--library", library, "extra type-library folder (repeatable)");
-    app->add_option("--plugins", plugins, "plugin folder (repeatable)");
+    app->add_option("--plugins", plugins, "load the plugins in this folder (repeatable)");
+    app->add_flag("--allow-vault-plugins", allow_vault_plugins, "also load the folders a vault's plugins: key names");
     app->add_option("--package-path", package_paths, "folder of ROS packages for URDF package:// references (repeatable)");
     app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
     app->add_flag("--quiet", quiet, "print only summaries and errors");
@@ -74,6 +76,7 @@ struct Common {
     }
     options.library_dirs = library;
     options.plugin_dirs = plugins;
+    options.allow_vault_plugins = allow_vault_plugins;
     options.package_paths = package_paths;
     return true;
   }
@@ -655,6 +658,9 @@ int run_cli(int argc, char** argv) {
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);
     return kInputError;
+  } catch (const PluginError& e) {
+    std::cerr << "sscs: error: " << e.what() << "\n";
+    return kInternalError;
   } catch (const gl::RenderUnavailable& e) {
     std::cerr << "sscs: error: " << e.what() << "\n";
     return kInternalError;

@@ -706,15 +706,32 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
   for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
   st.wc.types = load_library(dirs, sources, diag, options.package_paths);
-  for (const Scalar& dir : spec.plugins) {
-    std::error_code ec;
-    if (!fs::is_directory(resolve_path(spec.path, dir.text), ec))
-      diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
-  }
+  // Plugins: --plugins folders load; a vault's own `plugins:` folders load only when the command
+  // line allows them (the same folder in --plugins, or --allow-vault-plugins): a vault file from
+  // a pull request must not be able to run code on its own (docs/plugins.md).
+  st.plugins = options.plugins ? options.plugins : std::make_shared<PluginSet>();
+  auto same_folder = [](const std::string& a, const std::string& b) {
+    std::error_code e1, e2;
+    return fs::weakly_canonical(a, e1) == fs::weakly_canonical(b, e2);
+  };
+  std::vector<std::string> folders;
   for (const std::string& dir : options.plugin_dirs) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) diag.error({}, fmt::format("--plugins folder '{}' does not exist", dir));
+    else folders.push_back(dir);
   }
+  for (const Scalar& dir : spec.plugins) {
+    std::string path = resolve_path(spec.path, dir.text);
+    std::error_code ec;
+    bool named = std::any_of(options.plugin_dirs.begin(), options.plugin_dirs.end(), [&](const std::string& d) { return same_folder(d, path); });
+    if (!fs::is_directory(path, ec)) diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
+    else if (!named && !options.allow_vault_plugins)
+      diag.error(dir.mark, fmt::format("the vault asks to load the plugins in '{}'; a vault alone never loads code. To "
+                                       "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
+    else if (!named) folders.push_back(path);
+  }
+  if (!diag.has_errors())
+    for (const std::string& dir : folders) st.plugins->load_folder(dir);
 
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);

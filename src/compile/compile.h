@@ -1,5 +1,6 @@
 #pragma once
 /// The compile stage: a VaultSpec and its type library -> an immutable Workcell.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -7,13 +8,16 @@
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
 #include "load/spec.h"
+#include "plugin/plugins.h"
 
 namespace sscs {
 
 struct CompileOptions {
   std::vector<std::string> library_dirs;  ///< extra type folders (--library), after the vault's own
   std::vector<std::string> package_paths;  ///< --package-path: roots of `package://` references in URDF
-  std::vector<std::string> plugin_dirs;   ///< --plugins (checked to exist; loading comes with the plugin issue)
+  std::vector<std::string> plugin_dirs;   ///< --plugins: folders whose plugins are loaded
+  bool allow_vault_plugins = false;       ///< --allow-vault-plugins: load the vault's `plugins:` folders too
+  std::shared_ptr<PluginSet> plugins;     ///< where loaded plugins go (created when null)
   std::vector<std::pair<std::string, std::string>> overrides;  ///< --set NAME=VALUE
 };
 
@@ -26,7 +30,9 @@ std::string standard_library_dir();
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
                                      Diagnostics& diag, const std::vector<std::string>& package_paths = {});
 
-/// Compiles a vault. Returns nullopt when any input error was reported.
+/// Compiles a vault. Returns nullopt when any input error was reported. Loads the plugins of
+/// --plugins folders, and of the vault's `plugins:` folders when the command line allows them
+/// (else an input error saying how); a plugin that cannot be used throws PluginError.
 std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources,
                                 Diagnostics& diag);
 

@@ -285,10 +285,30 @@ void compile_constraints(CompileState& st) {
       compile_expr(st, *e, c);
     } else if (auto* pbox = std::get_if<Boxed<PluginSpec>>(&spec.kind)) {
       auto* p = &**pbox;
+      PluginCheck pc;
+      pc.plugins = st.plugins;
       for (const Scalar& ref : p->attributes)
-        if (auto op = bound_operand(st, ref, "a plugin attribute"); op && op->object >= 0) c.subjects.push_back(op->object);
-      c.body = DeferredCheck{fmt::format("plugin constraint class '{}' needs the plugin loader, which this sscs version "
-                                         "does not have yet", p->cls.text)};
+        if (auto op = bound_operand(st, ref, "a plugin attribute")) {
+          if (op->object >= 0) c.subjects.push_back(op->object);
+          pc.inputs.push_back(std::move(*op));
+        }
+      pc.args_json = p->args.is_null() ? "{}" : p->args.dump();
+      pc.cls = st.plugins ? st.plugins->find(p->cls.text) : nullptr;
+      if (!pc.cls) {
+        std::vector<std::string> names;
+        if (st.plugins)
+          for (const ConstraintClass& k : st.plugins->classes()) names.push_back(k.name);
+        st.diag.error(p->cls.mark, fmt::format("no loaded plugin provides constraint class '{}'{}{}", p->cls.text,
+                                               did_you_mean(p->cls.text, names),
+                                               names.empty() ? " (no plugins are loaded: pass --plugins DIR)" : ""));
+      } else if (p->attributes.size() < pc.cls->min_values || p->attributes.size() > pc.cls->max_values) {
+        st.diag.error(p->cls.mark, fmt::format("constraint class '{}' takes {} attributes, found {}", p->cls.text,
+                                               pc.cls->min_values == pc.cls->max_values ? fmt::format("{}", pc.cls->min_values)
+                                               : pc.cls->max_values == SIZE_MAX ? fmt::format("at least {}", pc.cls->min_values)
+                                               : fmt::format("{} to {}", pc.cls->min_values, pc.cls->max_values),
+                                               p->attributes.size()));
+      }
+      c.body = std::move(pc);
     } else if (auto* clbox = std::get_if<Boxed<ClearanceSpec>>(&spec.kind)) {
       auto* cl = &**clbox;
       SpatialCheck sc;

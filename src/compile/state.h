@@ -37,6 +37,7 @@ struct CompileState {
   Sources& sources;
   Diagnostics& diag;
   Workcell wc;
+  std::shared_ptr<PluginSet> plugins;  ///< the loaded plugins' classes
   std::unordered_map<std::string, int> parameter_index;  ///< lookups only, never iterated into output
   std::vector<const ObjectSpec*> object_spec;            ///< per object
   std::vector<std::array<int, 3>> array_index;           ///< per object, {0,0,0} when not in an array

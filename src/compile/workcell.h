@@ -14,6 +14,7 @@
 #include "core/source.h"
 #include "core/units.h"
 #include "load/spec.h"
+#include "plugin/plugins.h"
 
 namespace sscs {
 
@@ -95,6 +96,14 @@ struct DeferredCheck {
   std::string reason;
 };
 
+/// plugin: a constraint class of a loaded plugin over the participating attributes.
+struct PluginCheck {
+  std::shared_ptr<const PluginSet> plugins;  ///< keeps the shared object loaded
+  const ConstraintClass* cls = nullptr;
+  std::vector<Operand> inputs;
+  std::string args_json;
+};
+
 /// clearance, no_overlap and inside: evaluated on the geometry with FCL.
 struct SpatialCheck {
   enum class Kind : uint8_t { ClearancePair, ClearanceSet, NoOverlap, Inside } kind = Kind::NoOverlap;
@@ -126,7 +135,7 @@ struct Constraint {
   Severity severity = Severity::Error;
   std::string kind;  ///< bound, expr, clearance, ...
   std::vector<int> subjects;  ///< objects it reads
-  std::variant<BoundCheck, ExprCheck, SpatialCheck, ReachCheck, DeferredCheck> body;
+  std::variant<BoundCheck, ExprCheck, SpatialCheck, ReachCheck, PluginCheck, DeferredCheck> body;
 };
 
 struct Parameter {

@@ -524,11 +524,63 @@ def render(sscs, root):
     print("ok render")
 
 
+def plugins(sscs, root):
+    """Plugins: the example constraint class, the trust boundary, and every broken plugin's
+    outcome (exit 3 naming the plugin, or the constraint's status `error` with the run going on)."""
+    import tempfile
+    build = os.path.dirname(os.path.dirname(os.path.abspath(sscs)))
+    examples = os.path.join(build, "plugins")
+    broken = os.path.join(build, "tests", "plugins")
+    rooms = "tests/data/plugins/rooms.yaml"
+    p = run(sscs, root, ["check", rooms, "--plugins", examples, "--format", "json"])
+    results = {r["constraint"]: r for r in json.loads(p.stdout)["results"]} if p.returncode == 1 else {}
+    hall, store = results.get("hall door height", {}), results.get("store door height", {})
+    if hall.get("status") != "pass" or hall.get("margin") != 0 or store.get("status") != "fail" or \
+            store.get("margin") != -1 or store.get("unit") != "m" or "must be lower than 7.00: it is 8.00" not in store.get("message", ""):
+        fail(f"room_door_rule results: {results}", p)
+    p = run(sscs, root, ["check", rooms])
+    if p.returncode != 2 or "no loaded plugin provides constraint class 'room_door_rule'" not in p.stderr:
+        fail("a plugin class without --plugins is an input error", p)
+    # A vault's own plugins: key loads nothing by itself.
+    vp = "tests/data/plugins/vault-plugins.yaml"
+    p = run(sscs, root, ["check", vp])
+    if p.returncode != 2 or "a vault alone never loads code" not in p.stderr or "--allow-vault-plugins" not in p.stderr:
+        fail("vault plugins without permission", p)
+    for allow in (["--allow-vault-plugins"], ["--plugins", examples]):
+        p = run(sscs, root, ["check", vp] + allow)
+        if p.returncode != 0 or "1 passed" not in p.stdout:
+            fail(f"vault plugins with {allow}", p)
+    # Broken plugins.
+    bad = "tests/data/plugins/broken.yaml"
+    expect = {
+        "wrong_abi": (3, "wrong_abi.so: built for plugin ABI version 99, this sscs has version 1"),
+        "no_register": (3, "no_register.so: missing the entry symbol sscs_plugin_register"),
+        "throws": (1, "broken check [plugin D]: plugin " + os.path.join(broken, "throws", "throws.so") +
+                   " could not evaluate it: the check threw: no table for D.height"),
+        "nan": (1, "nan.so returned a margin that is not a number (nan)"),
+        "crash": (3, "sscs: error: plugin " + os.path.join(broken, "crash", "crash.so") +
+                  " crashed in the check of constraint 'broken check' (class broken)"),
+    }
+    for kind, (code, message) in expect.items():
+        p = run(sscs, root, ["check", bad, "--plugins", os.path.join(broken, kind)])
+        if p.returncode != code or message not in p.stdout + p.stderr:
+            fail(f"broken plugin {kind}: expected exit {code} and {message!r}", p)
+        if code == 1 and "1 passed, 1 failed" not in p.stdout:
+            fail(f"broken plugin {kind}: the other constraint is still checked", p)
+    # Two plugins defining one class.
+    with tempfile.TemporaryDirectory() as tmp:
+        shutil.copy(os.path.join(examples, "room_door_rule.so"), os.path.join(tmp, "copy.so"))
+        p = run(sscs, root, ["check", rooms, "--plugins", examples, "--plugins", tmp])
+        if p.returncode != 3 or "constraint class 'room_door_rule' is already defined by plugin" not in p.stderr:
+            fail("a class defined twice", p)
+    print("ok plugins")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
@@ -539,6 +591,8 @@ def main():
         simulate(a.sscs, a.root)
     elif a.mode == "render":
         render(a.sscs, a.root)
+    elif a.mode == "plugins":
+        plugins(a.sscs, a.root)
     else:
         cli(a.sscs, a.root)
 
