@@ -225,6 +225,8 @@ int run_types(const Common& common, const std::string& format) {
   std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
   for (const std::string& d : common.library) dirs.push_back({d, {}});
   std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths);
+  PluginSet plugins;
+  for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
   if (diag.has_errors()) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
@@ -249,6 +251,12 @@ int run_types(const Common& common, const std::string& format) {
     }
     j["types"] = std::move(arr);
     j["constraint_kinds"] = kKinds;
+    auto classes = nlohmann::ordered_json::array();
+    for (const ConstraintClass& c : plugins.classes())
+      classes.push_back({{"class", c.name}, {"description", c.description}, {"plugin", c.plugin},
+                         {"min_attributes", c.min_values},
+                         {"max_attributes", c.max_values == SIZE_MAX ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.max_values)}});
+    j["constraint_classes"] = std::move(classes);
     std::cout << j.dump(2) << "\n";
     return kOk;
   }
@@ -280,6 +288,12 @@ int run_types(const Common& common, const std::string& format) {
     }
   }
   std::cout << fmt::format("constraint kinds: {}\n", fmt::join(kKinds, ", "));
+  for (const ConstraintClass& c : plugins.classes())
+    std::cout << fmt::format("plugin constraint class {} - {} ({} attributes; {})\n", c.name, c.description,
+                             c.min_values == c.max_values ? fmt::format("{}", c.min_values)
+                             : c.max_values == SIZE_MAX  ? fmt::format("{} or more", c.min_values)
+                                                         : fmt::format("{} to {}", c.min_values, c.max_values),
+                             c.plugin);
   return kOk;
 }
 

@@ -573,6 +573,27 @@ def plugins(sscs, root):
         p = run(sscs, root, ["check", rooms, "--plugins", examples, "--plugins", tmp])
         if p.returncode != 3 or "constraint class 'room_door_rule' is already defined by plugin" not in p.stderr:
             fail("a class defined twice", p)
+    # sscs types lists the classes with the plugin's path.
+    p = run(sscs, root, ["types", "--plugins", examples])
+    if p.returncode != 0 or f"plugin constraint class room_door_rule - " not in p.stdout or \
+            os.path.join(examples, "room_door_rule.so") not in p.stdout:
+        fail("types --plugins", p)
+    # The template builds against an installed sscs (cmake --install, find_package(sscs),
+    # sscs_add_plugin) and its class works from the installed binary.
+    with tempfile.TemporaryDirectory() as tmp:
+        prefix, src = os.path.join(tmp, "prefix"), os.path.join(tmp, "my-plugin")
+        for cmd in (["cmake", "--install", build, "--prefix", prefix],
+                    ["cp", "-r", os.path.join(root, "plugins", "template"), src],
+                    ["cmake", "-S", src, "-B", os.path.join(src, "build"), f"-DCMAKE_PREFIX_PATH={prefix}"],
+                    ["cmake", "--build", os.path.join(src, "build")]):
+            q = subprocess.run(cmd, capture_output=True, text=True)
+            if q.returncode != 0:
+                fail(f"{' '.join(cmd)}: {q.stdout}{q.stderr}")
+        p = run(os.path.join(prefix, "bin", "sscs"), root,
+                ["check", "tests/data/plugins/template.yaml", "--plugins", os.path.join(src, "build", "plugins")])
+        if p.returncode != 1 or "High.height = 4.900000, at most 3.000000 (margin -1.9 m)" not in p.stdout or \
+                "the check threw: args need a number 'max'" not in p.stdout or "1 passed, 1 failed, 1 warnings" not in p.stdout:
+            fail("the template plugin from an installed sscs", p)
     print("ok plugins")
 
 

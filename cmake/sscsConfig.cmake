@@ -1,0 +1,18 @@
+# find_package(sscs): the plugin header and sscs_add_plugin() of an installed sscs. The install
+# prefix is found by walking up from this file (lib/cmake/sscs or lib/<arch>/cmake/sscs).
+set(_sscs_prefix "${CMAKE_CURRENT_LIST_DIR}")
+foreach(_sscs_up RANGE 4)
+  get_filename_component(_sscs_prefix "${_sscs_prefix}" DIRECTORY)
+  if(EXISTS "${_sscs_prefix}/include/sscs/plugin.h")
+    break()
+  endif()
+endforeach()
+if(NOT EXISTS "${_sscs_prefix}/include/sscs/plugin.h")
+  set(sscs_FOUND FALSE)
+  set(sscs_NOT_FOUND_MESSAGE "sscs/plugin.h is not installed beside ${CMAKE_CURRENT_LIST_FILE}")
+  return()
+endif()
+set(SSCS_INCLUDE_DIR "${_sscs_prefix}/include")
+set(SSCS_EXECUTABLE "${_sscs_prefix}/bin/sscs")
+include("${CMAKE_CURRENT_LIST_DIR}/SscsPlugin.cmake")
+set(sscs_FOUND TRUE)
