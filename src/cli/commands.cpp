@@ -460,8 +460,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     for (int n = 0; n <= static_cast<int>(recorded->duration() * plan.settings.fps + 1e-9); ++n)
       times.push_back(static_cast<double>(n) / plan.settings.fps);
   }
-  const fs::path out(args.out);
-  const fs::path work = out.parent_path() / fmt::format(".{}.tmp-{}", out.filename().string(), getpid());
+  const fs::path work = temp_dir_for(args.out);
   std::error_code ec;
   fs::remove_all(work, ec);
   try {
@@ -472,11 +471,9 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     fs::remove_all(work, ec);
     throw;
   }
-  fs::remove_all(out, ec);
-  fs::rename(work, out, ec);
-  if (ec) {
+  if (std::string err = commit_dir(work.string(), args.out); !err.empty()) {
     fs::remove_all(work, ec);
-    std::cerr << fmt::format("sscs: error: cannot write '{}'\n", args.out);
+    std::cerr << "sscs: error: " << err << "\n";
     return kInputError;
   }
   if (!common.quiet) std::cout << fmt::format("replayed {} frames of {} into {}\n", times.size(), args.run, args.out);
@@ -486,8 +483,20 @@ int run_replay(const Common& common, const ReplayArgs& args) {
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
-int run_simulate(const Common& common, const std::string& scenario, std::string out, const std::string& bundle,
-                 bool no_frames, const std::string& video, bool shadows) {
+struct SimulateArgs {
+  std::string scenario;
+  std::string out;     // default: run-<scenario name> unless only a bundle is asked for
+  std::string bundle;
+  bool no_frames = false;
+  std::string video;
+  bool shadows = false;
+};
+
+int run_simulate(const Common& common, const SimulateArgs& args) {
+  const std::string& bundle = args.bundle;
+  const std::string& video = args.video;
+  const bool no_frames = args.no_frames;
+  std::string out = args.out;
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
   if (!video.empty()) {
@@ -504,7 +513,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
     return kInputError;
   }
   PreparedScenario ps;
-  if (!ps.prepare(scenario, options)) {
+  if (!ps.prepare(args.scenario, options)) {
     std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
     return kInputError;
   }
@@ -543,7 +552,7 @@ int run_simulate(const Common& common, const std::string& scenario, std::string 
       RenderOptions ro;
       ro.width = plan->settings.width;
       ro.height = plan->settings.height;
-      ro.shadows = shadows;
+      ro.shadows = args.shadows;
       recorder = std::make_unique<FrameRecorder>(*wc, geometry, ps.cameras, ro, run.work_dir + "/frames");
       if (!video.empty()) recorder->record_video(video, plan->settings.fps);
       run.frame_interval = 1.0 / plan->settings.fps;
@@ -618,17 +627,14 @@ int run_cli(int argc, char** argv) {
     export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
     common.add_to(export_cmd);
 
-    std::string sim_scenario, sim_out, sim_bundle;
+    SimulateArgs sim_args;
     CLI::App* sim_cmd = app.add_subcommand("simulate", "run a scenario in ODE physics and write its logs");
-    sim_cmd->add_option("SCENARIO", sim_scenario, "scenario file")->required();
-    sim_cmd->add_option("--out", sim_out, "output folder (default: run-<scenario> unless --bundle), replaced atomically");
-    sim_cmd->add_option("--bundle", sim_bundle, "write the run as one zip archive too (or only, without --out)");
-    bool sim_no_frames = false;
-    sim_cmd->add_flag("--no-frames", sim_no_frames, "do not render the scenario's frames");
-    std::string sim_video;
-    sim_cmd->add_option("--video", sim_video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
-    bool sim_shadows = false;
-    sim_cmd->add_flag("--shadows", sim_shadows, "frames with shadows of the key light");
+    sim_cmd->add_option("SCENARIO", sim_args.scenario, "scenario file")->required();
+    sim_cmd->add_option("--out", sim_args.out, "output folder (default: run-<scenario> unless --bundle), replaced atomically");
+    sim_cmd->add_option("--bundle", sim_args.bundle, "write the run as one zip archive too (or only, without --out)");
+    sim_cmd->add_flag("--no-frames", sim_args.no_frames, "do not render the scenario's frames");
+    sim_cmd->add_option("--video", sim_args.video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
+    sim_cmd->add_flag("--shadows", sim_args.shadows, "frames with shadows of the key light");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
@@ -667,7 +673,7 @@ int run_cli(int argc, char** argv) {
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_scenario, sim_out, sim_bundle, sim_no_frames, sim_video, sim_shadows);
+    if (sim_cmd->parsed()) return run_simulate(common, sim_args);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);

@@ -29,6 +29,18 @@ std::string commit_file(const std::string& tmp, const std::string& path) {
   return fmt::format("cannot write '{}': {}", path, ec.message());
 }
 
+std::string temp_dir_for(const std::string& path) {
+  fs::path target(path);
+  return (target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), getpid())).string();
+}
+
+std::string commit_dir(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  if (fs::exists(path, ec)) fs::remove_all(path, ec);
+  fs::rename(tmp, path, ec);
+  return ec ? fmt::format("cannot move the output into '{}': {}", path, ec.message()) : "";
+}
+
 std::string write_file_atomic(const std::string& path, const std::string& content) {
   std::string tmp = temp_path_for(path);
   {

@@ -12,6 +12,13 @@ std::string temp_path_for(const std::string& path);
 /// Renames `tmp` over `path`; on failure removes `tmp`. Returns an error message or "".
 std::string commit_file(const std::string& tmp, const std::string& path);
 
+/// A hidden temporary folder beside a target folder (or archive): "dir/.name.tmp-<pid>". Outputs
+/// made of many files are assembled there and appear with commit_dir().
+std::string temp_dir_for(const std::string& path);
+
+/// Replaces the folder `path` (if any) with `tmp`. Returns an error message or "".
+std::string commit_dir(const std::string& tmp, const std::string& path);
+
 /// Writes `content` to `path` atomically. Returns an error message or "".
 std::string write_file_atomic(const std::string& path, const std::string& content);
 

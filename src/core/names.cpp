@@ -75,4 +75,11 @@ bool is_valid_color(std::string_view c) {
          std::all_of(c.begin() + 1, c.end(), [](char x) { return std::isxdigit(static_cast<unsigned char>(x)); });
 }
 
+std::array<float, 3> color_rgb(std::string_view hex, std::array<float, 3> fallback) {
+  if (!is_valid_color(hex)) return fallback;
+  std::array<float, 3> rgb;
+  for (int i = 0; i < 3; ++i) rgb[i] = static_cast<float>(std::stoi(std::string(hex.substr(1 + 2 * i, 2)), nullptr, 16)) / 255.0f;
+  return rgb;
+}
+
 }  // namespace sscs

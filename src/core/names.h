@@ -1,5 +1,6 @@
 #pragma once
 /// Names of objects, types, attributes and parameters, and "did you mean" suggestions.
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -8,6 +9,10 @@ namespace sscs {
 
 /// A name starts with a letter, then letters, digits, `_` or `-`.
 bool is_valid_name(std::string_view name);
+
+/// The red, green and blue of "#RRGGBB" in [0, 1] (as written: sRGB), or `fallback` for
+/// anything else (an object without a colour).
+std::array<float, 3> color_rgb(std::string_view hex, std::array<float, 3> fallback);
 
 /// Whether `c` is a colour as files write it: "#RRGGBB" (hex sRGB).
 bool is_valid_color(std::string_view c);

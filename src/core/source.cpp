@@ -4,6 +4,12 @@ namespace sscs {
 
 Sources::Sources() { files_.push_back({"<none>", ""}); }
 
+uint32_t Sources::find(std::string_view path) const {
+  for (uint32_t f = 1; f < files_.size(); ++f)
+    if (files_[f].path == path) return f;
+  return 0;
+}
+
 uint32_t Sources::add(std::string path, std::string text) {
   files_.push_back({std::move(path), std::move(text)});
   return static_cast<uint32_t>(files_.size() - 1);

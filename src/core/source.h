@@ -29,6 +29,8 @@ class Sources {
   uint32_t add(std::string path, std::string text);
   const std::string& path(uint32_t file) const { return files_.at(file).path; }
   const std::string& text(uint32_t file) const { return files_.at(file).text; }
+  /// The index of the file registered as `path`, or 0 when none was.
+  uint32_t find(std::string_view path) const;
   /// The text of the line a mark points into, without its line break.
   std::string_view line(const SourceMark& mark) const;
   size_t size() const { return files_.size(); }

@@ -1,6 +1,7 @@
 #include "geometry/export.h"
 
 #include "core/files.h"
+#include "core/names.h"
 #include "kinematics/device.h"
 
 #include <assimp/Exporter.hpp>
@@ -77,9 +78,8 @@ TriangleMesh sphere_mesh(double r, int n = 32) {
 }
 
 aiColor4D parse_color(const std::string& hex) {
-  if (hex.size() != 7) return {0.7f, 0.7f, 0.7f, 1.0f};
-  auto channel = [&](int i) { return static_cast<float>(std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16)) / 255.0f; };
-  return {channel(0), channel(1), channel(2), 1.0f};
+  auto [r, g, b] = color_rgb(hex, {0.7f, 0.7f, 0.7f});
+  return {r, g, b, 1.0f};
 }
 
 aiMatrix4x4 to_ai(const Eigen::Isometry3d& X) {

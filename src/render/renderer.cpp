@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "core/names.h"
 #include "geometry/export.h"
 #include "kinematics/device.h"
 #include "render/gl.h"
@@ -124,13 +125,9 @@ Eigen::Matrix4f to_float(const Eigen::Matrix4d& M) { return M.cast<float>(); }
 }  // namespace
 
 Eigen::Vector3f color_of(const std::string& hex) {
-  if (hex.size() != 7) return Eigen::Vector3f(0.52f, 0.52f, 0.52f);  // #C0C0C0 in linear light
-  Eigen::Vector3f c;
-  for (int i = 0; i < 3; ++i) {
-    float s = static_cast<float>(std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16)) / 255.0f;
-    c[i] = std::pow(s, 2.2f);
-  }
-  return c;
+  const float grey = 0xC0 / 255.0f;  // #C0C0C0 for objects without a colour
+  auto rgb = color_rgb(hex, {grey, grey, grey});
+  return Eigen::Vector3f(rgb[0], rgb[1], rgb[2]).array().pow(2.2f);  // sRGB to linear light
 }
 
 struct Renderer::Impl {

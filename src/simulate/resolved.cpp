@@ -18,8 +18,7 @@ namespace sscs {
 namespace {
 
 uint32_t file_of(const Sources& sources, const std::string& path) {
-  for (uint32_t f = 1; f < sources.size(); ++f)
-    if (sources.path(f) == path) return f;
+  if (uint32_t f = sources.find(path)) return f;
   throw std::logic_error(fmt::format("'{}' was not read through the sources registry", path));
 }
 
@@ -54,8 +53,7 @@ class Resolver {
   }
 
   std::string bytes(const std::string& file) {
-    for (uint32_t f = 1; f < sources_.size(); ++f)
-      if (sources_.path(f) == file) return sources_.text(f);
+    if (uint32_t f = sources_.find(file)) return sources_.text(f);
     auto b = read_file_bytes(file);
     if (!b) throw std::runtime_error(fmt::format("cannot read '{}' again to keep it with the run", file));
     return *b;

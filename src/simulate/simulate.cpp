@@ -49,6 +49,11 @@ constexpr double kRad = 180 / 3.14159265358979323846;
 constexpr double kClearanceReach = 2.0;       // m: clearances beyond this are not tracked
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 
+/// Where a run's outputs are assembled: the given work folder, else the default one.
+std::string work_dir(const RunOptions& options) {
+  return options.work_dir.empty() ? run_work_dir(options) : options.work_dir;
+}
+
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
 double r9(double x) { return std::round(x * 1e9) / 1e9; }
 
@@ -151,7 +156,7 @@ class Run {
   /// Writes every output into a hidden temporary folder beside the target, then renames it
   /// (and/or packs it into the bundle): nothing under the requested names until complete.
   std::string write(const RunSummary& summary, std::string* error) {
-    fs::path tmp = options_.work_dir.empty() ? run_work_dir(options_) : options_.work_dir;
+    const fs::path tmp = work_dir(options_);
     std::error_code ec;
     auto put = [&](const std::string& rel, const std::string& text) {
       if (!error->empty()) return;
@@ -175,12 +180,7 @@ class Run {
       if (error->empty()) *error = commit_file(zip_tmp, options_.bundle);
       else std::remove(zip_tmp.c_str());
     }
-    if (error->empty() && !options_.out_dir.empty()) {
-      fs::path out(options_.out_dir);
-      if (fs::exists(out, ec)) fs::remove_all(out, ec);
-      fs::rename(tmp, out, ec);
-      if (ec) *error = fmt::format("cannot move the run into '{}': {}", out.string(), ec.message());
-    }
+    if (error->empty() && !options_.out_dir.empty()) *error = commit_dir(tmp.string(), options_.out_dir);
     fs::remove_all(tmp, ec);
     return *error;
   }
@@ -224,20 +224,14 @@ class Run {
     event(t, kind, f);
   }
 
-  /// The gripper touching the object it is about to grasp, or has just released, is not a
-  /// collision: the tool's part (and the parts it carries) against the device's next grasp
-  /// target or its last released object.
+  /// The gripper touching a load it handles (about to grasp, holding, has just released) is
+  /// not a collision: the tool's part (and the parts it carries) against handled(device, t).
   bool gripper_meets_its_load(const PhysicsContact& c, double t) const {
     for (auto [dev, part, other] : {std::tuple{c.a, c.part_a, c.b}, std::tuple{c.b, c.part_b, c.a}}) {
       if (dev < 0 || part < 0 || other < 0 || !geometry_.objects[dev].device) continue;
       if (!geometry_.objects[dev].device->tool_parts()[part]) continue;
-      int next = -1, last = -1;
-      for (const PlannedStep& ps : plan_.steps) {
-        if (ps.device != dev) continue;
-        if (ps.kind == "grasp" && ps.start >= t - plan_.settings.timestep && next < 0) next = ps.object;
-        if (ps.kind == "release" && ps.start <= t) last = ps.object;
-      }
-      if (other == next || other == last) return true;
+      std::vector<int> loads = handled(dev, t);
+      if (std::find(loads.begin(), loads.end(), other) != loads.end()) return true;
     }
     return false;
   }
@@ -380,17 +374,16 @@ class Run {
   /// At the trajectory rate: clearances between what moves and everything else, and the
   /// constraints that depend on the motion.
   void observe(double t) {
+    const ScenePose now = scene_pose();
     std::vector<int> loads;
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
-      std::vector<Eigen::Isometry3d> X_world_part(m.parts.size()), X_object_part(m.parts.size());
-      const Eigen::Isometry3d X_object_world = geometry_.objects[dr.object].X_world_object.inverse();
-      for (size_t p = 0; p < m.parts.size(); ++p) {
-        X_world_part[p] = world_.part_pose(dr.object, static_cast<int>(p));
-        X_object_part[p] = X_object_world * X_world_part[p];
-      }
+      const Eigen::Isometry3d& X_world_object = geometry_.objects[dr.object].X_world_object;
+      const std::vector<Eigen::Isometry3d>& X_object_part = now.X_object_part[dr.object];
+      std::vector<Eigen::Isometry3d> X_world_part;
+      for (const Eigen::Isometry3d& X : X_object_part) X_world_part.push_back(X_world_object * X);
       nearby_.move_parts(dr.object, X_world_part);
-      repose(live_.objects[dr.object], geometry_.objects[dr.object].X_world_object, &X_object_part);
+      repose(live_.objects[dr.object], X_world_object, &X_object_part);
       Eigen::VectorXd q = world_.joints(dr.object);
       const Object& obj = wc_.objects[dr.object];
       for (int j = 0; j < m.dof(); ++j) live_values_[obj.first_slot + kFirstAttributeSlot + m.joint(j).attribute] = q[j];
@@ -398,7 +391,7 @@ class Run {
     }
     for (size_t o = 0; o < wc_.objects.size(); ++o) {
       if (!world_.dynamic(static_cast<int>(o))) continue;
-      const Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
+      const Eigen::Isometry3d& X = now.X_world_object[o];
       nearby_.move(static_cast<int>(o), X);
       repose(live_.objects[o], X);
       const Object& obj = wc_.objects[o];
@@ -427,17 +420,18 @@ class Run {
     if (!recheck_.only.empty()) recheck(t);
   }
 
-  /// The loads a device's tool deals with around time t: held, about to be grasped, just released.
+  /// The loads a device's tool deals with around time t: the one it holds, the next it will
+  /// grasp (from one timestep before the grasp), and the last it released.
   std::vector<int> handled(int device, double t) const {
-    std::vector<int> out;
-    if (world_.held(device) >= 0) out.push_back(world_.held(device));
-    int next = -1;
+    int next = -1, last = -1;
     for (const PlannedStep& ps : plan_.steps) {
       if (ps.device != device || ps.object < 0) continue;
-      if (ps.kind == "grasp" && ps.start >= t && next < 0) next = ps.object;
-      if (ps.kind == "release" && ps.start <= t) out.push_back(ps.object);
+      if (ps.kind == "grasp" && ps.start >= t - plan_.settings.timestep && next < 0) next = ps.object;
+      if (ps.kind == "release" && ps.start <= t) last = ps.object;
     }
-    if (next >= 0) out.push_back(next);
+    std::vector<int> out;
+    for (int o : {world_.held(device), next, last})
+      if (o >= 0) out.push_back(o);
     return out;
   }
 
@@ -610,8 +604,7 @@ class Run {
 }  // namespace
 
 std::string run_work_dir(const RunOptions& options) {
-  fs::path target(options.out_dir.empty() ? options.bundle : options.out_dir);
-  return (target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid())).string();
+  return temp_dir_for(options.out_dir.empty() ? options.bundle : options.out_dir);
 }
 
 std::string prepare_work_dir(const RunOptions& options) {
@@ -639,7 +632,7 @@ RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, con
   if (!summary.interrupted && options.before_write) *error = options.before_write();
   if (!summary.interrupted && error->empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, error);
   std::error_code ec;
-  if (summary.interrupted || !error->empty()) fs::remove_all(options.work_dir.empty() ? run_work_dir(options) : options.work_dir, ec);
+  if (summary.interrupted || !error->empty()) fs::remove_all(work_dir(options), ec);
   return summary;
 }
 
