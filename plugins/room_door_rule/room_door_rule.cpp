@@ -6,21 +6,13 @@
 #include <sscs/plugin.hpp>
 
 #include <cmath>
-#include <regex>
 #include <string>
 
 namespace {
 
-/// A number from the args' JSON text ({"threshold": 15}), or `fallback`.
-double arg(const std::string& json, const std::string& key, double fallback) {
-  std::smatch m;
-  if (std::regex_search(json, m, std::regex("\"" + key + "\"\\s*:\\s*(-?[0-9.eE+-]+)"))) return std::stod(m[1]);
-  return fallback;
-}
-
 sscs::plugin::Result room_door(const sscs::plugin::Inputs& in) {
   const double room = in.value(0), door = in.value(1);
-  const double threshold = arg(in.args(), "threshold", 15), standard = arg(in.args(), "door", 7);
+  const double threshold = in.number("threshold", 15), standard = in.number("door", 7);
   const std::string u = in.unit(1);
   auto num = [](double x) { return std::to_string(x).substr(0, std::to_string(x).find('.') + 3); };
   if (room > threshold) {

@@ -408,6 +408,7 @@ void check_plugin(const Constraint& c, const PluginCheck& pc, const State& st, C
   r.dim = Dim::None;
   for (Dim d : {Dim::Length, Dim::Angle, Dim::Mass, Dim::Time})
     if (out.unit == file_unit(d)) r.dim = d;
+  if (r.dim == Dim::None) r.unit = out.unit;
   r.margin = out.margin;
 }
 

@@ -20,7 +20,10 @@ struct CheckResult {
   std::optional<double> lhs, rhs;  ///< in file units of `dim`
   std::optional<double> margin;    ///< in file units of `dim`; positive when satisfied
   Dim dim = Dim::None;
+  std::string unit;  ///< the margin's unit when it is no dimension's (a plugin's "sr"), else ""
   std::string message;
+  /// The unit the margin is in: `unit`, else the file unit of `dim`.
+  const char* margin_unit() const { return unit.empty() ? file_unit(dim) : unit.c_str(); }
 };
 
 struct CheckReport {

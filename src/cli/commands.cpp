@@ -182,6 +182,7 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
   j["extends"] = t.base >= 0 ? types[t.base].name : "object";
   j["kind"] = t.device ? "device" : "object";
   j["description"] = t.description;
+  j["plugin"] = t.spec->plugin.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.spec->plugin);
   auto attrs = nlohmann::ordered_json::array();
   for (const AttributeDef& a : t.attributes) {
     nlohmann::ordered_json aj;
@@ -224,9 +225,9 @@ int run_types(const Common& common, const std::string& format) {
   Diagnostics diag;
   std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
   for (const std::string& d : common.library) dirs.push_back({d, {}});
-  std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths);
   PluginSet plugins;
   for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
+  std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths, plugins.types());
   if (diag.has_errors()) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
@@ -261,8 +262,8 @@ int run_types(const Common& common, const std::string& format) {
     return kOk;
   }
   for (const ObjectType& t : types) {
-    std::cout << fmt::format("{} ({}{}) - {}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
-                             t.description);
+    std::cout << fmt::format("{} ({}{}{}) - {}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
+                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin, t.description);
     for (const AttributeDef& a : t.attributes) {
       const char* unit = file_unit(a.dim);
       std::string range;

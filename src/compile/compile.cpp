@@ -466,7 +466,9 @@ void expand_objects(CompileState& st) {
     if (o.type.empty()) continue;
     auto t = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == o.type; });
     if (t == st.wc.types.end()) {
-      st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, did_you_mean(o.type, type_names)));
+      std::string hint = did_you_mean(o.type, type_names);
+      if (hint.empty() && st.plugins->files().empty()) hint = " (no plugins are loaded: a plugin's type needs --plugins DIR)";
+      st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, hint));
       if (o.name.present) st.unbuilt.insert(o.name.text);
       continue;
     }
@@ -701,11 +703,6 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   st.wc.description = spec.description;
   st.wc.cameras = spec.cameras;
 
-  std::vector<std::pair<std::string, SourceMark>> dirs;
-  if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
-  for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
-  for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-  st.wc.types = load_library(dirs, sources, diag, options.package_paths);
   // Plugins: --plugins folders load; a vault's own `plugins:` folders load only when the command
   // line allows them (the same folder in --plugins, or --allow-vault-plugins): a vault file from
   // a pull request must not be able to run code on its own (docs/plugins.md).
@@ -730,9 +727,18 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
                                        "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
     else if (!named) folders.push_back(path);
   }
-  if (!diag.has_errors())
-    for (const std::string& dir : folders) st.plugins->load_folder(dir);
+  if (diag.has_errors()) return std::nullopt;  // nothing loads when any folder is refused
+  for (const std::string& dir : folders) st.plugins->load_folder(dir);
+  st.wc.plugin_files = st.plugins->files();
+  for (const Scalar& dir : spec.plugins)
+    st.wc.vault_plugin_dirs.push_back(fs::absolute(resolve_path(spec.path, dir.text)).lexically_normal().string());
 
+  // The type library: standard, the vault's folders, --library folders, then plugin types.
+  std::vector<std::pair<std::string, SourceMark>> dirs;
+  if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
+  for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
+  for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
+  st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types());
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);
   if (diag.has_errors()) return std::nullopt;

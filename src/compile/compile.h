@@ -26,9 +26,12 @@ std::string standard_library_dir();
 
 /// Loads every type file of the standard library and of `dirs`, resolving inheritance.
 /// `where` marks the reference to a folder that does not exist.
-/// `package_paths` resolve `package://` references of URDF devices.
+/// `package_paths` resolve `package://` references of URDF devices. `plugin_types` join the
+/// library; one whose name the library also defines, or that does not resolve (extends an
+/// unknown type, an expression naming no attribute), throws PluginError naming the plugin.
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
-                                     Diagnostics& diag, const std::vector<std::string>& package_paths = {});
+                                     Diagnostics& diag, const std::vector<std::string>& package_paths = {},
+                                     const std::vector<PluginType>& plugin_types = {});
 
 /// Compiles a vault. Returns nullopt when any input error was reported. Loads the plugins of
 /// --plugins folders, and of the vault's `plugins:` folders when the command line allows them

@@ -89,6 +89,38 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
   return out;
 }
 
+/// A plugin's `attributes` entry as the references it stands for. A reference stands for itself;
+/// one whose object part is a selector (`Drum_*.height`, `type:drum.bbox.min.z`) for that
+/// reference of each selected object, in the selector's order; and `X.bbox` for X's six
+/// bounding-box values (min x, y, z, then max x, y, z).
+std::vector<Scalar> plugin_references(CompileState& st, const Scalar& s) {
+  size_t dot = s.text.find('.');
+  std::string head = s.text.substr(0, dot), rest = dot == std::string::npos ? "" : s.text.substr(dot);
+  std::vector<std::string> objects;
+  if (head.starts_with("type:") || head.find_first_of("*?") != std::string::npos) {
+    SelectorSpec sel;
+    sel.items.push_back(s);
+    sel.items.back().text = head;
+    sel.mark = s.mark;
+    sel.allow_empty = true;  // reported here, without select()'s allow_empty hint (plugins have none)
+    size_t before = st.diag.count();
+    for (int o : select(st, sel, "")) objects.push_back(st.wc.objects[o].name);
+    if (objects.empty() && st.diag.count() == before)
+      st.diag.error(s.mark, fmt::format("the plugin attribute '{}' selects no objects", s.text));
+  } else {
+    objects.push_back(head);
+  }
+  std::vector<std::string> tails = {rest};
+  if (rest == ".bbox") tails = {".bbox.min.x", ".bbox.min.y", ".bbox.min.z", ".bbox.max.x", ".bbox.max.y", ".bbox.max.z"};
+  std::vector<Scalar> out;
+  for (const std::string& o : objects)
+    for (const std::string& tail : tails) {
+      out.push_back(s);
+      out.back().text = o + tail;
+    }
+  return out;
+}
+
 int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
   if (!s.present || s.null) return -1;
   int o = st.wc.find_object(s.text);
@@ -287,11 +319,16 @@ void compile_constraints(CompileState& st) {
       auto* p = &**pbox;
       PluginCheck pc;
       pc.plugins = st.plugins;
-      for (const Scalar& ref : p->attributes)
-        if (auto op = bound_operand(st, ref, "a plugin attribute")) {
-          if (op->object >= 0) c.subjects.push_back(op->object);
-          pc.inputs.push_back(std::move(*op));
+      size_t given = 0, errors_before = st.diag.count();
+      for (const Scalar& written : p->attributes)
+        for (const Scalar& ref : plugin_references(st, written)) {
+          ++given;
+          if (auto op = bound_operand(st, ref, "a plugin attribute")) {
+            if (op->object >= 0) c.subjects.push_back(op->object);
+            pc.inputs.push_back(std::move(*op));
+          }
         }
+      finish_subjects(c.subjects);
       pc.args_json = p->args.is_null() ? "{}" : p->args.dump();
       pc.cls = st.plugins ? st.plugins->find(p->cls.text) : nullptr;
       if (!pc.cls) {
@@ -301,12 +338,12 @@ void compile_constraints(CompileState& st) {
         st.diag.error(p->cls.mark, fmt::format("no loaded plugin provides constraint class '{}'{}{}", p->cls.text,
                                                did_you_mean(p->cls.text, names),
                                                names.empty() ? " (no plugins are loaded: pass --plugins DIR)" : ""));
-      } else if (p->attributes.size() < pc.cls->min_values || p->attributes.size() > pc.cls->max_values) {
+      } else if (st.diag.count() == errors_before && (given < pc.cls->min_values || given > pc.cls->max_values)) {
         st.diag.error(p->cls.mark, fmt::format("constraint class '{}' takes {} attributes, found {}", p->cls.text,
                                                pc.cls->min_values == pc.cls->max_values ? fmt::format("{}", pc.cls->min_values)
                                                : pc.cls->max_values == SIZE_MAX ? fmt::format("at least {}", pc.cls->min_values)
                                                : fmt::format("{} to {}", pc.cls->min_values, pc.cls->max_values),
-                                               p->attributes.size()));
+                                               given));
       }
       c.body = std::move(pc);
     } else if (auto* clbox = std::get_if<Boxed<ClearanceSpec>>(&spec.kind)) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -225,7 +226,8 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
 }  // namespace
 
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
-                                     Diagnostics& diag, const std::vector<std::string>& package_paths) {
+                                     Diagnostics& diag, const std::vector<std::string>& package_paths,
+                                     const std::vector<PluginType>& plugin_types) {
   std::vector<std::shared_ptr<const TypeSpec>> specs;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
   for (const auto& [dir, where] : dirs) {
@@ -253,6 +255,23 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       }
       specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
     }
+  }
+
+  // Plugin types, read from the type files they amount to (checked when the plugin loaded).
+  std::set<uint32_t> plugin_files;
+  for (const PluginType& pt : plugin_types) {
+    uint32_t file = sources.add(pt.label, pt.text);
+    plugin_files.insert(file);
+    auto spec = load_type(file, pt.plugin, sources, diag, package_paths);
+    if (!spec) continue;
+    spec->plugin = pt.plugin;
+    if (auto it = index.find(spec->name); it != index.end())
+      throw PluginError(fmt::format("plugin {}: object type '{}' is already defined by {}", pt.plugin, spec->name,
+                                    specs[it->second]->plugin.empty() ? "the type library (" + specs[it->second]->path + ")"
+                                                                      : "plugin " + specs[it->second]->plugin));
+    if (spec->name == "object") throw PluginError(fmt::format("plugin {}: 'object' is the built-in super-class", pt.plugin));
+    index.emplace(spec->name, specs.size());
+    specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
   }
 
   // Resolve `extends` in dependency order; a cycle is reported once, at each type in it.
@@ -313,6 +332,15 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     return true;
   };
   for (size_t i = 0; i < specs.size(); ++i) resolve(i);
+  // A plugin type that does not resolve is the plugin's fault, not the vault's: exit 3.
+  for (const Diagnostic& d : diag.errors())
+    if (plugin_files.count(d.mark.file)) {
+      Diagnostics mine;
+      for (const Diagnostic& e : diag.errors())
+        if (plugin_files.count(e.mark.file)) mine.error(e.mark, e.message);
+      throw PluginError(fmt::format("a plugin's object type does not resolve against the type library:\n{}",
+                                    mine.format(sources)));
+    }
   std::vector<ObjectType> out;
   for (size_t i = 0; i < specs.size(); ++i)
     if (state[i] == 2) out.push_back(std::move(types[i]));

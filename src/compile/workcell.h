@@ -155,6 +155,8 @@ struct Workcell {
   std::vector<Object> objects;
   std::vector<Constraint> constraints;
   std::vector<std::pair<std::string, CameraKeySpec>> cameras;  ///< the vault's named views, as written
+  std::vector<std::string> plugin_files;      ///< the plugins' shared objects loaded to compile it
+  std::vector<std::string> vault_plugin_dirs;  ///< the vault's `plugins:` folders, absolute
   std::vector<double> values;       ///< every numeric slot, SI
   std::vector<std::string> texts;   ///< string/enum slots (indexed like values)
 

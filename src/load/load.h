@@ -26,6 +26,11 @@ std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics
 std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Diagnostics& diag,
                                   SourceMark where = {}, const std::vector<std::string>& package_paths = {});
 
+/// Loads a type already registered in `sources` as `file`; `path` is where its relative files
+/// (meshes, a URDF) are resolved from (a plugin's type: the plugin's shared object).
+std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Sources& sources, Diagnostics& diag,
+                                  const std::vector<std::string>& package_paths = {});
+
 /// Where a type file's reference to another file (a mesh, a URDF) points: beside the type file
 /// if it exists there, else relative to its library folder (the one holding types/), as
 /// `meshes/drum.obj` is written. Absolute paths stay.

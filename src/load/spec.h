@@ -124,6 +124,7 @@ struct TypeSpec {
   std::string name;
   SourceMark mark;
   std::string path;  ///< the file, for resolving mesh paths
+  std::string plugin;  ///< the shared object that declared it (a plugin type), else ""
   std::string extends;
   SourceMark extends_mark;
   std::string description;

@@ -132,6 +132,11 @@ std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Dia
                                   const std::vector<std::string>& package_paths) {
   uint32_t file = read_source(path, sources, diag, where);
   if (file == 0) return std::nullopt;
+  return load_type(file, path, sources, diag, package_paths);
+}
+
+std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Sources& sources, Diagnostics& diag,
+                                  const std::vector<std::string>& package_paths) {
   yaml::Document doc = yaml::parse(sources, file, diag);
   if (doc.empty()) return std::nullopt;
   MapReader root(doc.root(), "a type file", diag);

@@ -25,6 +25,14 @@ struct ConstraintClass {
   void* user = nullptr;
 };
 
+/// An object type a plugin declared, as the text of the type-library file it amounts to (the
+/// type loader reads it like any other: one set of rules for library and plugin types).
+struct PluginType {
+  std::string name, plugin;  ///< plugin: the shared object's path
+  std::string label;         ///< how errors name it: "PATH (type NAME)"
+  std::string text;
+};
+
 /// What a check gave: an evaluation (pass/fail, margin) or an error message.
 struct PluginOutcome {
   bool ok = false;  ///< false: the check failed to evaluate (status `error`)
@@ -47,6 +55,9 @@ class PluginSet {
 
   const ConstraintClass* find(const std::string& name) const;
   const std::vector<ConstraintClass>& classes() const { return classes_; }
+  const std::vector<PluginType>& types() const { return types_; }
+  /// The shared objects loaded, in load order.
+  const std::vector<std::string>& files() const { return files_; }
 
   /// Runs a class's check for constraint `constraint`. A check that reports an error, throws
   /// (caught by plugin.hpp), or returns a NaN margin gives ok = false. A check that crashes
@@ -59,6 +70,8 @@ class PluginSet {
   std::vector<void*> handles_;
   std::set<std::string> folders_;
   std::vector<ConstraintClass> classes_;
+  std::vector<PluginType> types_;
+  std::vector<std::string> files_;
 };
 
 }  // namespace sscs

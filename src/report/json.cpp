@@ -34,7 +34,7 @@ nlohmann::ordered_json vault_json(const VaultReport& vr, const Sources& sources)
     e["lhs"] = number_or_null(r.lhs);
     e["rhs"] = number_or_null(r.rhs);
     e["margin"] = number_or_null(r.margin);
-    e["unit"] = file_unit(r.dim);
+    e["unit"] = r.margin_unit();
     e["message"] = r.message;
     e["location"] = {{"file", sources.path(c.mark.file)}, {"line", c.mark.line}, {"column", c.mark.column}};
     results.push_back(std::move(e));

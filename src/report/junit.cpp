@@ -36,8 +36,8 @@ std::string format_junit(const std::vector<VaultReport>& reports, const Sources&
       std::string subjects = subject_names(wc, r, " ");
       std::string name = subjects.empty() || r.subjects.size() == c.subjects.size() ? c.name
                                                                                       : fmt::format("{} [{}]", c.name, subjects);
-      std::string margin = r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *file_unit(r.dim) ? " " : "",
-                                                  file_unit(r.dim))
+      std::string margin = r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "",
+                                                  r.margin_unit())
                                     : "";
       std::string where = fmt::format("{}:{}:{}", sources.path(c.mark.file), c.mark.line, c.mark.column);
       cases += fmt::format("    <testcase name=\"{}\" classname=\"{}.{}\" file=\"{}\" line=\"{}\"", xml_escape(name),

@@ -20,7 +20,7 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
       const char* word = r.status == Status::Error ? "error" : warning ? "warning" : "fail";
       std::string margin;
       if (r.margin) {
-        const char* unit = file_unit(r.dim);
+        const char* unit = r.margin_unit();
         margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
       }
       std::string subjects = subject_names(wc, r);

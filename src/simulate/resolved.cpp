@@ -110,6 +110,10 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   std::set<std::string> urdfs, meshes;
   for (int t : used) {
     const TypeSpec& spec = *wc.types[t].spec;
+    if (!spec.plugin.empty()) {  // plugins are code: named, hashed, never copied
+      out.not_copied.push_back(spec.plugin);
+      continue;
+    }
     resolver.copy(spec.path, "library/types/" + fs::path(spec.path).filename().string());
     if (spec.device && spec.device->urdf.present) {
       std::string urdf = resolve_mesh_path(spec.path, spec.device->urdf.text);
@@ -140,8 +144,13 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   }
 
   // The vault with its library pinned to the copies, and the scenario pointing at it.
-  out.resolved.emplace_back("resolved/vault.yaml",
-                            edited(sources, wc.path, {{"library", "[library]"}, {"standard_library", "false"}}));
+  std::vector<yaml::TopLevelChange> vault_changes = {{"library", "[library]"}, {"standard_library", "false"}};
+  if (!wc.vault_plugin_dirs.empty()) {  // relative folders would not be found from resolved/
+    std::vector<std::string> dirs;
+    for (const std::string& d : wc.vault_plugin_dirs) dirs.push_back(yaml::flow_scalar(d));
+    vault_changes.push_back({"plugins", fmt::format("[{}]", fmt::join(dirs, ", "))});
+  }
+  out.resolved.emplace_back("resolved/vault.yaml", edited(sources, wc.path, vault_changes));
   out.resolved.emplace_back("resolved/scenario.yaml",
                             edited(sources, scenario.path,
                                    {{"vault", "vault.yaml"},
@@ -152,7 +161,8 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   for (const ObjectGeometry& g : geometry.objects)
     for (const Shape& s : g.shapes)
       if (s.mesh) meshes.insert(s.mesh->path);
-  for (const auto* set : {&urdfs, &meshes})
+  std::set<std::string> plugins(wc.plugin_files.begin(), wc.plugin_files.end());
+  for (const auto* set : {&urdfs, &meshes, &plugins})
     for (const std::string& f : *set) out.files.push_back({f, sha256_hex(resolver.bytes(f))});
   std::sort(out.not_copied.begin(), out.not_copied.end());
   out.not_copied.erase(std::unique(out.not_copied.begin(), out.not_copied.end()), out.not_copied.end());

@@ -98,6 +98,7 @@ class Run {
             nearby_.move(ps.object, world_.pose(ps.object));
             for (const Proximity& p : nearby_.proximity(ps.object, chain(ps.object), kSupportGap))
               supports_.insert({ps.object, p.other});
+            if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
           } else if (ps.kind == "release" && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
             world_.release(ps.device);
@@ -224,6 +225,15 @@ class Run {
     event(t, kind, f);
   }
 
+  /// A carried load still pressing into what it was lifted from (the floor included) by less
+  /// than kSupportGap: the lift itself, not a collision.
+  bool lifting_off(const PhysicsContact& c) const {
+    if (c.depth >= kSupportGap) return false;
+    for (auto [load, other] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}})
+      if (load >= 0 && held_anywhere(load) && supports_.count({load, other})) return true;
+    return false;
+  }
+
   /// The gripper touching a load it handles (about to grasp, holding, has just released) is
   /// not a collision: the tool's part (and the parts it carries) against handled(device, t).
   bool gripper_meets_its_load(const PhysicsContact& c, double t) const {
@@ -250,7 +260,7 @@ class Run {
       bool ongoing = last != last_contact_.end() && t - last->second <= kApart;
       last_contact_[key] = t;
       if (ongoing) continue;
-      if (gripper_meets_its_load(c, t)) continue;
+      if (gripper_meets_its_load(c, t) || lifting_off(c)) continue;
       bool device_part = (c.a >= 0 && c.part_a >= 0) || (c.b >= 0 && c.part_b >= 0);
       bool carried = (c.a >= 0 && held_anywhere(c.a)) || (c.b >= 0 && held_anywhere(c.b));
       if (device_part || carried) {
