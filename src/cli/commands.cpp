@@ -96,15 +96,21 @@ std::string pick_format(const CheckArgs& a) {
   std::string ext = std::filesystem::path(a.out).extension().string();
   if (ext == ".json") return "json";
   if (ext == ".xml") return "junit";
+  if (ext == ".sarif") return "sarif";
   return "text";
 }
 
 int run_check(const Common& common, const CheckArgs& args) {
-  if (!args.baseline.empty()) {
-    std::cerr << "sscs: error: --baseline is not available in this sscs version yet\n";
-    return kInputError;
-  }
   std::string format = pick_format(args);
+  std::optional<Baseline> baseline;
+  if (!args.baseline.empty()) {
+    std::string error;
+    baseline = read_baseline(args.baseline, &error);
+    if (!baseline) {
+      std::cerr << "sscs: error: " << error << "\n";
+      return kInputError;
+    }
+  }
   CompileOptions options;
   if (!common.overrides(options)) return kInputError;
   Sources sources;
@@ -128,14 +134,18 @@ int run_check(const Common& common, const CheckArgs& args) {
   std::vector<VaultReport> reports;
   CheckOptions check_options;
   check_options.describe_passes = format != "text";  // the text report prints failures only
-  for (size_t i = 0; i < cells.size(); ++i)
-    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options)});
+  for (size_t i = 0; i < cells.size(); ++i) {
+    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options), std::nullopt});
+    if (baseline) reports.back().baseline = compare_with_baseline(cells[i], reports.back().report, *baseline);
+  }
   timer.lap("check");
   std::string output;
   if (format == "json") {
     output = format_json(reports, sources);
   } else if (format == "junit") {
     output = format_junit(reports, sources, args.strict);
+  } else if (format == "sarif") {
+    output = format_sarif(reports, sources, args.strict, std::filesystem::current_path().string());
   } else {
     bool color = args.out.empty() && common.color_for(stdout);
     output = format_text(reports, sources, {color, common.quiet, args.strict});
@@ -153,7 +163,7 @@ int run_check(const Common& common, const CheckArgs& args) {
       std::cout << format_text(reports, sources, {common.color_for(stdout), true, args.strict});
     }
   }
-  bool violated = std::any_of(reports.begin(), reports.end(), [&](const VaultReport& r) { return r.report.violated(args.strict); });
+  bool violated = std::any_of(reports.begin(), reports.end(), [&](const VaultReport& r) { return r.violated(args.strict); });
   return violated ? kViolations : kOk;
 }
 
@@ -610,11 +620,13 @@ int run_cli(int argc, char** argv) {
     CheckArgs check_args;
     CLI::App* check_cmd = app.add_subcommand("check", "compile each vault and check its constraints");
     check_cmd->add_option("VAULT", check_args.vaults, "vault files")->required();
-    check_cmd->add_option("--format", check_args.format, "text, json or junit (default: from --out's extension, else text)")
-        ->check(CLI::IsMember({"text", "json", "junit"}));
+    check_cmd->add_option("--format", check_args.format,
+                          "text, json, junit or sarif (default: from --out's extension .json/.xml/.sarif, else text)")
+        ->check(CLI::IsMember({"text", "json", "junit", "sarif"}));
     check_cmd->add_option("--out", check_args.out, "write the report to this file (atomically)");
     check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too");
-    check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier JSON report (not available in this version yet)");
+    check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier report (--format json): new failure, fixed, still failing, "
+                    "unchanged; exit 1 only for new failures");
     common.add_to(check_cmd);
 
     std::string types_format = "text";

@@ -20,8 +20,31 @@ nlohmann::ordered_json vault_json(const VaultReport& vr, const Sources& sources)
   j["passed"] = vr.report.passed;
   j["failed"] = vr.report.failed;
   j["warnings"] = vr.report.warnings;
+  if (vr.baseline) {
+    const BaselineDiff& d = *vr.baseline;
+    nlohmann::ordered_json b;
+    b["file"] = d.file;
+    b["vault_in_baseline"] = d.vault_in_baseline;
+    b["new"] = d.new_failures;
+    b["fixed"] = d.fixed.size();
+    b["still_failing"] = d.still_failing;
+    b["unchanged"] = d.unchanged;
+    auto fixed = nlohmann::ordered_json::array();
+    for (const BaselineDiff::Gone& g : d.fixed)
+      fixed.push_back({{"constraint", g.constraint}, {"subject", g.subject}, {"why", g.why}, {"message", g.message}});
+    b["fixed_results"] = std::move(fixed);
+    auto renamed = nlohmann::ordered_json::array();
+    for (const auto& [from, to] : d.renamed) renamed.push_back({{"from", from}, {"to", to}});
+    b["renamed"] = std::move(renamed);
+    auto removed = nlohmann::ordered_json::array();
+    for (const BaselineDiff::Removed& r : d.removed)
+      removed.push_back({{"constraint", r.constraint}, {"was", r.was_failing ? "failing" : "passing"}});
+    b["removed"] = std::move(removed);
+    j["baseline"] = std::move(b);
+  }
   auto results = nlohmann::ordered_json::array();
-  for (const CheckResult& r : vr.report.results) {
+  for (size_t i = 0; i < vr.report.results.size(); ++i) {
+    const CheckResult& r = vr.report.results[i];
     const Constraint& c = wc.constraints[r.constraint];
     nlohmann::ordered_json e;
     e["constraint"] = c.name;
@@ -37,6 +60,7 @@ nlohmann::ordered_json vault_json(const VaultReport& vr, const Sources& sources)
     e["unit"] = r.margin_unit();
     e["message"] = r.message;
     e["location"] = {{"file", sources.path(c.mark.file)}, {"line", c.mark.line}, {"column", c.mark.column}};
+    if (vr.baseline) e["baseline"] = change_name(vr.baseline->changes[i]);
     results.push_back(std::move(e));
   }
   j["results"] = std::move(results);

@@ -31,24 +31,33 @@ std::string format_junit(const std::vector<VaultReport>& reports, const Sources&
     const Workcell& wc = *vr.workcell;
     std::string cases;
     size_t failures = 0, errors = 0;
-    for (const CheckResult& r : vr.report.results) {
+    for (size_t i = 0; i < vr.report.results.size(); ++i) {
+      const CheckResult& r = vr.report.results[i];
       const Constraint& c = wc.constraints[r.constraint];
+      // With a baseline, say what the change did to this check.
+      std::string change;
+      if (vr.baseline && r.status != Status::Pass)
+        change = vr.baseline->changes[i] == Change::New ? " [new failure]" : " [still failing]";
       std::string subjects = subject_names(wc, r, " ");
       std::string name = subjects.empty() || r.subjects.size() == c.subjects.size() ? c.name
                                                                                       : fmt::format("{} [{}]", c.name, subjects);
-      std::string margin = r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "",
-                                                  r.margin_unit())
-                                    : "";
+      std::string margin = (r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "",
+                                                   r.margin_unit())
+                                     : "") +
+                           change;
       std::string where = fmt::format("{}:{}:{}", sources.path(c.mark.file), c.mark.line, c.mark.column);
       cases += fmt::format("    <testcase name=\"{}\" classname=\"{}.{}\" file=\"{}\" line=\"{}\"", xml_escape(name),
                            xml_escape(wc.name), c.kind, xml_escape(sources.path(c.mark.file)), c.mark.line);
       bool warning = c.severity == Severity::Warning;
-      if (r.status == Status::Pass) {
+      if (r.status == Status::Pass && vr.baseline && vr.baseline->changes[i] == Change::Fixed) {
+        cases += ">\n      <system-out>fixed since the baseline</system-out>\n    </testcase>\n";
+      } else if (r.status == Status::Pass) {
         cases += "/>\n";
       } else if (r.status == Status::Error && (!warning || strict)) {
         ++errors;
-        cases += fmt::format(">\n      <error message=\"{}\" type=\"{}\">{}: {}</error>\n    </testcase>\n",
-                             xml_escape(r.message), c.kind, xml_escape(where), xml_escape(r.message));
+        cases += fmt::format(">\n      <error message=\"{}{}\" type=\"{}\">{}: {}{}</error>\n    </testcase>\n",
+                             xml_escape(r.message), xml_escape(change), c.kind, xml_escape(where), xml_escape(r.message),
+                             xml_escape(change));
       } else if (!warning || strict) {
         ++failures;
         cases += fmt::format(">\n      <failure message=\"{}{}\" type=\"{}\">{}: {}{}</failure>\n    </testcase>\n",
@@ -59,6 +68,13 @@ std::string format_junit(const std::vector<VaultReport>& reports, const Sources&
         cases += fmt::format(">\n      <system-out>warning: {}: {}{}</system-out>\n    </testcase>\n", xml_escape(where),
                              xml_escape(r.message), xml_escape(margin));
       }
+    }
+    std::string suite_out;
+    if (vr.baseline) {
+      const BaselineDiff& d = *vr.baseline;
+      suite_out = fmt::format("baseline {}: {}\n", d.file, baseline_summary(d));
+      suite_out += baseline_lines(d);
+      cases += fmt::format("    <system-out>{}</system-out>\n", xml_escape(suite_out));
     }
     total += vr.report.results.size();
     total_failures += failures;

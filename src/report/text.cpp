@@ -13,7 +13,8 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
   size_t passed = 0, failed = 0, warnings = 0;
   for (const VaultReport& vr : reports) {
     const Workcell& wc = *vr.workcell;
-    for (const CheckResult& r : vr.report.results) {
+    for (size_t i = 0; i < vr.report.results.size(); ++i) {
+      const CheckResult& r = vr.report.results[i];
       if (r.status == Status::Pass || options.quiet) continue;
       const Constraint& c = wc.constraints[r.constraint];
       bool warning = c.severity == Severity::Warning;
@@ -24,10 +25,15 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
         margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
       }
       std::string subjects = subject_names(wc, r);
-      out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}\n", bold, sources.path(c.mark.file), c.mark.line,
+      std::string change;
+      if (vr.baseline) change = vr.baseline->changes[i] == Change::New ? " [new failure]" : " [still failing]";
+      out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}{}\n", bold, sources.path(c.mark.file), c.mark.line,
                          c.mark.column, reset, warning && r.status != Status::Error ? yellow : red, word, reset, c.name,
-                         c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin);
+                         c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin, change);
     }
+    if (vr.baseline && !options.quiet) out += baseline_lines(*vr.baseline);
+    if (vr.baseline) out += fmt::format("{}baseline {}: {}\n", reports.size() > 1 ? wc.name + ": " : "", vr.baseline->file,
+                                        baseline_summary(*vr.baseline));
     passed += vr.report.passed;
     failed += vr.report.failed;
     warnings += vr.report.warnings;

@@ -713,11 +713,97 @@ def plugins(sscs, root):
     print("ok plugins")
 
 
+def check_junit(path):
+    """A faithful structural check of the JUnit XML that Jenkins' junit plugin and GitLab read
+    (the schema of Jenkins' JUnit report: testsuites > testsuite > testcase > failure | error |
+    skipped, system-out): required attributes, numeric counts that add up, nothing unknown."""
+    import xml.etree.ElementTree as ET
+    root = ET.parse(path).getroot()
+    if root.tag != "testsuites":
+        fail(f"{path}: the root is <{root.tag}>, not <testsuites>")
+    totals = {"tests": 0, "failures": 0, "errors": 0}
+    for suite in root:
+        if suite.tag != "testsuite":
+            fail(f"{path}: <{suite.tag}> under <testsuites>")
+        for attr in ("name", "tests", "failures", "errors"):
+            if attr not in suite.attrib:
+                fail(f"{path}: a testsuite without {attr}")
+        counts = {"tests": 0, "failures": 0, "errors": 0}
+        for child in suite:
+            if child.tag in ("system-out", "system-err", "properties"):
+                continue
+            if child.tag != "testcase" or "name" not in child.attrib or "classname" not in child.attrib:
+                fail(f"{path}: <{child.tag} {child.attrib}> in a testsuite")
+            counts["tests"] += 1
+            for outcome in child:
+                if outcome.tag in ("failure", "error"):
+                    if "message" not in outcome.attrib or "type" not in outcome.attrib or not (outcome.text or "").strip():
+                        fail(f"{path}: a <{outcome.tag}> without message, type and text")
+                    counts["failures" if outcome.tag == "failure" else "errors"] += 1
+                elif outcome.tag not in ("skipped", "system-out", "system-err"):
+                    fail(f"{path}: <{outcome.tag}> in a testcase")
+        for k, v in counts.items():
+            if int(suite.attrib[k]) != v:
+                fail(f"{path}: testsuite {suite.attrib['name']} says {k}={suite.attrib[k]}, has {v}")
+            totals[k] += v
+    for k, v in totals.items():
+        if int(root.attrib.get(k, -1)) != v:
+            fail(f"{path}: testsuites says {k}={root.attrib.get(k)}, has {v}")
+
+
+def ci(sscs, root):
+    """CI gating: SARIF valid against the OASIS 2.1.0 schema, locations and baseline states;
+    JUnit that Jenkins and GitLab read; the baseline's exit statuses."""
+    import jsonschema
+    schema_file = os.path.join(root, "..", "shared", "third-party-schemas", "sarif-schema-2.1.0.json")
+    if not os.path.exists(schema_file):
+        fail(f"the SARIF schema is not at {schema_file} (the shared folder beside the repository)")
+    schema = json.load(open(schema_file))
+    golden_dir = os.path.join(root, "tests", "golden")
+    for name in ("demo_sarif.out", "ci_example_baseline_sarif.out"):
+        doc = json.load(open(os.path.join(golden_dir, name)))
+        try:
+            jsonschema.validate(doc, schema)
+        except jsonschema.ValidationError as e:
+            fail(f"{name} is not valid SARIF 2.1.0: {e.message} at {list(e.absolute_path)}")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "demo.sarif")
+        p = run(sscs, root, ["check", "scenarios/demo/demo.yaml", "--out", out])  # .sarif: the format from the extension
+        doc = json.load(open(out)) if p.returncode == 1 else {}
+        results = doc.get("runs", [{}])[0].get("results", [])
+        rules = [r["id"] for r in doc["runs"][0]["tool"]["driver"]["rules"]] if results else []
+        door = [r for r in results if r["properties"]["constraint"] == "door clear height"]
+        loc = door[0]["locations"][0]["physicalLocation"] if door else {}
+        if len(results) != 6 or not door or loc["artifactLocation"] != {"uri": "scenarios/demo/demo.yaml", "uriBaseId": "SRCROOT"} or \
+                loc["region"] != {"startLine": 28, "startColumn": 5} or door[0]["level"] != "error" or \
+                rules[door[0]["ruleIndex"]] != "sscs/bound" or "(margin -0.1 m)" not in door[0]["message"]["text"] or \
+                sorted(r["level"] for r in results).count("warning") != 2:
+            fail(f"SARIF of the demo: {json.dumps(results)[:3000]}", p)
+    states = {r["properties"]["constraint"]: r["baselineState"]
+              for r in json.load(open(os.path.join(golden_dir, "ci_example_baseline_sarif.out")))["runs"][0]["results"]}
+    if states != {"door clear height": "unchanged", "cart passes the door": "new", "aisle at least 1.5 m": "absent"}:
+        fail(f"SARIF baseline states: {states}")
+    for name in ("demo_junit.out", "ci_example_baseline_junit.out"):
+        check_junit(os.path.join(golden_dir, name))
+    # A warning that newly fails passes the gate, unless --strict.
+    with tempfile.TemporaryDirectory() as tmp:
+        base, tall = os.path.join(tmp, "base.json"), os.path.join(tmp, "tall.yaml")
+        open(tall, "w").write(open(os.path.join(root, "tests/data/good/warning_only.yaml")).read().replace("height: 2.2", "height: 2.5"))
+        p = run(sscs, root, ["check", tall, "--format", "json", "--out", base])
+        if p.returncode != 0:
+            fail("the baseline with a passing warning", p)
+        p = run(sscs, root, ["check", "tests/data/good/warning_only.yaml", "--baseline", base])
+        q = run(sscs, root, ["check", "tests/data/good/warning_only.yaml", "--baseline", base, "--strict"])
+        if p.returncode != 0 or q.returncode != 1 or "1 new failure" not in p.stdout:
+            fail("a new failing warning: exit 0, and 1 with --strict", q)
+    print("ok ci")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
@@ -730,6 +816,8 @@ def main():
         render(a.sscs, a.root)
     elif a.mode == "plugins":
         plugins(a.sscs, a.root)
+    elif a.mode == "ci":
+        ci(a.sscs, a.root)
     else:
         cli(a.sscs, a.root)
 

@@ -1,0 +1,148 @@
+// SARIF 2.1.0 for code-scanning tools: a failing check becomes an annotation on the constraint's
+// line in the vault file of a pull request.
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/digest.h"
+#include "report/report.h"
+
+namespace sscs {
+
+namespace {
+
+struct Rule {
+  const char* kind;
+  const char* name;
+  const char* text;
+};
+
+// One rule per constraint kind, always in this order (stable rule indices).
+constexpr Rule kRules[] = {
+    {"bound", "BoundConstraint", "A bound constraint (lhs OP rhs with tolerances) is violated."},
+    {"expr", "ExpressionConstraint", "A functional constraint written as an expression is violated."},
+    {"plugin", "PluginConstraint", "A functional constraint implemented by a plugin is violated."},
+    {"clearance", "Clearance", "Two geometries are closer than the minimum clearance."},
+    {"no_overlap", "NoOverlap", "Two geometries interpenetrate."},
+    {"inside", "Inside", "An object is not within its container."},
+    {"reach", "Reach", "A device cannot place its tool at a target within its joint limits and without collision."},
+};
+
+int rule_index(const std::string& kind) {
+  for (int i = 0; i < static_cast<int>(std::size(kRules)); ++i)
+    if (kind == kRules[i].kind) return i;
+  return -1;
+}
+
+/// RFC 3986 percent-encoding of a path's characters that may not stand in a URI as they are.
+std::string uri_path(const std::string& path) {
+  std::string out;
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || std::string_view("-._~/").find(static_cast<char>(c)) != std::string_view::npos) out += static_cast<char>(c);
+    else out += fmt::format("%{:02X}", c);
+  }
+  return out;
+}
+
+/// The artifact location of a file: relative to base_dir (uriBaseId SRCROOT) when inside it,
+/// else an absolute file: URI.
+nlohmann::ordered_json artifact(const std::string& file, const std::string& base_dir) {
+  namespace fs = std::filesystem;
+  fs::path abs = fs::absolute(file).lexically_normal();
+  fs::path rel = abs.lexically_relative(fs::absolute(base_dir).lexically_normal());
+  if (!rel.empty() && *rel.begin() != "..") return {{"uri", uri_path(rel.generic_string())}, {"uriBaseId", "SRCROOT"}};
+  return {{"uri", "file://" + uri_path(abs.generic_string())}};
+}
+
+nlohmann::ordered_json location(const Constraint& c, const Sources& sources, const std::string& base_dir) {
+  return {{"physicalLocation",
+           {{"artifactLocation", artifact(sources.path(c.mark.file), base_dir)},
+            {"region", {{"startLine", c.mark.line}, {"startColumn", c.mark.column}}}}}};
+}
+
+/// A fingerprint that follows a result across edits that move lines: vault, constraint, subjects.
+std::string fingerprint(const std::string& vault, const std::string& constraint, const std::vector<std::string>& subject) {
+  return sha256_hex(fmt::format("{}\n{}\n{}", vault, constraint, fmt::join(subject, "\n"))).substr(0, 32);
+}
+
+nlohmann::ordered_json number_or_null(const std::optional<double>& v) {
+  if (!v || !std::isfinite(*v)) return nullptr;
+  return stable(*v);
+}
+
+}  // namespace
+
+std::string format_sarif(const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
+                         const std::string& base_dir) {
+  nlohmann::ordered_json rules = nlohmann::ordered_json::array();
+  for (const Rule& r : kRules)
+    rules.push_back({{"id", fmt::format("sscs/{}", r.kind)},
+                     {"name", r.name},
+                     {"shortDescription", {{"text", r.text}}},
+                     {"fullDescription", {{"text", fmt::format("{} (sscs constraint kind `{}`)", r.text, r.kind)}}},
+                     {"defaultConfiguration", {{"level", "error"}}},
+                     {"properties", {{"tags", {"design-rule", r.kind}}}}});
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  for (const VaultReport& vr : reports) {
+    const Workcell& wc = *vr.workcell;
+    for (size_t i = 0; i < vr.report.results.size(); ++i) {
+      const CheckResult& r = vr.report.results[i];
+      if (r.status == Status::Pass) continue;
+      const Constraint& c = wc.constraints[r.constraint];
+      std::vector<std::string> subject;
+      for (int s : r.subjects) subject.push_back(wc.objects[s].name);
+      const bool warning = c.severity == Severity::Warning && r.status != Status::Error;
+      std::string margin = r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "",
+                                                  r.margin_unit())
+                                    : "";
+      nlohmann::ordered_json res;
+      res["ruleId"] = fmt::format("sscs/{}", c.kind);
+      res["ruleIndex"] = rule_index(c.kind);
+      res["kind"] = "fail";
+      res["level"] = warning && !strict ? "warning" : "error";
+      res["message"] = {{"text", fmt::format("{}{}{}{}: {}{}{}", c.name, subject.empty() ? "" : " [", fmt::join(subject, ", "),
+                                             subject.empty() ? "" : "]", r.status == Status::Error ? "could not be evaluated: " : "",
+                                             r.message, margin)}};
+      res["locations"] = nlohmann::ordered_json::array({location(c, sources, base_dir)});
+      res["partialFingerprints"] = {{"sscsResult/v1", fingerprint(wc.name, c.name, subject)}};
+      if (vr.baseline) res["baselineState"] = vr.baseline->changes[i] == Change::New ? "new" : "unchanged";
+      res["properties"] = {{"vault", wc.name},      {"constraint", c.name},       {"status", status_name(r.status)},
+                           {"subject", subject},     {"lhs", number_or_null(r.lhs)}, {"rhs", number_or_null(r.rhs)},
+                           {"margin", number_or_null(r.margin)}, {"unit", r.margin_unit()}};
+      results.push_back(std::move(res));
+    }
+    if (!vr.baseline) continue;
+    // Baseline failures that are gone: `absent` results (kind pass, level none), at the
+    // constraint when it still exists.
+    for (const BaselineDiff::Gone& g : vr.baseline->fixed) {
+      const Constraint* c = nullptr;
+      for (const Constraint& k : wc.constraints)
+        if (k.name == g.constraint) c = &k;
+      nlohmann::ordered_json res;
+      res["ruleId"] = c ? fmt::format("sscs/{}", c->kind) : "sscs/fixed";
+      if (c) res["ruleIndex"] = rule_index(c->kind);
+      res["kind"] = "pass";
+      res["level"] = "none";
+      res["message"] = {{"text", describe_fixed(g)}};
+      if (c) res["locations"] = nlohmann::ordered_json::array({location(*c, sources, base_dir)});
+      res["partialFingerprints"] = {{"sscsResult/v1", fingerprint(wc.name, g.constraint, g.subject)}};
+      res["baselineState"] = "absent";
+      res["properties"] = {{"vault", wc.name}, {"constraint", g.constraint}, {"subject", g.subject}};
+      results.push_back(std::move(res));
+    }
+  }
+  nlohmann::ordered_json run;
+  run["tool"] = {{"driver",
+                  {{"name", "sscs"},
+                   {"semanticVersion", SSCS_VERSION},
+                   {"rules", std::move(rules)}}}};
+  run["results"] = std::move(results);
+  nlohmann::ordered_json j;
+  j["$schema"] = "https://json.schemastore.org/sarif-2.1.0.json";
+  j["version"] = "2.1.0";
+  j["runs"] = nlohmann::ordered_json::array({std::move(run)});
+  return j.dump(2) + "\n";
+}
+
+}  // namespace sscs
