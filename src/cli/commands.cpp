@@ -22,6 +22,7 @@
 #include "load/scenario.h"
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
+#include "core/data_dirs.h"
 #include "core/timer.h"
 #include "render/gl.h"
 #include "render/camera_path.h"
@@ -147,8 +148,9 @@ int run_check(const Common& common, const CheckArgs& args) {
   } else if (format == "sarif") {
     output = format_sarif(reports, sources, args.strict, std::filesystem::current_path().string());
   } else {
-    bool color = args.out.empty() && common.color_for(stdout);
-    output = format_text(reports, sources, {color, common.quiet, args.strict});
+    // --quiet shortens what the terminal shows, never a report written to a file.
+    bool terminal = args.out.empty();
+    output = format_text(reports, sources, {terminal && common.color_for(stdout), terminal && common.quiet, args.strict});
   }
   timer.lap("report");
   if (args.out.empty()) {
@@ -158,8 +160,8 @@ int run_check(const Common& common, const CheckArgs& args) {
       std::cerr << "sscs: error: " << err << "\n";
       return kInputError;
     }
-    if (!common.quiet && format != "text") {
-      // Keep the one summary line on the terminal when the report goes to a file.
+    if (!common.quiet) {
+      // Keep the summary lines on the terminal when the report goes to a file.
       std::cout << format_text(reports, sources, {common.color_for(stdout), true, args.strict});
     }
   }

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "compile/state.h"
+#include "core/data_dirs.h"
 #include "core/timer.h"
 #include "compile/values.h"
 #include "core/names.h"

@@ -21,8 +21,6 @@ struct CompileOptions {
   std::vector<std::pair<std::string, std::string>> overrides;  ///< --set NAME=VALUE
 };
 
-/// The standard library folder: $SSCS_LIBRARY, else <exe>/../share/sscs/library, else the source tree's.
-std::string standard_library_dir();
 
 /// Loads every type file of the standard library and of `dirs`, resolving inheritance.
 /// `where` marks the reference to a folder that does not exist.

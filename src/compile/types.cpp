@@ -23,17 +23,6 @@ int ObjectType::find_attribute(std::string_view n) const {
   return -1;
 }
 
-std::string standard_library_dir() {
-  if (const char* env = std::getenv("SSCS_LIBRARY"); env && *env) return env;
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    fs::path installed = exe.parent_path().parent_path() / "share" / "sscs" / "library";
-    if (fs::is_directory(installed / "types", ec)) return installed.string();
-  }
-  return SSCS_SOURCE_LIBRARY_DIR;
-}
-
 namespace {
 
 std::vector<std::string> type_files(const std::string& dir) {

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/data_dirs.h"
 #include "core/digest.h"
 #include "core/yaml_edit.h"
 #include "load/load.h"
@@ -150,11 +151,13 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
     for (const std::string& d : wc.vault_plugin_dirs) dirs.push_back(yaml::flow_scalar(d));
     vault_changes.push_back({"plugins", fmt::format("[{}]", fmt::join(dirs, ", "))});
   }
-  out.resolved.emplace_back("resolved/vault.yaml", edited(sources, wc.path, vault_changes));
-  out.resolved.emplace_back("resolved/scenario.yaml",
-                            edited(sources, scenario.path,
-                                   {{"vault", "vault.yaml"},
-                                    {"set", overrides.empty() ? std::nullopt : std::optional(set_text(overrides))}}));
+  out.resolved.emplace_back("resolved/vault.yaml", with_schema_modeline(edited(sources, wc.path, vault_changes), "vault"));
+  out.resolved.emplace_back(
+      "resolved/scenario.yaml",
+      with_schema_modeline(edited(sources, scenario.path,
+                                  {{"vault", "vault.yaml"},
+                                   {"set", overrides.empty() ? std::nullopt : std::optional(set_text(overrides))}}),
+                           "scenario"));
 
   // Every input: the text files in the order they were read, then URDF and mesh files.
   for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({sources.path(f), sha256_hex(sources.text(f))});

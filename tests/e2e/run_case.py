@@ -710,6 +710,13 @@ def plugins(sscs, root):
         if p.returncode != 1 or "High.height = 4.900000, at most 3.000000 (margin -1.9 m)" not in p.stdout or \
                 "the check threw: args need a number 'max'" not in p.stdout or "2 passed, 1 failed, 1 warnings" not in p.stdout:
             fail("the template plugin from an installed sscs", p)
+        # An installed sscs names the installed schemas in the files it writes.
+        p = run(os.path.join(prefix, "bin", "sscs"), root,
+                ["simulate", "scenarios/drum-transfer/arm-loads-drum.yaml", "--out", os.path.join(tmp, "run"), "--quiet"])
+        schema = os.path.join(prefix, "share", "sscs", "schemas", "vault.schema.json")
+        if p.returncode != 0 or not os.path.exists(schema) or \
+                open(os.path.join(tmp, "run", "resolved", "vault.yaml")).readline() != f"# yaml-language-server: $schema={schema}\n":
+            fail("the modeline of an installed sscs", p)
     print("ok plugins")
 
 
@@ -799,11 +806,244 @@ def ci(sscs, root):
     print("ok ci")
 
 
+def recipe(root, name):
+    """The YAML block after `<!-- recipe: NAME -->` in docs/ci.md, parsed."""
+    import re
+    text = open(os.path.join(root, "docs", "ci.md"), encoding="utf-8").read()
+    m = re.search(r"<!-- recipe: " + name + r" -->\n```yaml\n(.*?)\n```\n", text, re.S)
+    if not m:
+        fail(f"docs/ci.md has no recipe '{name}'")
+    import yaml
+    load = yaml_loader()
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml") as f:
+        f.write(m.group(1))
+        f.flush()
+        return load(f.name)
+
+
+def ci_recipes(sscs, root):
+    """The CI recipes of docs/ci.md, run as written (less installing and building sscs) in a
+    scratch repository whose base branch holds scenarios/ci-example/main and whose change holds
+    scenarios/ci-example/branch: the job fails for the one new failure and leaves the reports
+    and annotations the CI systems read."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, HOME=tmp, NO_COLOR="1", GIT_AUTHOR_NAME="t", GIT_AUTHOR_EMAIL="t@t",
+                   GIT_COMMITTER_NAME="t", GIT_COMMITTER_EMAIL="t@t")
+
+        def sh(script, cwd, extra=None):
+            return subprocess.run(["bash", "-e", "-o", "pipefail", "-c", script], cwd=cwd, capture_output=True, text=True,
+                                  env=dict(env, **(extra or {})), timeout=300)
+        origin = os.path.join(tmp, "origin")
+        os.makedirs(os.path.join(origin, "vaults"))
+        ex = os.path.abspath(os.path.join(root, "scenarios", "ci-example"))
+        p = sh(f"git init -q -b main . && cp {ex}/main/store.yaml vaults/ && git add -A && git commit -qm base && "
+               f"git checkout -qb change && cp {ex}/branch/store.yaml vaults/ && git commit -qam change && git checkout -q main",
+               origin)
+        if p.returncode != 0:
+            fail("the scratch repository", p)
+
+        def clone(name):
+            where = os.path.join(tmp, name)
+            os.makedirs(where)
+            q = sh(f"git clone -q {origin} work && cd work && git checkout -q change", where)
+            if q.returncode != 0:
+                fail("clone", q)
+            return os.path.join(where, "work")
+
+        # GitHub Actions: every `run` step but installing and building sscs.
+        job = recipe(root, "github")["jobs"]["check"]
+        work = clone("github")
+        jenv = dict(job["env"], SSCS=os.path.abspath(sscs), GITHUB_BASE_REF="main",
+                    GITHUB_STEP_SUMMARY=os.path.join(tmp, "summary.md"))
+        outputs = {}
+        for step in job["steps"]:
+            if "run" in step and step["name"] not in ("Tools the steps use", "Set up sscs"):
+                outputs[step["name"]] = q = sh(step["run"], work, jenv)
+                if q.returncode != (1 if step["name"].startswith("Check") else 0):
+                    fail(f"GitHub step '{step['name']}'", q)
+        check = outputs["Check the pull request's vaults"].stdout
+        for line in ("vaults/store.yaml:23:5: fail: cart passes the door",  # the text report, whole despite --quiet
+                     "::error file=vaults/store.yaml,line=23,col=5::cart passes the door [MainDoor, Cart1]",
+                     "::warning file=vaults/store.yaml,line=19,col=5::still failing: door clear height",
+                     "::notice file=vaults/store.yaml,line=18,col=5::fixed: aisle at least 1.5 m",
+                     "1 new failure, 1 fixed, 1 still failing, 2 unchanged, 1 renamed, 1 removed"):
+            if line not in check:
+                fail(f"the GitHub check step does not print {line!r}", outputs["Check the pull request's vaults"])
+        if "[new failure]" not in open(jenv["GITHUB_STEP_SUMMARY"]).read():
+            fail("the GitHub step summary")
+        uploads = [s["with"] for s in job["steps"] if s.get("uses", "").startswith("github/codeql-action/upload-sarif")]
+        sarif = json.load(open(os.path.join(work, uploads[0]["sarif_file"])))
+        if sorted(r.get("baselineState") for r in sarif["runs"][0]["results"]) != ["absent", "new", "unchanged"]:
+            fail(f"the SARIF the workflow uploads: {sarif['runs'][0]['results']}")
+
+        # GitLab CI: the job's script, one shell as GitLab runs it.
+        job = recipe(root, "gitlab")["sscs-check"]
+        work = clone("gitlab")
+        genv = dict({k: str(v) for k, v in job["variables"].items()}, SSCS=os.path.abspath(sscs),
+                    CI_MERGE_REQUEST_TARGET_BRANCH_NAME="main")
+        q = sh("\n".join(job["script"]), work, genv)
+        if q.returncode != 1 or "[new failure]" not in q.stdout:
+            fail("the GitLab job: exit 1 for the new failure, the text report in the log", q)
+        junit = os.path.join(work, job["artifacts"]["reports"]["junit"])
+        check_junit(junit)
+        if "[new failure]" not in open(junit).read():
+            fail("the GitLab JUnit report has no [new failure]")
+    print("ok ci recipes")
+
+
+def yaml_loader():
+    """PyYAML with YAML 1.2 core booleans (true/false only), as yaml-cpp and editors read files:
+    `standard_library: no` stays the string 'no'."""
+    import re
+    import yaml
+
+    class Loader(yaml.SafeLoader):
+        pass
+    Loader.yaml_implicit_resolvers = {k: [(t, r) for t, r in v if t != "tag:yaml.org,2002:bool"]
+                                      for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+    Loader.add_implicit_resolver("tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF"))
+    return lambda path: yaml.load(open(path, encoding="utf-8"), Loader=Loader)
+
+
+def schema_validators(root):
+    """Draft-07 validators of schemas/*.schema.json by file kind (relative $refs to common)."""
+    import warnings
+    import jsonschema
+    warnings.filterwarnings("ignore", category=DeprecationWarning)
+    sd = os.path.join(root, "schemas")
+    docs = {n[:-len(".schema.json")]: json.load(open(os.path.join(sd, n))) for n in os.listdir(sd) if n.endswith(".schema.json")}
+    base = "file://" + os.path.abspath(sd) + "/"
+    store = {base + "common.schema.json": docs["common"]}
+    out = {}
+    for kind, doc in docs.items():
+        jsonschema.Draft7Validator.check_schema(doc)
+        resolver = jsonschema.RefResolver(base_uri=base + kind + ".schema.json", referrer=doc, store=store)
+        out[kind] = jsonschema.Draft7Validator(doc, resolver=resolver)
+    return docs, out
+
+
+def expanded_size(path):
+    """How many nodes a YAML file amounts to once its aliases are expanded (shared nodes counted
+    once per use, without expanding them); 0 when it is not YAML."""
+    import yaml
+    try:
+        root = yaml.compose(open(path, encoding="utf-8", errors="replace"))
+    except yaml.YAMLError:
+        return 0
+    memo = {}
+
+    def size(node):
+        if id(node) not in memo:
+            memo[id(node)] = 1  # a cycle counts once
+            if isinstance(node, yaml.SequenceNode):
+                memo[id(node)] = 1 + sum(size(n) for n in node.value)
+            elif isinstance(node, yaml.MappingNode):
+                memo[id(node)] = 1 + sum(size(k) + size(v) for k, v in node.value)
+        return memo[id(node)]
+    return size(root) if root is not None else 0
+
+
+def kind_of(doc):
+    if isinstance(doc, dict):
+        for k in ("scenario", "sweep", "type", "vault", "cameras"):
+            if k in doc:
+                return k
+    return None
+
+
+def schemas(sscs, root):
+    """The JSON Schemas: valid draft-07, a description and examples on every property; every YAML
+    file of library/, scenarios/ and tests/data/good/ valid; and the schemas agree with the
+    loader on tests/data/bad/ (each bad file is rejected by its schema or listed, with the reason
+    a schema cannot say it, in tests/data/schema-agreement.txt)."""
+    import glob
+    docs, validators = schema_validators(root)
+
+    def walk(node, where):
+        if isinstance(node, dict):
+            for name, prop in node.get("properties", {}).items():
+                if "description" not in prop or "examples" not in prop:
+                    fail(f"schema property {where}/{name} lacks a description or examples")
+            for k, v in node.items():
+                if k not in ("if", "not"):  # conditions, not properties a user writes
+                    walk(v, f"{where}/{k}")
+        elif isinstance(node, list):
+            for i, v in enumerate(node):
+                walk(v, f"{where}/{i}")
+    for kind, doc in docs.items():
+        walk(doc, kind)
+    load = yaml_loader()
+    good = [f for pattern in ("library/**/*.yaml", "scenarios/**/*.yaml", "tests/data/good/**/*.yaml", "tests/data/plugins/*.yaml")
+            for f in glob.glob(os.path.join(root, pattern), recursive=True)]
+    if len(good) < 40:
+        fail(f"only {len(good)} good files found")
+    for f in sorted(good):
+        doc = load(f)
+        errors = list(validators[kind_of(doc)].iter_errors(doc))
+        if errors:
+            fail(f"{f} does not validate against {kind_of(doc)}.schema.json: {errors[0].message} at {list(errors[0].absolute_path)}")
+    # The other way round: the loader accepts every good vault (exit 0 or 1, never 2).
+    plugins = os.path.join(build_dir(sscs), "plugins")
+    for f in sorted(good):
+        if kind_of(load(f)) == "vault":
+            # broken.yaml names the class of the deliberately broken test plugins.
+            extra = os.path.join(build_dir(sscs), "tests", "plugins", "nan") if f.endswith("broken.yaml") else plugins
+            p = run(sscs, root, ["check", f, "--quiet", "--plugins", extra])
+            if p.returncode not in (0, 1):
+                fail(f"the loader rejects {f}, which its schema accepts", p)
+    listed = {}
+    for line in open(os.path.join(root, "tests/data/schema-agreement.txt"), encoding="utf-8"):
+        if line.strip() and not line.startswith("#"):
+            name, _, reason = line.partition(": ")
+            listed[name.strip()] = reason.strip()
+    bad_dir = os.path.join(root, "tests/data/bad")
+    bad = sorted(glob.glob(os.path.join(bad_dir, "*.yaml")) + glob.glob(os.path.join(bad_dir, "libs/*/types/*.yaml")))
+    rejected = 0
+    for f in bad:
+        rel = os.path.relpath(f, bad_dir)
+        if expanded_size(f) > 100000:  # an alias bomb: a validator would walk it without end
+            if rel not in listed:
+                fail(f"{rel} is an alias bomb; list it in tests/data/schema-agreement.txt")
+            continue
+        try:
+            doc = load(f)
+        except Exception:
+            doc = None  # not YAML at all: rejected by any schema
+        kind = kind_of(doc)
+        errors = list(validators[kind].iter_errors(doc)) if kind else ["no file kind"]
+        if errors:
+            rejected += 1
+            if rel in listed:
+                fail(f"{rel} is listed in schema-agreement.txt but its schema rejects it now: remove the line")
+        elif rel not in listed:
+            fail(f"the schema accepts {rel}, which the loader rejects; make the schema reject it, or list it in "
+                 f"tests/data/schema-agreement.txt with the reason a schema cannot")
+    missing = [n for n in listed if not os.path.exists(os.path.join(bad_dir, n))]
+    if missing:
+        fail(f"schema-agreement.txt lists files that do not exist: {missing}")
+    # Files sscs writes name their schema in a modeline, and validate against it.
+    with tempfile.TemporaryDirectory() as tmp:
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/arm-loads-drum.yaml", "--out", tmp + "/run", "--quiet"])
+        if p.returncode != 0:
+            fail("simulate for the modeline", p)
+        for kind in ("vault", "scenario"):
+            f = os.path.join(tmp, "run", "resolved", kind + ".yaml")
+            first = open(f, encoding="utf-8").readline()
+            prefix = "# yaml-language-server: $schema="
+            named = first[len(prefix):].strip()
+            if not first.startswith(prefix) or os.path.realpath(named) != os.path.realpath(os.path.join(root, "schemas", kind + ".schema.json")):
+                fail(f"resolved/{kind}.yaml starts with {first!r}, not a modeline naming schemas/{kind}.schema.json")
+            errors = list(validators[kind].iter_errors(load(f)))
+            if errors:
+                fail(f"resolved/{kind}.yaml does not validate: {errors[0].message} at {list(errors[0].absolute_path)}")
+    print(f"ok schemas ({len(good)} good files valid; {rejected} bad files rejected by the schemas, {len(listed)} listed)")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci", "ci_recipes", "schemas"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
@@ -818,6 +1058,10 @@ def main():
         plugins(a.sscs, a.root)
     elif a.mode == "ci":
         ci(a.sscs, a.root)
+    elif a.mode == "ci_recipes":
+        ci_recipes(a.sscs, a.root)
+    elif a.mode == "schemas":
+        schemas(a.sscs, a.root)
     else:
         cli(a.sscs, a.root)
 
