@@ -23,6 +23,7 @@
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
 #include "core/data_dirs.h"
+#include "sweep/sweep.h"
 #include "core/timer.h"
 #include "render/gl.h"
 #include "render/camera_path.h"
@@ -601,6 +602,87 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   return summary.status == RunStatus::Ok ? kOk : kViolations;
 }
 
+struct SweepArgs {
+  std::string sweep;
+  std::string out;
+  unsigned jobs = 0;
+  std::string shard;
+  bool force = false;
+  bool resume = true;
+  double variant_timeout = 0;
+  std::vector<std::string> merge_dirs;
+};
+
+/// "K/N" with 0 <= K < N.
+bool parse_shard(const std::string& text, unsigned& k, unsigned& n) {
+  auto slash = text.find('/');
+  if (slash == std::string::npos) return false;
+  try {
+    size_t a = 0, b = 0;
+    unsigned long kk = std::stoul(text.substr(0, slash), &a), nn = std::stoul(text.substr(slash + 1), &b);
+    if (a != slash || b != text.size() - slash - 1 || nn == 0 || kk >= nn || nn > 100000) return false;
+    k = static_cast<unsigned>(kk);
+    n = static_cast<unsigned>(nn);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+int report_sweep(const SweepOutcome& o, const char* verb) {
+  switch (o.end) {
+    case SweepOutcome::End::InputError:
+      std::cerr << "sscs: error: " << o.message << "\n";
+      return kInputError;
+    case SweepOutcome::End::Interrupted:
+      std::cerr << "sscs: " << o.message << "\n";
+      return 128 + SIGINT;
+    case SweepOutcome::End::Failed:
+      std::cerr << "sscs: error: " << o.message << "\n";
+      return kInternalError;
+    case SweepOutcome::End::Done:
+      break;
+  }
+  // The summary line is printed even with --quiet: it is the one line a job log needs.
+  std::string resumed = o.resumed ? fmt::format(" ({} done before)", o.resumed) : "";
+  std::cout << fmt::format("{} {} variants{}: {} pass, {} fail, {} error; results in {}/results.csv\n", verb, o.mine, resumed,
+                           o.pass, o.fail, o.error, o.out);
+  return o.fail + o.error > 0 ? kViolations : kOk;
+}
+
+int run_sweep_command(const Common& common, const SweepArgs& args) {
+  SweepOptions options;
+  if (!common.overrides(options.compile)) return kInputError;
+  if (!args.shard.empty() && !parse_shard(args.shard, options.shard, options.shards)) {
+    std::cerr << fmt::format("sscs: error: --shard expects K/N with 0 <= K < N (e.g. 3/8), found '{}'\n", args.shard);
+    return kInputError;
+  }
+  if (args.variant_timeout < 0) {
+    std::cerr << "sscs: error: --variant-timeout must be at least 0 seconds\n";
+    return kInputError;
+  }
+  options.out = args.out;
+  options.jobs = args.jobs;
+  options.force = args.force;
+  options.variant_timeout = args.variant_timeout;
+  options.interrupted = &g_interrupted;
+  if (!common.quiet) options.progress = isatty(fileno(stderr)) ? ProgressBar::Mode::Live : ProgressBar::Mode::Lines;
+  struct sigaction action = {}, old_int = {}, old_term = {};
+  action.sa_handler = on_interrupt;
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
+  Sources sources;
+  Diagnostics diag;
+  SweepOutcome outcome = run_sweep(args.sweep, options, sources, diag);
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  if (diag.has_errors()) {
+    std::cerr << diag.format(sources, common.color_for(stderr));
+    return kInputError;
+  }
+  return report_sweep(outcome, "swept");
+}
+
 int run_compare(const std::vector<std::string>& paths, const std::string& format) {
   std::vector<RunRecord> runs;
   std::string error;
@@ -679,6 +761,21 @@ int run_cli(int argc, char** argv) {
     compare_cmd->add_option("RUN", compare_runs, "run folders or bundles (.zip) written by sscs simulate")->required();
     compare_cmd->add_option("--format", compare_format, "text, json or csv")->check(CLI::IsMember({"text", "json", "csv"}));
 
+    SweepArgs sweep_args;
+    CLI::App* sweep_cmd = app.add_subcommand("sweep", "run a parameter study: every variant checked (and simulated), one table");
+    sweep_cmd->add_option("SWEEP", sweep_args.sweep, "sweep file");
+    sweep_cmd->add_option("--out", sweep_args.out, "results folder (default: sweep-<name>); a rerun into it resumes");
+    sweep_cmd->add_option("--jobs,-j", sweep_args.jobs, "variants at once (default: one per core)")->check(CLI::Range(1u, 4096u));
+    sweep_cmd->add_option("--shard", sweep_args.shard, "K/N: run only the variants whose index % N == K (a Slurm array task)");
+    sweep_cmd->add_flag("--resume,!--no-resume", sweep_args.resume, "skip variants already complete in --out (the default)");
+    sweep_cmd->add_flag("--force", sweep_args.force, "redo every variant (clears --out)");
+    sweep_cmd->add_option("--variant-timeout", sweep_args.variant_timeout, "seconds a variant may take before it is stopped and recorded as error (default: no limit)");
+    common.add_to(sweep_cmd);
+    std::string merge_out;
+    CLI::App* merge_cmd = sweep_cmd->add_subcommand("merge", "join shard folders into one table, as one run would have written it");
+    merge_cmd->add_option("DIR", sweep_args.merge_dirs, "shard folders (--out of each sscs sweep --shard K/N)")->required();
+    merge_cmd->add_option("--out", merge_out, "the merged folder")->required();
+
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -690,6 +787,18 @@ int run_cli(int argc, char** argv) {
     if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
     if (sim_cmd->parsed()) return run_simulate(common, sim_args);
     if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
+    if (merge_cmd->parsed()) {
+      SweepOutcome o = merge_sweep(sweep_args.merge_dirs, merge_out);
+      return report_sweep(o, "merged");
+    }
+    if (sweep_cmd->parsed()) {
+      if (sweep_args.sweep.empty()) {
+        std::cerr << "sscs: error: sweep needs a sweep file (sscs sweep SWEEP) or merge (sscs sweep merge DIR... --out DIR)\n";
+        return kInputError;
+      }
+      if (!sweep_args.resume) sweep_args.force = true;
+      return run_sweep_command(common, sweep_args);
+    }
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);
     return kInputError;

@@ -45,6 +45,29 @@ std::vector<std::string> Workcell::frame_names(int t) const {
   return names;
 }
 
+int Workcell::find_type(std::string_view n) const {
+  for (size_t i = 0; i < types.size(); ++i)
+    if (types[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+std::optional<std::vector<int>> Workcell::select(std::string_view item) const {
+  std::vector<int> out;
+  if (item.starts_with("type:")) {
+    int t = find_type(item.substr(5));
+    if (t < 0) return std::nullopt;
+    for (size_t i = 0; i < objects.size(); ++i)
+      if (is_a(objects[i].type, t)) out.push_back(static_cast<int>(i));
+  } else if (item.find_first_of("*?") != std::string_view::npos) {  // "*" and globs
+    for (size_t i = 0; i < objects.size(); ++i)
+      if (glob_match(item, objects[i].name)) out.push_back(static_cast<int>(i));
+  } else {
+    int o = find_object(item);
+    if (o < 0) return std::nullopt;
+    out.push_back(o);
+  }
+  return out;
+}
 
 bool Workcell::is_a(int t, int ancestor) const {
   for (; t >= 0; t = types[t].base)
@@ -712,34 +735,40 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
     std::error_code e1, e2;
     return fs::weakly_canonical(a, e1) == fs::weakly_canonical(b, e2);
   };
-  std::vector<std::string> folders;
-  for (const std::string& dir : options.plugin_dirs) {
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) diag.error({}, fmt::format("--plugins folder '{}' does not exist", dir));
-    else folders.push_back(dir);
+  if (!options.library) {
+    std::vector<std::string> folders;
+    for (const std::string& dir : options.plugin_dirs) {
+      std::error_code ec;
+      if (!fs::is_directory(dir, ec)) diag.error({}, fmt::format("--plugins folder '{}' does not exist", dir));
+      else folders.push_back(dir);
+    }
+    for (const Scalar& dir : spec.plugins) {
+      std::string path = resolve_path(spec.path, dir.text);
+      std::error_code ec;
+      bool named = std::any_of(options.plugin_dirs.begin(), options.plugin_dirs.end(), [&](const std::string& d) { return same_folder(d, path); });
+      if (!fs::is_directory(path, ec)) diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
+      else if (!named && !options.allow_vault_plugins)
+        diag.error(dir.mark, fmt::format("the vault asks to load the plugins in '{}'; a vault alone never loads code. To "
+                                         "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
+      else if (!named) folders.push_back(path);
+    }
+    if (diag.has_errors()) return std::nullopt;  // nothing loads when any folder is refused
+    for (const std::string& dir : folders) st.plugins->load_folder(dir);
   }
-  for (const Scalar& dir : spec.plugins) {
-    std::string path = resolve_path(spec.path, dir.text);
-    std::error_code ec;
-    bool named = std::any_of(options.plugin_dirs.begin(), options.plugin_dirs.end(), [&](const std::string& d) { return same_folder(d, path); });
-    if (!fs::is_directory(path, ec)) diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
-    else if (!named && !options.allow_vault_plugins)
-      diag.error(dir.mark, fmt::format("the vault asks to load the plugins in '{}'; a vault alone never loads code. To "
-                                       "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
-    else if (!named) folders.push_back(path);
-  }
-  if (diag.has_errors()) return std::nullopt;  // nothing loads when any folder is refused
-  for (const std::string& dir : folders) st.plugins->load_folder(dir);
   st.wc.plugin_files = st.plugins->files();
   for (const Scalar& dir : spec.plugins)
     st.wc.vault_plugin_dirs.push_back(fs::absolute(resolve_path(spec.path, dir.text)).lexically_normal().string());
 
   // The type library: standard, the vault's folders, --library folders, then plugin types.
-  std::vector<std::pair<std::string, SourceMark>> dirs;
-  if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
-  for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
-  for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-  st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types());
+  if (options.library) {
+    st.wc.types = *options.library;
+  } else {
+    std::vector<std::pair<std::string, SourceMark>> dirs;
+    if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
+    for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
+    for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
+    st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types());
+  }
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);
   if (diag.has_errors()) return std::nullopt;

@@ -19,6 +19,10 @@ struct CompileOptions {
   bool allow_vault_plugins = false;       ///< --allow-vault-plugins: load the vault's `plugins:` folders too
   std::shared_ptr<PluginSet> plugins;     ///< where loaded plugins go (created when null)
   std::vector<std::pair<std::string, std::string>> overrides;  ///< --set NAME=VALUE
+  /// The type library already loaded (a Workcell's `types` compiled from the same vault file with
+  /// the same plugins): compile() then reads no type file and loads no plugin. A sweep compiles
+  /// each variant this way.
+  std::shared_ptr<const std::vector<ObjectType>> library;
 };
 
 

@@ -54,32 +54,16 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
   std::vector<std::string> names;
   for (const Scalar& item : sel.items) {
     const std::string& t = item.text;
-    if (t == "*") {
-      for (size_t i = 0; i < st.wc.objects.size(); ++i) out.push_back(static_cast<int>(i));
+    if (auto found = st.wc.select(t)) {
+      out.insert(out.end(), found->begin(), found->end());
     } else if (t.starts_with("type:")) {
       std::string type = t.substr(5);
-      auto it = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == type; });
-      if (it == st.wc.types.end()) {
-        std::vector<std::string> types;
-        for (const ObjectType& x : st.wc.types) types.push_back(x.name);
-        st.diag.error(item.mark, fmt::format("unknown type '{}' in selector{}", type, did_you_mean(type, types)));
-        continue;
-      }
-      int ti = static_cast<int>(it - st.wc.types.begin());
-      for (size_t i = 0; i < st.wc.objects.size(); ++i)
-        if (st.wc.is_a(st.wc.objects[i].type, ti)) out.push_back(static_cast<int>(i));
-    } else if (t.find_first_of("*?") != std::string::npos) {
-      for (size_t i = 0; i < st.wc.objects.size(); ++i)
-        if (glob_match(t, st.wc.objects[i].name)) out.push_back(static_cast<int>(i));
-    } else {
-      int o = st.wc.find_object(t);
-      if (o < 0 && st.unbuilt.count(t)) continue;
-      if (o < 0) {
-        if (names.empty()) names = st.object_names();
-        st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
-        continue;
-      }
-      out.push_back(o);
+      std::vector<std::string> types;
+      for (const ObjectType& x : st.wc.types) types.push_back(x.name);
+      st.diag.error(item.mark, fmt::format("unknown type '{}' in selector{}", type, did_you_mean(type, types)));
+    } else if (!st.unbuilt.count(t)) {
+      if (names.empty()) names = st.object_names();
+      st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
     }
   }
   std::sort(out.begin(), out.end());

@@ -167,6 +167,12 @@ struct Workcell {
   /// The frames an object of type `t` offers as a target: `origin`, `top`, then sorted, its
   /// type's named frames (its bases' too) and, for devices, their parts and `tool`.
   std::vector<std::string> frame_names(int t) const;
+  /// Index of the type named `name`, or -1.
+  int find_type(std::string_view name) const;
+  /// The objects a selector item names, in index order: `*`, `type:T` (T and the types extending
+  /// it), a glob (`Rack_*`) or an object's name. nullopt when it names a type or an object that
+  /// does not exist (a glob that matches nothing selects nothing).
+  std::optional<std::vector<int>> select(std::string_view item) const;
   /// Whether type `t` is `ancestor` or derives from it.
   bool is_a(int t, int ancestor) const;
   /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.

@@ -117,7 +117,7 @@ namespace {
 /// Evaluates shapes and device models of objects; one per build.
 class Builder {
  public:
-  Builder(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag), eval_(wc) {}
+  Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), eval_(wc), meshes_(meshes) {}
 
   /// The shapes of a geometry list written in `spec_path`, evaluated for object `obj`.
   std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj) {
@@ -242,7 +242,7 @@ class Builder {
   const Workcell& wc_;
   Diagnostics& diag_;
   ShapeEvaluator eval_;
-  MeshCache meshes_;
+  MeshCache& meshes_;
 };
 
 /// The type (itself or an ancestor) that carries an object type's device parts, or nullptr.
@@ -254,10 +254,11 @@ const TypeSpec* device_spec(const Workcell& wc, int t) {
 
 }  // namespace
 
-GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag) {
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes) {
   GeometryModel model;
   model.objects.resize(wc.objects.size());
-  Builder build(wc, diag);
+  MeshCache own;
+  Builder build(wc, diag, meshes ? *meshes : own);
   // Local poses first; world poses follow the parent chain (parents may come later in the file).
   std::vector<Eigen::Isometry3d> local(wc.objects.size());
   for (size_t i = 0; i < wc.objects.size(); ++i) {

@@ -76,8 +76,10 @@ void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object,
 Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);
 
 /// Builds the geometry of every object. Mesh files that cannot be read, and values that are not
-/// finite or not positive, are input errors at the line that names them.
-GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag);
+/// finite or not positive, are input errors at the line that names them. `meshes`, when given,
+/// keeps the meshes read for later builds (a sweep reads each mesh file once).
+class MeshCache;
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes = nullptr);
 
 /// A bounding-box operand's value (SI) from Operand::slot = corner * 3 + axis (corner 0 min,
 /// 1 max, 2 size); NaN when the object has no geometry.

@@ -1,0 +1,54 @@
+#pragma once
+/// A sweep's metrics: expressions over a variant's outcome. Besides + - * / and the functions of
+/// every sscs expression they may call
+///   count(SELECTOR)            objects selected (`type:drum`, `Rack_*`, `*`, a name)
+///   sum(SELECTOR.attribute)    the attribute summed over the selected objects (file units)
+///   min_margin()               the smallest margin of any check (file units of each check)
+///   margin(CONSTRAINT NAME)    the smallest margin of that constraint's checks
+/// and read the variables passed, failed, warnings, any vault parameter (file units) and, when a
+/// scenario is simulated, cycle_time, simulated, collisions and events.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "check/check.h"
+#include "compile/workcell.h"
+#include "core/diagnostics.h"
+#include "core/expr.h"
+#include "load/sweep.h"
+#include "simulate/simulate.h"
+
+namespace sscs {
+
+class Metric {
+ public:
+  /// Parses the metric's expression; reports syntax errors and unknown functions at their column.
+  static std::optional<Metric> parse(const MetricSpec& spec, Diagnostics& diag);
+
+  /// Reports what the metric names that `wc` (a variant's vault as written, before its values
+  /// change) does not have: types and objects in selectors, attributes, constraints, variables;
+  /// and run fields when the sweep simulates nothing.
+  void validate(const Workcell& wc, bool simulated, Diagnostics& diag) const;
+
+  /// The metric of one variant: NaN when it is undefined (min_margin() of no margins); an
+  /// error message in *error when it cannot be computed (a selected object lacking the attribute).
+  double evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run, std::string* error) const;
+
+  const std::string& name() const { return spec_.name; }
+
+ private:
+  struct Call {
+    enum class Kind { Count, Sum, MinMargin, Margin } kind;
+    std::string selector, attribute, constraint;
+    size_t position = 0;  ///< of the call in the text
+  };
+  MetricSpec spec_;
+  std::vector<Call> calls_;                 ///< stand in the expression as the variables `_call0`, `_call1`, ...
+  std::shared_ptr<const Expression> expr_;  ///< shared: metrics are copied into each worker
+};
+
+/// The variables a metric reads besides calls: run fields (only when a scenario is simulated).
+const std::vector<std::string>& run_fields();
+
+}  // namespace sscs

@@ -1,0 +1,574 @@
+#include "sweep/sweep.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "check/check.h"
+#include "core/digest.h"
+#include "core/files.h"
+#include "core/names.h"
+#include "geometry/geometry.h"
+#include "geometry/mesh_io.h"
+#include "load/load.h"
+#include "load/scenario.h"
+#include "load/sweep.h"
+#include "report/report.h"
+#include "simulate/plan.h"
+#include "simulate/resolved.h"
+#include "simulate/simulate.h"
+#include "sweep/metrics.h"
+#include "sweep/results.h"
+#include "sweep/variants.h"
+
+namespace fs = std::filesystem;
+
+namespace sscs {
+
+namespace {
+
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+
+/// A distinct vault (and scenario) that variants run: its spec, its compiled library and the
+/// overrides every variant of it starts from (the scenario's `set:`, then --set).
+struct Case {
+  std::string vault_path, scenario_path;
+  const VaultSpec* vault = nullptr;
+  const ScenarioSpec* scenario = nullptr;
+  std::shared_ptr<const std::vector<ObjectType>> library;
+  std::shared_ptr<PluginSet> plugins;
+  Overrides overrides;
+};
+
+std::string first_line(const std::string& text) {
+  std::string line = text.substr(0, text.find('\n'));
+  return line;
+}
+
+/// Everything a variant needs, prepared once in the parent; children are forked from it and
+/// so share it without reading a file again.
+class Study {
+ public:
+  Study(const SweepOptions& options, Sources& sources, Diagnostics& diag) : options_(options), sources_(sources), diag_(diag) {}
+
+  bool prepare(const std::string& path);
+  SweepOutcome run();
+
+ private:
+  int axis_named(std::string_view name) const {
+    for (size_t a = 0; a < set_.axes.size(); ++a)
+      if (set_.axes[a].spec->name == name) return static_cast<int>(a);
+    return -1;
+  }
+  const VaultSpec* vault_file(const std::string& path, SourceMark where);
+  const ScenarioSpec* scenario_file(const std::string& path, SourceMark where);
+  bool prepare_case(Case& c);
+  void validate_axes(const Workcell& wc, const Case& c);
+  VariantRow evaluate(const Variant& v, const std::string& dir);
+  VariantRow base_row(const Variant& v) const;
+  void run_child(const Variant& v, const std::string& dir);
+
+  const SweepOptions& options_;
+  Sources& sources_;
+  Diagnostics& diag_;
+  SweepSpec spec_;
+  VariantSet set_;
+  std::vector<Metric> metrics_;
+  std::map<std::string, VaultSpec> vaults_;
+  std::map<std::string, ScenarioSpec> scenarios_;
+  std::vector<Case> cases_;
+  std::vector<size_t> case_of_;  ///< per variant
+  MeshCache meshes_;
+  TableHeader header_;
+  Manifest manifest_;
+};
+
+const VaultSpec* Study::vault_file(const std::string& path, SourceMark where) {
+  if (auto it = vaults_.find(path); it != vaults_.end()) return &it->second;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    diag_.error(where, fmt::format("vault file '{}' does not exist", path));
+    return nullptr;
+  }
+  auto spec = load_vault(path, sources_, diag_);
+  return spec ? &vaults_.emplace(path, std::move(*spec)).first->second : nullptr;
+}
+
+const ScenarioSpec* Study::scenario_file(const std::string& path, SourceMark where) {
+  if (auto it = scenarios_.find(path); it != scenarios_.end()) return &it->second;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    diag_.error(where, fmt::format("scenario file '{}' does not exist", path));
+    return nullptr;
+  }
+  auto spec = load_scenario(path, sources_, diag_);
+  return spec ? &scenarios_.emplace(path, std::move(*spec)).first->second : nullptr;
+}
+
+void Study::validate_axes(const Workcell& wc, const Case& c) {
+  for (const Axis& axis : set_.axes) {
+    const VarySpec& v = *axis.spec;
+    if (v.files()) continue;
+    auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == v.name; });
+    if (p == wc.parameters.end()) {
+      std::vector<std::string> names;
+      for (const Parameter& x : wc.parameters) names.push_back(x.name);
+      diag_.error(v.mark, fmt::format("vault '{}' ({}) has no parameter '{}' to vary{}", wc.name, c.vault_path, v.name,
+                                      did_you_mean(v.name, names)));
+      continue;
+    }
+    if (axis.has_unit && axis.dim != p->dim) {
+      diag_.error(v.mark, fmt::format("the values of '{}' are {}, but parameter '{}' of vault '{}' is {}", v.name,
+                                      a_dim(axis.dim), v.name, wc.name, a_dim(p->dim)));
+      continue;
+    }
+    if (p->type == AttrType::Integer)
+      for (const AxisValue& value : axis.values)
+        if (!value.number || value.si != std::floor(value.si))
+          diag_.error(value.mark, fmt::format("parameter '{}' is an integer, but '{}' varies it to '{}'", v.name, v.name,
+                                              value.set_text));
+  }
+}
+
+bool Study::prepare_case(Case& c) {
+  // The first case of a vault file compiles it with its library; later ones reuse that.
+  auto same = std::find_if(cases_.begin(), cases_.end(), [&](const Case& o) { return o.vault_path == c.vault_path && o.library; });
+  CompileOptions options = options_.compile;
+  options.overrides = c.overrides;
+  if (same != cases_.end()) {
+    c.library = same->library;
+    c.plugins = same->plugins;
+  } else {
+    c.plugins = std::make_shared<PluginSet>();
+  }
+  options.plugins = c.plugins;
+  options.library = c.library;
+  auto wc = compile(*c.vault, options, sources_, diag_);
+  if (!wc) return false;
+  if (!c.library) c.library = std::make_shared<const std::vector<ObjectType>>(wc->types);
+  validate_axes(*wc, c);
+  for (const Metric& m : metrics_) m.validate(*wc, c.scenario != nullptr, diag_);
+  GeometryModel geometry = build_geometry(*wc, diag_, &meshes_);  // reads every mesh once, before the forks
+  if (c.scenario && !diag_.has_errors()) plan_scenario(*c.scenario, *wc, geometry, diag_);
+  return !diag_.has_errors();
+}
+
+bool Study::prepare(const std::string& path) {
+  auto spec = load_sweep(path, sources_, diag_);
+  if (!spec || diag_.has_errors()) return false;
+  spec_ = std::move(*spec);
+  auto set = expand_variants(spec_, diag_);
+  for (const MetricSpec& m : spec_.metrics)
+    if (auto metric = Metric::parse(m, diag_)) metrics_.push_back(std::move(*metric));
+  if (!set || diag_.has_errors()) return false;
+  set_ = std::move(*set);
+
+  // The cases: every (vault, scenario) pair a variant names, each file parsed once.
+  int vault_axis = axis_named("vault"), scenario_axis = axis_named("scenario");
+  std::map<std::pair<std::string, std::string>, size_t> index;
+  case_of_.resize(set_.variants.size());
+  for (const Variant& v : set_.variants) {
+    Case c;
+    SourceMark scenario_mark = spec_.scenario.mark;
+    if (scenario_axis >= 0) {
+      c.scenario_path = set_.value(v, scenario_axis).set_text;
+      scenario_mark = set_.value(v, scenario_axis).mark;
+    } else {
+      c.scenario_path = spec_.scenario_path;
+    }
+    if (!c.scenario_path.empty() && !(c.scenario = scenario_file(c.scenario_path, scenario_mark))) return false;
+    if (vault_axis >= 0) {
+      c.vault_path = set_.value(v, vault_axis).set_text;
+      if (!(c.vault = vault_file(c.vault_path, set_.value(v, vault_axis).mark))) return false;
+    } else if (!spec_.vault_path.empty()) {
+      c.vault_path = spec_.vault_path;
+      if (!(c.vault = vault_file(c.vault_path, spec_.vault.mark))) return false;
+    } else {
+      c.vault_path = c.scenario->vault_path;
+      if (!(c.vault = vault_file(c.vault_path, c.scenario->vault.mark))) return false;
+    }
+    auto [it, fresh] = index.try_emplace({c.vault_path, c.scenario_path}, cases_.size());
+    if (fresh) {
+      if (c.scenario)
+        for (const auto& [name, value] : c.scenario->set) c.overrides.emplace_back(name, value.text);
+      c.overrides.insert(c.overrides.end(), options_.compile.overrides.begin(), options_.compile.overrides.end());
+      if (!prepare_case(c)) return false;
+      cases_.push_back(std::move(c));
+    }
+    case_of_[v.index] = it->second;
+  }
+
+  header_.sweep = spec_.name;
+  for (const Axis& a : set_.axes) header_.parameters.emplace_back(a.spec->name, a.has_unit ? file_unit(a.dim) : "");
+  for (const Metric& m : metrics_) header_.metrics.push_back(m.name());
+  header_.simulated = std::any_of(cases_.begin(), cases_.end(), [](const Case& c) { return c.scenario != nullptr; });
+
+  // The manifest: what makes two folders results of the same study.
+  manifest_.sweep = spec_.name;
+  manifest_.sweep_sha256 = sha256_hex(sources_.text(sources_.find(spec_.path)));
+  std::vector<std::string> digests;
+  for (uint32_t f = 1; f < sources_.size(); ++f) digests.push_back(sha256_hex(sources_.text(f)));
+  std::sort(digests.begin(), digests.end());
+  manifest_.inputs_sha256 = sha256_hex(fmt::format("{}", fmt::join(digests, "\n")));
+  manifest_.variants = set_.variants.size();
+  manifest_.mode = spec_.random ? "random" : "grid";
+  manifest_.version = SSCS_VERSION;
+  if (options_.shards > 1) manifest_.shard = fmt::format("{}/{}", options_.shard, options_.shards);
+  return true;
+}
+
+VariantRow Study::base_row(const Variant& v) const {
+  VariantRow row;
+  row.index = v.index;
+  row.folder = set_.folder(v);
+  for (size_t a = 0; a < set_.axes.size(); ++a) row.values.push_back(set_.value(v, a).column);
+  row.metrics.assign(metrics_.size(), std::nullopt);
+  row.status = "error";
+  return row;
+}
+
+VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
+  VariantRow row = base_row(v);
+  const Case& c = cases_[case_of_[v.index]];
+  CompileOptions options = options_.compile;
+  options.library = c.library;
+  options.plugins = c.plugins;
+  options.overrides = c.overrides;
+  for (size_t a = 0; a < set_.axes.size(); ++a)
+    if (!set_.axes[a].spec->files()) options.overrides.emplace_back(set_.axes[a].spec->name, set_.value(v, a).set_text);
+  Diagnostics diag;
+  auto wc = compile(*c.vault, options, sources_, diag);
+  GeometryModel geometry;
+  if (wc) geometry = build_geometry(*wc, diag, &meshes_);
+  if (!wc || diag.has_errors()) {
+    row.message = "the vault does not compile with these values: " + first_line(diag.format(sources_));
+    return row;
+  }
+  CheckReport report = check(*wc, geometry);
+  std::string err = write_file_atomic(dir + "/report.json", format_json({VaultReport{&*wc, c.vault_path, report, {}}}, sources_));
+  if (!err.empty()) throw std::runtime_error(err);
+  row.passed = report.passed;
+  row.failed = report.failed;
+  row.warnings = report.warnings;
+  row.status = report.failed > 0 ? "fail" : "pass";
+  std::optional<RunSummary> run;
+  if (c.scenario) {
+    auto plan = plan_scenario(*c.scenario, *wc, geometry, diag);
+    if (!plan || diag.has_errors()) {
+      row.status = "error";
+      row.message = "the scenario cannot run with these values: " + first_line(diag.format(sources_));
+      return row;
+    }
+    RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_);
+    RunOptions ro;
+    ro.out_dir = dir + "/run";
+    ro.scenario_name = c.scenario->name;
+    ro.inputs = &inputs;
+    std::string error;
+    run = run_simulation(*wc, geometry, *plan, ro, &error);
+    if (!error.empty()) throw std::runtime_error(error);
+    row.cycle_time = run->cycle_time;
+    row.collisions = run->collisions;
+    if (run->status != RunStatus::Ok) row.status = "fail";
+  }
+  std::vector<std::string> problems;
+  if (run && run->status != RunStatus::Ok)
+    problems.push_back(fmt::format("run: {} (see run/events.jsonl)", run_status_name(run->status)));
+  for (size_t i = 0; i < metrics_.size(); ++i) {
+    std::string problem;
+    double value = metrics_[i].evaluate(*wc, report, run ? &*run : nullptr, &problem);
+    if (!problem.empty()) problems.push_back(problem);
+    if (std::isfinite(value)) row.metrics[i] = value;
+  }
+  row.message = fmt::format("{}", fmt::join(problems, "; "));
+  return row;
+}
+
+/// In the child: evaluate, write result.json, exit without running the parent's destructors.
+void Study::run_child(const Variant& v, const std::string& dir) {
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  sigset_t all;
+  sigemptyset(&all);
+  sigprocmask(SIG_SETMASK, &all, nullptr);
+  int log = open((dir + "/log.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (log >= 0) {
+    dup2(log, STDOUT_FILENO);
+    dup2(log, STDERR_FILENO);
+    close(log);
+  }
+  VariantRow row;
+  try {
+    row = evaluate(v, dir);
+  } catch (const std::exception& e) {
+    row = base_row(v);
+    row.message = fmt::format("internal error: {}", e.what());
+  }
+  std::ofstream(dir + "/result.json") << result_json(row, header_);
+  std::fflush(nullptr);
+  _exit(0);
+}
+
+SweepOutcome Study::run() {
+  SweepOutcome out;
+  out.variants = set_.variants.size();
+  out.out = options_.out.empty() ? "sweep-" + spec_.name : options_.out;
+  std::error_code ec;
+  fs::create_directories(out.out, ec);
+  if (ec) {
+    out.end = SweepOutcome::End::InputError;
+    out.message = fmt::format("cannot create '{}': {}", out.out, ec.message());
+    return out;
+  }
+  // A folder of another sweep (or of other inputs, or another shard) is not resumed into.
+  std::string manifest_path = out.out + "/sweep.json";
+  if (fs::exists(manifest_path)) {
+    std::string error;
+    auto old = read_manifest(manifest_path, &error);
+    bool same = old && old->sweep_sha256 == manifest_.sweep_sha256 && old->inputs_sha256 == manifest_.inputs_sha256 &&
+                old->shard == manifest_.shard && old->variants == manifest_.variants;
+    if (!same && !options_.force) {
+      out.end = SweepOutcome::End::InputError;
+      out.message = fmt::format("'{}' holds the results of {} (a different sweep file, inputs or shard); use --force to "
+                                "replace them, or another --out", out.out, old ? "sweep '" + old->sweep + "'" : "something else");
+      return out;
+    }
+  }
+  if (options_.force)
+    for (const auto& entry : fs::directory_iterator(out.out, ec)) fs::remove_all(entry.path(), ec);
+  // Folders of variants a killed run left half-written.
+  for (const auto& entry : fs::directory_iterator(out.out, ec))
+    if (entry.path().filename().string().starts_with(".") && entry.path().filename().string().find(".tmp-") != std::string::npos)
+      fs::remove_all(entry.path(), ec);
+  if (std::string err = write_file_atomic(manifest_path, manifest_json(manifest_)); !err.empty()) {
+    out.end = SweepOutcome::End::Failed;
+    out.message = err;
+    return out;
+  }
+
+  std::vector<const Variant*> todo, mine;
+  for (const Variant& v : set_.variants) {
+    if (v.index % options_.shards != options_.shard) continue;
+    mine.push_back(&v);
+    if (fs::exists(fmt::format("{}/{}/result.json", out.out, set_.folder(v)))) ++out.resumed;
+    else todo.push_back(&v);
+  }
+  out.mine = mine.size();
+
+  unsigned jobs = options_.jobs ? options_.jobs : std::max(1u, std::thread::hardware_concurrency());
+  struct Running {
+    const Variant* variant;
+    std::string tmp, dir;
+    std::chrono::steady_clock::time_point started;
+    bool killed = false;
+  };
+  std::map<pid_t, Running> running;
+  sigset_t chld, old_mask;
+  sigemptyset(&chld);
+  sigaddset(&chld, SIGCHLD);
+  sigprocmask(SIG_BLOCK, &chld, &old_mask);
+  ProgressBar progress(options_.progress, todo.size());
+  size_t next = 0, done = 0;
+  std::string failure;
+  auto finish = [&](pid_t pid, int status) {
+    Running r = running.at(pid);
+    running.erase(pid);
+    bool stopped = WIFSIGNALED(status) && !r.killed &&
+                   (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGHUP);
+    if (stopped && !fs::exists(r.tmp + "/result.json")) {  // Ctrl-C or scancel: not done, run again on resume
+      fs::remove_all(r.tmp, ec);
+      return;
+    }
+    if (!fs::exists(r.tmp + "/result.json")) {
+      VariantRow row = base_row(*r.variant);
+      row.message = r.killed ? fmt::format("timed out after {:g} s (--variant-timeout)", options_.variant_timeout)
+                    : WIFSIGNALED(status) ? fmt::format("crashed: signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                                          : fmt::format("the variant's process exited with status {}", WEXITSTATUS(status));
+      std::ofstream(r.tmp + "/result.json") << result_json(row, header_);
+    }
+    if (std::string err = commit_dir(r.tmp, r.dir); !err.empty()) failure = err;
+    progress.update(++done);
+  };
+  while ((next < todo.size() || !running.empty()) && failure.empty()) {
+    if (options_.interrupted && *options_.interrupted) break;
+    while (next < todo.size() && running.size() < jobs) {
+      const Variant* v = todo[next++];
+      std::string dir = out.out + "/" + set_.folder(*v);
+      std::string tmp = temp_dir_for(dir);
+      fs::remove_all(tmp, ec);
+      fs::create_directories(tmp, ec);
+      std::fflush(nullptr);
+      pid_t pid = fork();
+      if (pid == 0) run_child(*v, tmp);
+      if (pid < 0) {
+        failure = fmt::format("cannot start a process for variant {}: {}", v->index, std::strerror(errno));
+        break;
+      }
+      running[pid] = {v, tmp, dir, std::chrono::steady_clock::now()};
+    }
+    // Wait for a child to end, a deadline or a tick of the progress bar.
+    auto wait = std::chrono::milliseconds(200);
+    if (options_.variant_timeout > 0)
+      for (const auto& [pid, r] : running) {
+        auto left = r.started + std::chrono::duration<double>(options_.variant_timeout) - std::chrono::steady_clock::now();
+        wait = std::min(wait, std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(left)));
+      }
+    timespec ts{0, static_cast<long>(wait.count()) * 1000000L};
+    sigtimedwait(&chld, nullptr, &ts);
+    int status = 0;
+    for (pid_t pid; (pid = waitpid(-1, &status, WNOHANG)) > 0;)
+      if (running.count(pid)) finish(pid, status);
+    if (options_.variant_timeout > 0)
+      for (auto& [pid, r] : running)
+        if (!r.killed && std::chrono::steady_clock::now() - r.started > std::chrono::duration<double>(options_.variant_timeout)) {
+          kill(pid, SIGKILL);
+          r.killed = true;
+        }
+    progress.update(done);
+  }
+  bool interrupted = options_.interrupted && *options_.interrupted;
+  if (interrupted || !failure.empty()) {
+    for (auto& [pid, r] : running) kill(pid, SIGKILL);
+    for (auto& [pid, r] : running) {
+      waitpid(pid, nullptr, 0);
+      fs::remove_all(r.tmp, ec);
+    }
+  }
+  sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+  progress.finish(done);
+  if (!failure.empty()) {
+    out.end = SweepOutcome::End::Failed;
+    out.message = failure;
+    return out;
+  }
+  if (interrupted) {
+    out.end = SweepOutcome::End::Interrupted;
+    out.message = fmt::format("interrupted: {} of {} variants are done in '{}'; run the same command again to go on",
+                              out.resumed + done, mine.size(), out.out);
+    return out;
+  }
+
+  std::vector<VariantRow> rows;
+  for (const Variant* v : mine) {
+    std::string error;
+    auto row = read_result(fmt::format("{}/{}/result.json", out.out, set_.folder(*v)), header_, &error);
+    if (!row) {
+      out.end = SweepOutcome::End::Failed;
+      out.message = error + " (delete that variant's folder to run it again)";
+      return out;
+    }
+    (row->status == "pass" ? out.pass : row->status == "fail" ? out.fail : out.error)++;
+    rows.push_back(std::move(*row));
+  }
+  for (const auto& [name, content] : {std::pair{"results.csv", results_csv(header_, rows)}, {"results.json", results_json(header_, rows)}})
+    if (std::string err = write_file_atomic(out.out + "/" + name, content); !err.empty()) {
+      out.end = SweepOutcome::End::Failed;
+      out.message = err;
+      return out;
+    }
+  return out;
+}
+
+}  // namespace
+
+SweepOutcome run_sweep(const std::string& path, const SweepOptions& options, Sources& sources, Diagnostics& diag) {
+  Study study(options, sources, diag);
+  if (!study.prepare(path)) {
+    SweepOutcome out;
+    out.end = SweepOutcome::End::InputError;
+    return out;
+  }
+  return study.run();
+}
+
+SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string& out_dir) {
+  SweepOutcome out;
+  out.out = out_dir;
+  auto refuse = [&](std::string message) {
+    out.end = SweepOutcome::End::InputError;
+    out.message = std::move(message);
+    return out;
+  };
+  std::optional<Manifest> first;
+  std::optional<TableHeader> header;
+  std::map<size_t, std::pair<std::string, VariantRow>> rows;  // index -> (shard folder, row)
+  std::error_code ec;
+  for (const std::string& dir : dirs) {
+    if (fs::equivalent(dir, out_dir, ec)) return refuse(fmt::format("--out '{}' is one of the folders to merge; merge into a new folder", out_dir));
+    std::string error;
+    auto m = read_manifest(dir + "/sweep.json", &error);
+    if (!m) return refuse(fs::exists(dir + "/sweep.json") ? error : fmt::format("'{}' is not a sweep folder (it has no sweep.json)", dir));
+    if (!first) {
+      first = m;
+    } else if (m->sweep_sha256 != first->sweep_sha256 || m->inputs_sha256 != first->inputs_sha256 || m->variants != first->variants) {
+      return refuse(fmt::format("'{}' holds results of a different sweep than '{}' (sweep '{}' vs '{}': the sweep file or its "
+                                "inputs differ); merge only shards of one sweep", dir, dirs[0], m->sweep, first->sweep));
+    }
+    auto h = read_header(dir + "/results.json", &error);
+    if (!h) return refuse(fmt::format("'{}' has no complete table (shard {} did not finish?): {}", dir, m->shard.empty() ? "-" : m->shard, error));
+    if (!header) header = h;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      std::string result = (entry.path() / "result.json").string();
+      if (!entry.is_directory() || entry.path().filename().string().starts_with(".") || !fs::exists(result)) continue;
+      auto row = read_result(result, *header, &error);
+      if (!row) return refuse(error);
+      if (auto it = rows.find(row->index); it != rows.end())
+        return refuse(fmt::format("variant {} is in both '{}' and '{}'; merge each shard once", row->index, it->second.first, dir));
+      rows.emplace(row->index, std::pair{dir, std::move(*row)});
+    }
+  }
+  std::vector<size_t> missing;
+  for (size_t i = 0; i < first->variants; ++i)
+    if (!rows.count(i)) missing.push_back(i);
+  if (!missing.empty()) {
+    std::vector<size_t> shown(missing.begin(), missing.begin() + std::min<size_t>(missing.size(), 10));
+    return refuse(fmt::format("{} of the {} variants of sweep '{}' are in none of the folders (variants {}{}); is a shard "
+                              "missing or unfinished?", missing.size(), first->variants, first->sweep, fmt::join(shown, ", "),
+                              missing.size() > shown.size() ? ", ..." : ""));
+  }
+  std::string tmp = temp_dir_for(out_dir);
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp, ec);
+  std::vector<VariantRow> table;
+  for (auto& [index, entry] : rows) {
+    fs::copy(fs::path(entry.first) / entry.second.folder, fs::path(tmp) / entry.second.folder, fs::copy_options::recursive, ec);
+    if (ec) {
+      fs::remove_all(tmp, ec);
+      out.end = SweepOutcome::End::Failed;
+      out.message = fmt::format("cannot copy variant {} into '{}': {}", index, out_dir, ec.message());
+      return out;
+    }
+    (entry.second.status == "pass" ? out.pass : entry.second.status == "fail" ? out.fail : out.error)++;
+    table.push_back(std::move(entry.second));
+  }
+  Manifest whole = *first;
+  whole.shard.clear();
+  std::string err;
+  for (const auto& [name, content] : {std::pair{"sweep.json", manifest_json(whole)}, {"results.csv", results_csv(*header, table)},
+                                      {"results.json", results_json(*header, table)}})
+    if (err.empty()) err = write_file_atomic(tmp + "/" + name, content);
+  if (err.empty()) err = commit_dir(tmp, out_dir);
+  if (!err.empty()) {
+    fs::remove_all(tmp, ec);
+    out.end = SweepOutcome::End::Failed;
+    out.message = err;
+    return out;
+  }
+  out.variants = out.mine = first->variants;
+  return out;
+}
+
+}  // namespace sscs
