@@ -46,5 +46,7 @@ struct SweepSpec {
 
 /// Loads a sweep file: every problem found is reported to `diag`.
 std::optional<SweepSpec> load_sweep(const std::string& path, Sources& sources, Diagnostics& diag);
+/// Loads a sweep already registered in `sources` (tests load sweeps from strings this way).
+std::optional<SweepSpec> load_sweep(uint32_t file, Sources& sources, Diagnostics& diag);
 
 }  // namespace sscs

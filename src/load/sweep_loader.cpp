@@ -65,6 +65,10 @@ VarySpec read_vary(yaml::Node key, yaml::Node value, Diagnostics& diag) {
 std::optional<SweepSpec> load_sweep(const std::string& path, Sources& sources, Diagnostics& diag) {
   uint32_t file = read_source(path, sources, diag);
   if (file == 0) return std::nullopt;
+  return load_sweep(file, sources, diag);
+}
+
+std::optional<SweepSpec> load_sweep(uint32_t file, Sources& sources, Diagnostics& diag) {
   yaml::Document doc = yaml::parse(sources, file, diag);
   if (doc.empty()) return std::nullopt;
   MapReader root(doc.root(), "a sweep file", diag);

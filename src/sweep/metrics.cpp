@@ -113,8 +113,10 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
       if (!found) {
         std::vector<std::string> names;
         for (const Constraint& k : wc.constraints) names.push_back(k.name);
+        std::string hint = did_you_mean(c.constraint, names);
+        if (hint.empty() && !names.empty() && names.size() <= 12) hint = fmt::format("; its constraints: {}", fmt::join(names, ", "));
         diag.error(where(c.position), fmt::format("metric '{}': vault '{}' has no constraint '{}'{}", spec_.name, wc.name,
-                                                  c.constraint, did_you_mean(c.constraint, names)));
+                                                  c.constraint, hint));
       }
     }
     if (c.kind != Call::Kind::Count && c.kind != Call::Kind::Sum) continue;

@@ -58,6 +58,17 @@ std::string first_line(const std::string& text) {
   return line;
 }
 
+/// The last non-empty line a variant's process wrote (its log), without sscs's "error:" prefix.
+std::string last_line(const std::string& log) {
+  std::ifstream in(log);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  for (const char* prefix : {"sscs: error: ", "sscs: internal error: "})
+    if (last.starts_with(prefix)) last = last.substr(std::strlen(prefix));
+  return last;
+}
+
 /// Everything a variant needs, prepared once in the parent; children are forked from it and
 /// so share it without reading a file again.
 class Study {
@@ -397,6 +408,7 @@ SweepOutcome Study::run() {
       row.message = r.killed ? fmt::format("timed out after {:g} s (--variant-timeout)", options_.variant_timeout)
                     : WIFSIGNALED(status) ? fmt::format("crashed: signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
                                           : fmt::format("the variant's process exited with status {}", WEXITSTATUS(status));
+      if (std::string said = last_line(r.tmp + "/log.txt"); !said.empty()) row.message += ": " + said;
       std::ofstream(r.tmp + "/result.json") << result_json(row, header_);
     }
     if (std::string err = commit_dir(r.tmp, r.dir); !err.empty()) failure = err;
@@ -506,6 +518,9 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
   std::optional<TableHeader> header;
   std::map<size_t, std::pair<std::string, VariantRow>> rows;  // index -> (shard folder, row)
   std::error_code ec;
+  for (size_t i = 0; i < dirs.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (fs::equivalent(dirs[i], dirs[j], ec)) return refuse(fmt::format("'{}' is named twice; merge each shard once", dirs[i]));
   for (const std::string& dir : dirs) {
     if (fs::equivalent(dir, out_dir, ec)) return refuse(fmt::format("--out '{}' is one of the folders to merge; merge into a new folder", out_dir));
     std::string error;

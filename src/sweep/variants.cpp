@@ -17,7 +17,8 @@ constexpr size_t kMaxAxisValues = 1'000'000;
 
 std::string number_text(double si, Dim dim) {
   const char* unit = file_unit(dim);
-  return *unit ? fmt::format("{:.12g} {}", stable(si_to_file(si, dim)), unit) : fmt::format("{:.12g}", stable(si));
+  double x = stable(si_to_file(si, dim));
+  return *unit ? fmt::format("{:.12g} {}", x, unit) : fmt::format("{:.12g}", x);
 }
 
 std::string column_text(double si, Dim dim) { return fmt::format("{:.12g}", stable(si_to_file(si, dim))); }
@@ -68,8 +69,11 @@ std::optional<Axis> range_axis(const VarySpec& v, Diagnostics& diag) {
       return std::nullopt;
     }
   }
-  auto si = [&](const Quantity& q) { return q.has_unit ? q.si : q.si * file_unit_to_si(axis.dim); };
-  double a = si(*from), b = si(*to), d = si(*step);
+  // The range is stepped in the file unit of its dimension (degrees, not radians), so values
+  // are round where the user wrote round numbers.
+  double unit = file_unit_to_si(axis.dim);
+  auto in_file_unit = [&](const Quantity& q) { return q.has_unit ? q.si / unit : q.si; };
+  double a = in_file_unit(*from), b = in_file_unit(*to), d = in_file_unit(*step);
   if (!(d > 0)) {
     diag.error(v.step.mark, fmt::format("the step of '{}' must be greater than 0, found '{}'", v.name, v.step.text));
     return std::nullopt;
@@ -85,9 +89,9 @@ std::optional<Axis> range_axis(const VarySpec& v, Diagnostics& diag) {
   for (double x : range_values(a, b, d)) {
     AxisValue value;
     value.number = true;
-    value.si = x;
-    value.set_text = number_text(x, axis.dim);
-    value.column = column_text(x, axis.dim);
+    value.si = x * unit;
+    value.set_text = number_text(value.si, axis.dim);
+    value.column = column_text(value.si, axis.dim);
     value.label = label_of(value.set_text);
     value.mark = v.from.mark;
     axis.values.push_back(value);

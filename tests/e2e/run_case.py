@@ -14,6 +14,7 @@
       command-line behaviour: formats, --out, --set, --strict, exit statuses, types.
 """
 import argparse
+import glob
 import hashlib
 import json
 import shutil
@@ -91,7 +92,7 @@ def bad(sscs, root, expect):
         fail(f"{expect} names no stderr fragment")
     with tempfile.TemporaryDirectory() as tmp:
         out_file = os.path.join(tmp, "report.json")
-        proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate") else args)
+        proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate", "sweep") and "merge" not in args else args)
         if proc.returncode != int(fields["exit"]):
             fail(f"exit status {proc.returncode}, expected {fields['exit']}", proc)
         for fragment in fields["stderr"]:
@@ -806,6 +807,146 @@ def ci(sscs, root):
     print("ok ci")
 
 
+def sweep(sscs, root):
+    """sscs sweep: the example studies (values against hand counts, the table against a golden
+    file), --jobs and shards giving byte-identical tables, merge refusals, resume after a killed
+    and an interrupted sweep, a crashing variant and timed-out variants recorded as errors, random
+    mode, and a simulated device study."""
+    import csv
+    import signal
+    import time
+    study = "scenarios/sweeps/aisle-rows.yaml"
+    table_files = ("results.csv", "results.json", "sweep.json")
+
+    def same_tables(a, b, what):
+        for name in table_files:
+            if open(os.path.join(a, name), "rb").read() != open(os.path.join(b, name), "rb").read():
+                fail(f"{what}: {name} differs between {a} and {b}")
+
+    def rows_of(d):
+        return list(csv.DictReader(open(os.path.join(d, "results.csv"), newline="")))
+
+    with tempfile.TemporaryDirectory() as tmp:
+        full = os.path.join(tmp, "full")
+        p = run(sscs, root, ["sweep", study, "--out", full, "--jobs", "2"])
+        if p.returncode != 1 or "swept 55 variants: 11 pass, 44 fail, 0 error" not in p.stdout or "55/55 variants" not in p.stderr:
+            fail("the aisle-rows study", p)
+        golden = os.path.join(root, "tests", "golden", "sweep_aisle_rows.csv")
+        actual = open(os.path.join(full, "results.csv")).read()
+        if os.environ.get("SSCS_UPDATE_GOLDEN"):
+            open(golden, "w").write(actual)
+        if actual != open(golden).read():
+            fail(f"results.csv differs from {golden} (SSCS_UPDATE_GOLDEN=1 to update after review)")
+        # Every row against hand counts: 4 bays x rows racks of 3 levels of 4 drums; the cart
+        # rule is aisle >= 1.219 + 0.3 m; the lane rule 1 + 1.067 rows + (rows - 1) aisle + 1.5 <= 9.
+        rows = rows_of(full)
+        if [int(r["variant"]) for r in rows] != list(range(55)):
+            fail("rows are not in variant order")
+        for r in rows:
+            i, aisle, n = int(r["variant"]), float(r["aisle"]), int(r["rows"])
+            lane = 9 - (1 + 1.067 * n + (n - 1) * aisle + 1.5)
+            expect = {"aisle": round(1.0 + (i // 5) * 0.1, 9), "rows": i % 5 + 1, "capacity": 48 * n, "racks": 4 * n}
+            got = {"aisle": aisle, "rows": n, "capacity": float(r["capacity"]), "racks": float(r["racks"])}
+            if got != expect or abs(float(r["aisle_margin"]) - (aisle - 1.519)) > 1e-9 or abs(float(r["lane_margin"]) - lane) > 1e-9:
+                fail(f"variant {i}: {r}, expected {expect}, lane margin {lane}")
+            if (r["status"] == "pass") != (aisle >= 1.519 and lane >= 0):
+                fail(f"variant {i} is {r['status']}: {r}")
+            if not os.path.exists(os.path.join(full, r["folder"], "report.json")):
+                fail(f"variant {i} has no report in {r['folder']}")
+        # --jobs 1 and shards: the same tables, byte for byte.
+        one = os.path.join(tmp, "one")
+        p = run(sscs, root, ["sweep", study, "--out", one, "--jobs", "1", "--quiet"])
+        if p.returncode != 1 or p.stderr:
+            fail("--jobs 1 (and --quiet prints no progress)", p)
+        same_tables(full, one, "--jobs 1 against --jobs 2")
+        shards = [os.path.join(tmp, f"shard{k}") for k in range(3)]
+        for k, d in enumerate(shards):
+            p = run(sscs, root, ["sweep", study, "--shard", f"{k}/3", "--out", d, "--quiet"])
+            if p.returncode != 1 or f"swept {len(range(k, 55, 3))} variants" not in p.stdout:
+                fail(f"shard {k}/3", p)
+        merged = os.path.join(tmp, "merged")
+        p = run(sscs, root, ["sweep", "merge", *shards, "--out", merged])
+        if p.returncode != 1 or "merged 55 variants: 11 pass, 44 fail, 0 error" not in p.stdout:
+            fail("merge", p)
+        same_tables(full, merged, "merged shards against one run")
+        if sorted(os.listdir(merged)) != sorted(os.listdir(full)):
+            fail("the merged folder does not hold every variant's folder")
+        for args, message in (([shards[0], shards[1]], "18 of the 55 variants of sweep 'aisle-rows' are in none of the folders (variants 2, 5, 8"),
+                              ([shards[0], shards[1], shards[1], shards[2]], "is named twice; merge each shard once"),
+                              ([shards[0], os.path.join(root, "scenarios")], "is not a sweep folder (it has no sweep.json)")):
+            bad_out = os.path.join(tmp, "refused")
+            p = run(sscs, root, ["sweep", "merge", *args, "--out", bad_out])
+            if p.returncode != 2 or message not in p.stderr or os.path.exists(bad_out):
+                fail(f"merge must refuse: {message}", p)
+        # Resume: a rerun skips what is complete; another sweep's folder is refused; --force redoes.
+        p = run(sscs, root, ["sweep", study, "--out", full, "--quiet"])
+        if p.returncode != 1 or "swept 55 variants (55 done before)" not in p.stdout:
+            fail("rerun into a complete folder", p)
+        same_tables(full, one, "after a resumed rerun")
+        p = run(sscs, root, ["sweep", "tests/data/sweeps/random.yaml", "--out", full])
+        if p.returncode != 2 or "holds the results of sweep 'aisle-rows'" not in p.stderr:
+            fail("a folder of another sweep", p)
+        # Killed: the next run does only what is missing and the table is the same.
+        killed = os.path.join(tmp, "killed")
+        for how in (signal.SIGKILL, signal.SIGINT):
+            shutil.rmtree(killed, ignore_errors=True)
+            proc = subprocess.Popen([sscs, "sweep", study, "--out", killed, "--jobs", "1"], cwd=root,
+                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+            deadline = time.time() + 60
+            while time.time() < deadline and len(glob.glob(os.path.join(killed, "*", "result.json"))) < 8:
+                time.sleep(0.005)
+            os.killpg(proc.pid, how)
+            out, err = proc.communicate(timeout=60)
+            done = len(glob.glob(os.path.join(killed, "*", "result.json")))
+            if how == signal.SIGINT and (proc.returncode != 130 or "interrupted:" not in err or "run the same command again" not in err):
+                fail(f"an interrupted sweep: exit {proc.returncode}, stderr {err}")
+            if not 8 <= done < 55:
+                fail(f"the sweep was stopped too late to test resuming ({done} variants done)")
+            p = run(sscs, root, ["sweep", study, "--out", killed, "--quiet"])
+            if p.returncode != 1 or f"({done} done before)" not in p.stdout:
+                fail(f"resume after {how.name}: {done} were done", p)
+            same_tables(full, killed, f"resumed after {how.name}")
+            if [n for n in os.listdir(killed) if ".tmp-" in n]:
+                fail(f"half-written folders left after resuming: {os.listdir(killed)}")
+        # A crashing variant is an error row; the others run.
+        crash = os.path.join(tmp, "crash")
+        p = run(sscs, root, ["sweep", "tests/data/sweeps/crash.yaml", "--out", crash, "--plugins",
+                             os.path.join(build_dir(sscs), "tests", "plugins", "crash")])
+        rows = rows_of(crash) if os.path.exists(os.path.join(crash, "results.csv")) else []
+        if p.returncode != 1 or len(rows) != 2 or rows[0]["status"] != "error" or \
+                "crashed in the check of constraint 'broken check'" not in rows[0]["message"] or rows[1]["status"] != "pass":
+            fail(f"a crashing variant: {rows}", p)
+        # Random mode: the same seed, the same seven grid points, listed in grid order.
+        r1, r2 = os.path.join(tmp, "r1"), os.path.join(tmp, "r2")
+        for d in (r1, r2):
+            run(sscs, root, ["sweep", "tests/data/sweeps/random.yaml", "--out", d, "--quiet"])
+        same_tables(r1, r2, "random mode with one seed")
+        grid = {(r["aisle"], r["rows"]): int(r["variant"]) for r in rows_of(full)}
+        points = [grid[(r["aisle"], r["rows"])] for r in rows_of(r1)]
+        if len(points) != 7 or points != sorted(set(points)):
+            fail(f"random mode drew {points}")
+        # A simulated study: cycle times from the runs; a motion over the lift limit fails its row.
+        sim = os.path.join(tmp, "sim")
+        p = run(sscs, root, ["sweep", "scenarios/sweeps/arm-vs-gantry.yaml", "--out", sim, "--quiet"])
+        rows = rows_of(sim)
+        if p.returncode != 1 or [r["status"] for r in rows] != ["fail", "pass", "fail", "pass"]:
+            fail(f"the device study: {rows}", p)
+        for r in rows:
+            summary = json.load(open(os.path.join(sim, r["folder"], "run", "summary.json")))
+            if abs(float(r["cycle_time"]) - summary["cycle_time"]) > 1e-6 or \
+                    abs(float(r["drums_per_hour"]) - 3600 / summary["cycle_time"]) > 1e-6:
+                fail(f"variant {r['variant']}: {r} against its run's summary {summary['cycle_time']}")
+        if not float(rows[1]["cycle_time"]) < float(rows[3]["cycle_time"]) or "run: violations" not in rows[0]["message"]:
+            fail(f"the arm should be faster than the gantry, and a lift over 0.3 m a violation: {rows}")
+        # Timed-out variants are errors, and the sweep goes on to the end.
+        slow = os.path.join(tmp, "slow")
+        p = run(sscs, root, ["sweep", "scenarios/sweeps/arm-vs-gantry.yaml", "--out", slow, "--variant-timeout", "0.01", "--quiet"])
+        rows = rows_of(slow)
+        if p.returncode != 1 or len(rows) != 4 or any(r["status"] != "error" or "timed out after 0.01 s" not in r["message"] for r in rows):
+            fail(f"--variant-timeout: {rows}", p)
+    print("ok sweep")
+
+
 def recipe(root, name):
     """The YAML block after `<!-- recipe: NAME -->` in docs/ci.md, parsed."""
     import re
@@ -973,7 +1114,7 @@ def schemas(sscs, root):
     for kind, doc in docs.items():
         walk(doc, kind)
     load = yaml_loader()
-    good = [f for pattern in ("library/**/*.yaml", "scenarios/**/*.yaml", "tests/data/good/**/*.yaml", "tests/data/plugins/*.yaml")
+    good = [f for pattern in ("library/**/*.yaml", "scenarios/**/*.yaml", "tests/data/good/**/*.yaml", "tests/data/plugins/*.yaml", "tests/data/sweeps/*.yaml")
             for f in glob.glob(os.path.join(root, pattern), recursive=True)]
     if len(good) < 40:
         fail(f"only {len(good)} good files found")
@@ -1043,7 +1184,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci", "ci_recipes", "schemas"])
+    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci", "ci_recipes", "schemas", "sweep"])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
@@ -1058,6 +1199,8 @@ def main():
         plugins(a.sscs, a.root)
     elif a.mode == "ci":
         ci(a.sscs, a.root)
+    elif a.mode == "sweep":
+        sweep(a.sscs, a.root)
     elif a.mode == "ci_recipes":
         ci_recipes(a.sscs, a.root)
     elif a.mode == "schemas":
