@@ -1,6 +1,7 @@
 #include "sweep/sweep.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -90,7 +91,11 @@ class Study {
   void validate_axes(const Workcell& wc, const Case& c);
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
-  void run_child(const Variant& v, const std::string& dir);
+  void run_variant(const Variant& v, const std::string& tmp);
+  [[noreturn]] void worker(int tasks, int done);
+  std::string dir(const Variant& v) const { return out_ + "/" + set_.folder(v); }
+  /// Where a variant's folder is written before it is renamed into place.
+  std::string tmp_dir(const Variant& v) const { return fmt::format("{}/.{}.tmp-{}", out_, set_.folder(v), parent_pid_); }
 
   const SweepOptions& options_;
   Sources& sources_;
@@ -105,6 +110,8 @@ class Study {
   MeshCache meshes_;
   TableHeader header_;
   Manifest manifest_;
+  std::string out_;
+  pid_t parent_pid_ = getpid();
 };
 
 const VaultSpec* Study::vault_file(const std::string& path, SourceMark where) {
@@ -308,35 +315,49 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   return row;
 }
 
-/// In the child: evaluate, write result.json, exit without running the parent's destructors.
-void Study::run_child(const Variant& v, const std::string& dir) {
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
-  sigset_t all;
-  sigemptyset(&all);
-  sigprocmask(SIG_SETMASK, &all, nullptr);
-  int log = open((dir + "/log.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+/// One variant in a worker: its output (log.txt) and result.json in `tmp`.
+void Study::run_variant(const Variant& v, const std::string& tmp) {
+  int log = open((tmp + "/log.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (log >= 0) {
+    std::fflush(nullptr);
     dup2(log, STDOUT_FILENO);
     dup2(log, STDERR_FILENO);
     close(log);
   }
   VariantRow row;
   try {
-    row = evaluate(v, dir);
+    row = evaluate(v, tmp);
   } catch (const std::exception& e) {
     row = base_row(v);
     row.message = fmt::format("internal error: {}", e.what());
   }
-  std::ofstream(dir + "/result.json") << result_json(row, header_);
+  std::ofstream(tmp + "/result.json") << result_json(row, header_);
   std::fflush(nullptr);
-  _exit(0);
+}
+
+/// A worker process: forked once, it takes variant indices from `tasks` and answers each on
+/// `done` when its folder is written; it ends when `tasks` closes. A variant that kills it
+/// (a crash, a timeout) costs only that variant: the parent records it and starts another.
+void Study::worker(int tasks, int done) {
+  signal(SIGINT, SIG_IGN);  // the parent decides what an interrupt stops
+  signal(SIGTERM, SIG_DFL);
+  signal(SIGPIPE, SIG_DFL);
+  sigset_t none;
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, nullptr);
+  uint64_t index = 0;
+  while (read(tasks, &index, sizeof index) == sizeof index) {
+    run_variant(set_.variants[index], tmp_dir(set_.variants[index]));
+    if (write(done, &index, sizeof index) != sizeof index) break;
+  }
+  _exit(0);  // not the parent's destructors
 }
 
 SweepOutcome Study::run() {
   SweepOutcome out;
   out.variants = set_.variants.size();
   out.out = options_.out.empty() ? "sweep-" + spec_.name : options_.out;
+  out_ = out.out;
   std::error_code ec;
   fs::create_directories(out.out, ec);
   if (ec) {
@@ -380,86 +401,147 @@ SweepOutcome Study::run() {
   out.mine = mine.size();
 
   unsigned jobs = options_.jobs ? options_.jobs : std::max(1u, std::thread::hardware_concurrency());
-  struct Running {
-    const Variant* variant;
-    std::string tmp, dir;
+  jobs = static_cast<unsigned>(std::min<size_t>(jobs, std::max<size_t>(todo.size(), 1)));
+  struct Worker {
+    pid_t pid = -1;
+    int tasks = -1, done = -1;         ///< pipe ends: parent -> worker, worker -> parent
+    const Variant* variant = nullptr;  ///< the one it runs, if any
     std::chrono::steady_clock::time_point started;
     bool killed = false;
   };
-  std::map<pid_t, Running> running;
-  sigset_t chld, old_mask;
-  sigemptyset(&chld);
-  sigaddset(&chld, SIGCHLD);
-  sigprocmask(SIG_BLOCK, &chld, &old_mask);
+  std::vector<Worker> workers(jobs);
   ProgressBar progress(options_.progress, todo.size());
   size_t next = 0, done = 0;
   std::string failure;
-  auto finish = [&](pid_t pid, int status) {
-    Running r = running.at(pid);
-    running.erase(pid);
-    bool stopped = WIFSIGNALED(status) && !r.killed &&
-                   (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGHUP);
-    if (stopped && !fs::exists(r.tmp + "/result.json")) {  // Ctrl-C or scancel: not done, run again on resume
-      fs::remove_all(r.tmp, ec);
+  auto start_worker = [&](Worker& w) {
+    int to[2], from[2];
+    if (pipe2(to, O_CLOEXEC) != 0 || pipe2(from, O_CLOEXEC) != 0) {
+      failure = fmt::format("cannot start a worker: {}", std::strerror(errno));
       return;
     }
-    if (!fs::exists(r.tmp + "/result.json")) {
-      VariantRow row = base_row(*r.variant);
-      row.message = r.killed ? fmt::format("timed out after {:g} s (--variant-timeout)", options_.variant_timeout)
-                    : WIFSIGNALED(status) ? fmt::format("crashed: signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
-                                          : fmt::format("the variant's process exited with status {}", WEXITSTATUS(status));
-      if (std::string said = last_line(r.tmp + "/log.txt"); !said.empty()) row.message += ": " + said;
-      std::ofstream(r.tmp + "/result.json") << result_json(row, header_);
+    std::fflush(nullptr);
+    pid_t pid = fork();
+    if (pid == 0) {
+      close(to[1]);
+      close(from[0]);
+      for (const Worker& other : workers)  // other workers' pipes are not this one's
+        if (other.pid > 0) close(other.tasks), close(other.done);
+      worker(to[0], from[1]);
     }
-    if (std::string err = commit_dir(r.tmp, r.dir); !err.empty()) failure = err;
+    close(to[0]);
+    close(from[1]);
+    if (pid < 0) {
+      close(to[1]);
+      close(from[0]);
+      failure = fmt::format("cannot start a worker: {}", std::strerror(errno));
+      return;
+    }
+    w = Worker{pid, to[1], from[0], nullptr, {}, false};
+  };
+  auto stop_worker = [&](Worker& w, bool kill_it) {
+    if (w.pid <= 0) return;
+    if (kill_it) kill(w.pid, SIGKILL);
+    close(w.tasks);
+    close(w.done);
+    int status = 0;
+    waitpid(w.pid, &status, 0);
+    w.pid = -1;
+  };
+  auto give = [&](Worker& w) {
+    if (next >= todo.size() || !failure.empty()) return;
+    const Variant* v = todo[next++];
+    std::string tmp = tmp_dir(*v);
+    fs::remove_all(tmp, ec);
+    fs::create_directories(tmp, ec);
+    uint64_t index = v->index;
+    w.variant = v;
+    w.started = std::chrono::steady_clock::now();
+    w.killed = false;
+    if (write(w.tasks, &index, sizeof index) != sizeof index) failure = "a worker stopped taking variants";
+  };
+  // The variant a worker was running when it died: an error row, unless an interrupt stopped it.
+  auto lost = [&](Worker& w, int status) {
+    const Variant* v = w.variant;
+    w.variant = nullptr;
+    std::string tmp = tmp_dir(*v);
+    bool stopped = WIFSIGNALED(status) && !w.killed &&
+                   (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGHUP);
+    if (stopped) {  // Ctrl-C or scancel: not done; a resumed run does it
+      fs::remove_all(tmp, ec);
+      return;
+    }
+    VariantRow row = base_row(*v);
+    row.message = w.killed ? fmt::format("timed out after {:g} s (--variant-timeout)", options_.variant_timeout)
+                  : WIFSIGNALED(status) ? fmt::format("crashed: signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                                        : fmt::format("the variant's process exited with status {}", WEXITSTATUS(status));
+    if (std::string said = last_line(tmp + "/log.txt"); !said.empty()) row.message += ": " + said;
+    std::ofstream(tmp + "/result.json") << result_json(row, header_);
+    if (std::string err = commit_dir(tmp, dir(*v)); !err.empty()) failure = err;
     progress.update(++done);
   };
-  while ((next < todo.size() || !running.empty()) && failure.empty()) {
+  for (Worker& w : workers) {
+    if (next >= todo.size() || !failure.empty()) break;
+    start_worker(w);
+    if (w.pid > 0) give(w);
+  }
+  auto busy = [&] { return std::any_of(workers.begin(), workers.end(), [](const Worker& w) { return w.variant != nullptr; }); };
+  while (busy() && failure.empty()) {
     if (options_.interrupted && *options_.interrupted) break;
-    while (next < todo.size() && running.size() < jobs) {
-      const Variant* v = todo[next++];
-      std::string dir = out.out + "/" + set_.folder(*v);
-      std::string tmp = temp_dir_for(dir);
-      fs::remove_all(tmp, ec);
-      fs::create_directories(tmp, ec);
-      std::fflush(nullptr);
-      pid_t pid = fork();
-      if (pid == 0) run_child(*v, tmp);
-      if (pid < 0) {
-        failure = fmt::format("cannot start a process for variant {}: {}", v->index, std::strerror(errno));
-        break;
+    std::vector<pollfd> fds;
+    std::vector<Worker*> owners;
+    int wait_ms = 200;
+    auto now = std::chrono::steady_clock::now();
+    for (Worker& w : workers) {
+      if (!w.variant) continue;
+      fds.push_back({w.done, POLLIN, 0});
+      owners.push_back(&w);
+      if (options_.variant_timeout > 0 && !w.killed) {
+        auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            w.started + std::chrono::duration<double>(options_.variant_timeout) - now);
+        wait_ms = std::clamp(static_cast<int>(left.count()) + 1, 1, wait_ms);
       }
-      running[pid] = {v, tmp, dir, std::chrono::steady_clock::now()};
     }
-    // Wait for a child to end, a deadline or a tick of the progress bar.
-    auto wait = std::chrono::milliseconds(200);
-    if (options_.variant_timeout > 0)
-      for (const auto& [pid, r] : running) {
-        auto left = r.started + std::chrono::duration<double>(options_.variant_timeout) - std::chrono::steady_clock::now();
-        wait = std::min(wait, std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(left)));
+    poll(fds.data(), fds.size(), wait_ms);  // EINTR on an interrupt: the loop looks at the flag
+    for (size_t i = 0; i < fds.size(); ++i) {
+      Worker& w = *owners[i];
+      if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      uint64_t index = 0;
+      if ((fds[i].revents & POLLIN) && read(w.done, &index, sizeof index) == sizeof index && index == w.variant->index) {
+        const Variant* v = w.variant;
+        w.variant = nullptr;
+        if (std::string err = commit_dir(tmp_dir(*v), dir(*v)); !err.empty()) failure = err;
+        progress.update(++done);
+        give(w);
+        continue;
       }
-    timespec ts{0, static_cast<long>(wait.count()) * 1000000L};
-    sigtimedwait(&chld, nullptr, &ts);
-    int status = 0;
-    for (pid_t pid; (pid = waitpid(-1, &status, WNOHANG)) > 0;)
-      if (running.count(pid)) finish(pid, status);
+      // The worker died: record its variant, start another worker for the rest.
+      int status = 0;
+      close(w.tasks);
+      close(w.done);
+      waitpid(w.pid, &status, 0);
+      w.pid = -1;
+      lost(w, status);
+      if (next < todo.size() && failure.empty() && !(options_.interrupted && *options_.interrupted)) {
+        start_worker(w);
+        if (w.pid > 0) give(w);
+      }
+    }
     if (options_.variant_timeout > 0)
-      for (auto& [pid, r] : running)
-        if (!r.killed && std::chrono::steady_clock::now() - r.started > std::chrono::duration<double>(options_.variant_timeout)) {
-          kill(pid, SIGKILL);
-          r.killed = true;
+      for (Worker& w : workers)
+        if (w.variant && !w.killed &&
+            std::chrono::steady_clock::now() - w.started > std::chrono::duration<double>(options_.variant_timeout)) {
+          kill(w.pid, SIGKILL);
+          w.killed = true;
         }
     progress.update(done);
   }
   bool interrupted = options_.interrupted && *options_.interrupted;
-  if (interrupted || !failure.empty()) {
-    for (auto& [pid, r] : running) kill(pid, SIGKILL);
-    for (auto& [pid, r] : running) {
-      waitpid(pid, nullptr, 0);
-      fs::remove_all(r.tmp, ec);
-    }
+  for (Worker& w : workers) {
+    bool running = w.variant != nullptr;
+    stop_worker(w, running);  // idle workers end when their task pipe closes
+    if (running) fs::remove_all(tmp_dir(*w.variant), ec);
+    w.variant = nullptr;
   }
-  sigprocmask(SIG_SETMASK, &old_mask, nullptr);
   progress.finish(done);
   if (!failure.empty()) {
     out.end = SweepOutcome::End::Failed;
