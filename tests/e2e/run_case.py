@@ -853,6 +853,16 @@ def sweep(sscs, root):
                 fail(f"variant {i} is {r['status']}: {r}")
             if not os.path.exists(os.path.join(full, r["folder"], "report.json")):
                 fail(f"variant {i} has no report in {r['folder']}")
+        # The plot of docs/sweeps.md.
+        png = os.path.join(tmp, "plot.png")
+        q = subprocess.run([sys.executable, os.path.join(root, "tools", "plot-sweep.py"), os.path.join(full, "results.csv"),
+                            "--x", "aisle", "--y", "capacity", "--group", "rows", "--out", png], capture_output=True, text=True)
+        if q.returncode != 0 or open(png, "rb").read(8) != b"\x89PNG\r\n\x1a\n" or os.path.getsize(png) < 10000:
+            fail(f"tools/plot-sweep.py: {q.stdout}{q.stderr}")
+        q = subprocess.run([sys.executable, os.path.join(root, "tools", "plot-sweep.py"), os.path.join(full, "results.csv"),
+                            "--x", "aisel", "--y", "capacity", "--out", png], capture_output=True, text=True)
+        if q.returncode == 0 or "has no column 'aisel'" not in q.stderr:
+            fail(f"tools/plot-sweep.py with an unknown column: {q.stderr}")
         # --jobs 1 and shards: the same tables, byte for byte.
         one = os.path.join(tmp, "one")
         p = run(sscs, root, ["sweep", study, "--out", one, "--jobs", "1", "--quiet"])
