@@ -359,6 +359,12 @@ SweepOutcome Study::run() {
   out.out = options_.out.empty() ? "sweep-" + spec_.name : options_.out;
   out_ = out.out;
   std::error_code ec;
+  // Never write into (or with --force, clear) a folder that holds something other than a sweep.
+  if (fs::is_directory(out.out, ec) && !fs::is_empty(out.out, ec) && !fs::exists(out.out + "/sweep.json", ec)) {
+    out.end = SweepOutcome::End::InputError;
+    out.message = fmt::format("'{}' is not empty and holds no sweep (no sweep.json); choose another --out", out.out);
+    return out;
+  }
   fs::create_directories(out.out, ec);
   if (ec) {
     out.end = SweepOutcome::End::InputError;

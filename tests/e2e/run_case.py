@@ -896,6 +896,9 @@ def sweep(sscs, root):
         p = run(sscs, root, ["sweep", "tests/data/sweeps/random.yaml", "--out", full])
         if p.returncode != 2 or "holds the results of sweep 'aisle-rows'" not in p.stderr:
             fail("a folder of another sweep", p)
+        p = run(sscs, root, ["sweep", study, "--out", os.path.join(root, "docs"), "--force"])
+        if p.returncode != 2 or "is not empty and holds no sweep (no sweep.json)" not in p.stderr:
+            fail("--out naming a folder that is no sweep's, with --force", p)
         # Killed: the next run does only what is missing and the table is the same.
         killed = os.path.join(tmp, "killed")
         for how in (signal.SIGKILL, signal.SIGINT):

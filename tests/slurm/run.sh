@@ -119,4 +119,9 @@ shards=$(ls -d "$t/results"/shard-* | wc -l)
 for f in results.csv results.json sweep.json; do
   cmp "$t/local/$f" "$t/results/merged/$f" || fail "$f of the merged shards differs from the local run's"
 done
-echo "ok slurm: a 4-task array (job $array) and its merge job give the local run's table, byte for byte"
+# tools/slurm/submit.sh: the array and the dependent merge in one command, as docs/sweeps.md shows.
+SSCS="$sscs" tools/slurm/submit.sh "$study" "$t/submitted" 2 --chdir="$root" --output="$t/out/submit-%j.out" ||
+  fail "submit.sh failed"
+for _ in $(seq 600); do [[ -f $t/submitted/merged/results.csv ]] && break; sleep 0.2; done
+cmp "$t/local/results.csv" "$t/submitted/merged/results.csv" || fail "submit.sh's merged table differs from the local run's"
+echo "ok slurm: a 4-task array (job $array) and its merge job, and submit.sh with 2 shards, give the local run's table, byte for byte"
