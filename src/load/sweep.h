@@ -14,14 +14,15 @@
 namespace sscs {
 
 /// One entry of `vary`: a range `{from, to, step}` or a list `{values: [...]}`. The names `vault`
-/// and `scenario` vary whole files (their values are paths, relative to the sweep file).
+/// and `scenario` vary whole files, `library` a type-library folder added for the variant (a
+/// device type per variant); their values are paths, relative to the sweep file.
 struct VarySpec {
   std::string name;
   SourceMark mark;  ///< of the name
   bool range = false;
   Scalar from, to, step;
   std::vector<Scalar> values;
-  bool files() const { return name == "vault" || name == "scenario"; }
+  bool files() const { return name == "vault" || name == "scenario" || name == "library"; }
 };
 
 struct MetricSpec {

@@ -48,7 +48,8 @@ VarySpec read_vary(yaml::Node key, yaml::Node value, Diagnostics& diag) {
       diag.error(r.mark(), fmt::format("vary '{}' has both values and from/to/step; give one of {}", v.name, shape));
     r.take("from"), r.take("to"), r.take("step");
   } else if (v.files()) {
-    diag.error(r.mark(), fmt::format("vary '{}' varies whole files: expected {{values: [file, ...]}}", v.name));
+    diag.error(r.mark(), fmt::format("vary '{}' varies whole {}: expected {{values: [{}, ...]}}", v.name,
+                                     v.name == "library" ? "type-library folders" : "files", v.name == "library" ? "folder" : "file"));
     return v;
   } else {
     v.range = true;

@@ -15,6 +15,7 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -47,6 +48,7 @@ using Overrides = std::vector<std::pair<std::string, std::string>>;
 /// overrides every variant of it starts from (the scenario's `set:`, then --set).
 struct Case {
   std::string vault_path, scenario_path;
+  std::string library_dir;  ///< a varied `library` folder ("" for none)
   const VaultSpec* vault = nullptr;
   const ScenarioSpec* scenario = nullptr;
   std::shared_ptr<const std::vector<ObjectType>> library;
@@ -163,9 +165,12 @@ void Study::validate_axes(const Workcell& wc, const Case& c) {
 
 bool Study::prepare_case(Case& c) {
   // The first case of a vault file compiles it with its library; later ones reuse that.
-  auto same = std::find_if(cases_.begin(), cases_.end(), [&](const Case& o) { return o.vault_path == c.vault_path && o.library; });
+  auto same = std::find_if(cases_.begin(), cases_.end(), [&](const Case& o) {
+    return o.vault_path == c.vault_path && o.library_dir == c.library_dir && o.library;
+  });
   CompileOptions options = options_.compile;
   options.overrides = c.overrides;
+  if (!c.library_dir.empty()) options.library_dirs.push_back(c.library_dir);
   if (same != cases_.end()) {
     c.library = same->library;
     c.plugins = same->plugins;
@@ -195,8 +200,8 @@ bool Study::prepare(const std::string& path) {
   set_ = std::move(*set);
 
   // The cases: every (vault, scenario) pair a variant names, each file parsed once.
-  int vault_axis = axis_named("vault"), scenario_axis = axis_named("scenario");
-  std::map<std::pair<std::string, std::string>, size_t> index;
+  int vault_axis = axis_named("vault"), scenario_axis = axis_named("scenario"), library_axis = axis_named("library");
+  std::map<std::tuple<std::string, std::string, std::string>, size_t> index;
   case_of_.resize(set_.variants.size());
   for (const Variant& v : set_.variants) {
     Case c;
@@ -218,7 +223,16 @@ bool Study::prepare(const std::string& path) {
       c.vault_path = c.scenario->vault_path;
       if (!(c.vault = vault_file(c.vault_path, c.scenario->vault.mark))) return false;
     }
-    auto [it, fresh] = index.try_emplace({c.vault_path, c.scenario_path}, cases_.size());
+    if (library_axis >= 0) {
+      const AxisValue& dir = set_.value(v, library_axis);
+      c.library_dir = dir.set_text;
+      std::error_code ec;
+      if (!fs::is_directory(c.library_dir, ec)) {
+        diag_.error(dir.mark, fmt::format("library folder '{}' does not exist", c.library_dir));
+        return false;
+      }
+    }
+    auto [it, fresh] = index.try_emplace({c.vault_path, c.scenario_path, c.library_dir}, cases_.size());
     if (fresh) {
       if (c.scenario)
         for (const auto& [name, value] : c.scenario->set) c.overrides.emplace_back(name, value.text);

@@ -929,6 +929,13 @@ def sweep(sscs, root):
         if p.returncode != 1 or len(rows) != 2 or rows[0]["status"] != "error" or \
                 "crashed in the check of constraint 'broken check'" not in rows[0]["message"] or rows[1]["status"] != "pass":
             fail(f"a crashing variant: {rows}", p)
+        # A type per variant: `vary: library:` adds a type folder per variant.
+        lib = os.path.join(tmp, "lib")
+        p = run(sscs, root, ["sweep", "tests/data/sweeps/choose-container.yaml", "--out", lib, "--quiet"])
+        got = [(r["library"], r["count"], r["status"], r["total_mass"], r["headroom"]) for r in rows_of(lib)]
+        if p.returncode != 1 or got != [("libraries/small", "2", "pass", "240", "0.4"), ("libraries/small", "3", "pass", "360", "0.4"),
+                                        ("libraries/large", "2", "fail", "800", "-0.1"), ("libraries/large", "3", "fail", "1200", "-0.1")]:
+            fail(f"vary: library: {got}", p)
         # Random mode: the same seed, the same seven grid points, listed in grid order.
         r1, r2 = os.path.join(tmp, "r1"), os.path.join(tmp, "r2")
         for d in (r1, r2):
@@ -1142,7 +1149,9 @@ def schemas(sscs, root):
         if kind_of(load(f)) == "vault":
             # broken.yaml names the class of the deliberately broken test plugins.
             extra = os.path.join(build_dir(sscs), "tests", "plugins", "nan") if f.endswith("broken.yaml") else plugins
-            p = run(sscs, root, ["check", f, "--quiet", "--plugins", extra])
+            # containers.yaml takes its type from the library folder a sweep varies.
+            library = ["--library", os.path.join(root, "tests/data/sweeps/libraries/small")] if f.endswith("containers.yaml") else []
+            p = run(sscs, root, ["check", f, "--quiet", "--plugins", extra] + library)
             if p.returncode not in (0, 1):
                 fail(f"the loader rejects {f}, which its schema accepts", p)
     listed = {}
