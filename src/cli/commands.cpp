@@ -497,6 +497,27 @@ int run_replay(const Common& common, const ReplayArgs& args) {
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_interrupt(int) { g_interrupted = 1; }
 
+/// While alive, SIGINT and SIGTERM set g_interrupted (a run stops cleanly, writing nothing half);
+/// the handlers before it come back when it goes.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    struct sigaction action = {};
+    action.sa_handler = on_interrupt;
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~InterruptGuard() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  struct sigaction old_int_ = {}, old_term_ = {};
+};
+
 struct SimulateArgs {
   std::string scenario;
   std::string out;     // default: run-<scenario name> unless only a bundle is asked for
@@ -552,10 +573,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   run.inputs = &inputs;
   run.interrupted = &g_interrupted;
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
-  struct sigaction action = {}, old_int = {}, old_term = {};
-  action.sa_handler = on_interrupt;
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
+  std::optional<InterruptGuard> interrupts(std::in_place);
   run.work_dir = prepare_work_dir(run);
   std::error_code ec;
   std::unique_ptr<FrameRecorder> recorder;
@@ -586,8 +604,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     std::filesystem::remove_all(run.work_dir, ec);
     throw;
   }
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
+  interrupts.reset();
   if (summary.interrupted) {
     std::cerr << "sscs: interrupted; nothing written\n";
     return 128 + SIGINT;
@@ -667,15 +684,13 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
   options.variant_timeout = args.variant_timeout;
   options.interrupted = &g_interrupted;
   if (!common.quiet) options.progress = isatty(fileno(stderr)) ? ProgressBar::Mode::Live : ProgressBar::Mode::Lines;
-  struct sigaction action = {}, old_int = {}, old_term = {};
-  action.sa_handler = on_interrupt;
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
   Sources sources;
   Diagnostics diag;
-  SweepOutcome outcome = run_sweep(args.sweep, options, sources, diag);
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
+  SweepOutcome outcome;
+  {
+    InterruptGuard interrupts;
+    outcome = run_sweep(args.sweep, options, sources, diag);
+  }
   if (diag.has_errors()) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;

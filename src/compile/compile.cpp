@@ -731,11 +731,11 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   // line allows them (the same folder in --plugins, or --allow-vault-plugins): a vault file from
   // a pull request must not be able to run code on its own (docs/plugins.md).
   st.plugins = options.plugins ? options.plugins : std::make_shared<PluginSet>();
-  auto same_folder = [](const std::string& a, const std::string& b) {
-    std::error_code e1, e2;
-    return fs::weakly_canonical(a, e1) == fs::weakly_canonical(b, e2);
-  };
-  if (!options.library) {
+  if (!options.library) {  // else the library was compiled with these plugins already loaded
+    auto same_folder = [](const std::string& a, const std::string& b) {
+      std::error_code e1, e2;
+      return fs::weakly_canonical(a, e1) == fs::weakly_canonical(b, e2);
+    };
     std::vector<std::string> folders;
     for (const std::string& dir : options.plugin_dirs) {
       std::error_code ec;

@@ -98,7 +98,9 @@ std::optional<Metric> Metric::parse(const MetricSpec& spec, Diagnostics& diag) {
   if (!expr) {
     // Positions in the rewritten text differ after a call; point at the metric when they might.
     SourceMark where = m.calls_.empty() ? mark_at(spec.expr, err.position) : spec.expr.mark;
-    diag.error(where, fmt::format("metric '{}': {} in '{}'", spec.name, err.message, text));
+    std::string message = err.message;
+    if (size_t at = message.find(" at position "); at != std::string::npos && !m.calls_.empty()) message.resize(at);
+    diag.error(where, fmt::format("metric '{}': {} in '{}'", spec.name, message, text));
     return std::nullopt;
   }
   m.expr_ = std::make_shared<const Expression>(std::move(*expr));

@@ -29,16 +29,20 @@ std::string csv_number(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? fmt::format("{:.12g}", stable(*v)) : "";
 }
 
-std::optional<json> read_json(const std::string& path, std::string* error) {
+/// Reads `path` as JSON and converts it with `convert`; nullopt with *error ("'path' is not
+/// WHAT: ...") when the file is unreadable, not JSON, or lacks what `convert` asks for.
+template <class Convert>
+auto read_json_as(const std::string& path, std::string_view what, std::string* error, Convert convert)
+    -> std::optional<decltype(convert(json()))> {
   auto text = read_file_bytes(path);
   if (!text) {
     *error = fmt::format("cannot read '{}'", path);
     return std::nullopt;
   }
   try {
-    return json::parse(*text);
+    return convert(json::parse(*text));
   } catch (const json::exception& e) {
-    *error = fmt::format("'{}' is not JSON: {}", path, e.what());
+    *error = fmt::format("'{}' is not {}: {}", path, what, e.what());
     return std::nullopt;
   }
 }
@@ -70,31 +74,26 @@ json row_json(const VariantRow& row, const TableHeader& header) {
 std::string result_json(const VariantRow& row, const TableHeader& header) { return row_json(row, header).dump(2) + "\n"; }
 
 std::optional<VariantRow> read_result(const std::string& path, const TableHeader& header, std::string* error) {
-  auto j = read_json(path, error);
-  if (!j) return std::nullopt;
-  try {
+  return read_json_as(path, "a variant result of this sweep", error, [&](const json& j) {
     VariantRow row;
-    row.index = j->at("variant").get<size_t>();
-    row.folder = j->at("folder").get<std::string>();
-    for (const auto& [name, unit] : header.parameters) row.values.push_back(j->at("values").at(name).get<std::string>());
-    row.status = j->at("status").get<std::string>();
-    row.passed = j->at("passed").get<size_t>();
-    row.failed = j->at("failed").get<size_t>();
-    row.warnings = j->at("warnings").get<size_t>();
+    row.index = j.at("variant").get<size_t>();
+    row.folder = j.at("folder").get<std::string>();
+    for (const auto& [name, unit] : header.parameters) row.values.push_back(j.at("values").at(name).get<std::string>());
+    row.status = j.at("status").get<std::string>();
+    row.passed = j.at("passed").get<size_t>();
+    row.failed = j.at("failed").get<size_t>();
+    row.warnings = j.at("warnings").get<size_t>();
     for (const std::string& m : header.metrics) {
-      const json& v = j->at("metrics").at(m);
+      const json& v = j.at("metrics").at(m);
       row.metrics.push_back(v.is_null() ? std::nullopt : std::optional(v.get<double>()));
     }
     if (header.simulated) {
-      if (!j->at("cycle_time").is_null()) row.cycle_time = j->at("cycle_time").get<double>();
-      if (!j->at("collisions").is_null()) row.collisions = j->at("collisions").get<size_t>();
+      if (!j.at("cycle_time").is_null()) row.cycle_time = j.at("cycle_time").get<double>();
+      if (!j.at("collisions").is_null()) row.collisions = j.at("collisions").get<size_t>();
     }
-    row.message = j->at("message").get<std::string>();
+    row.message = j.at("message").get<std::string>();
     return row;
-  } catch (const json::exception& e) {
-    *error = fmt::format("'{}' is not a variant result of this sweep: {}", path, e.what());
-    return std::nullopt;
-  }
+  });
 }
 
 std::string manifest_json(const Manifest& m) {
@@ -111,22 +110,17 @@ std::string manifest_json(const Manifest& m) {
 }
 
 std::optional<Manifest> read_manifest(const std::string& path, std::string* error) {
-  auto j = read_json(path, error);
-  if (!j) return std::nullopt;
-  try {
+  return read_json_as(path, "an sscs sweep manifest", error, [](const json& j) {
     Manifest m;
-    m.sweep = j->at("sweep").get<std::string>();
-    m.sweep_sha256 = j->at("sweep_sha256").get<std::string>();
-    m.inputs_sha256 = j->at("inputs_sha256").get<std::string>();
-    m.variants = j->at("variants").get<size_t>();
-    m.mode = j->at("mode").get<std::string>();
-    m.version = j->at("version").get<std::string>();
-    if (j->contains("shard")) m.shard = j->at("shard").get<std::string>();
+    m.sweep = j.at("sweep").get<std::string>();
+    m.sweep_sha256 = j.at("sweep_sha256").get<std::string>();
+    m.inputs_sha256 = j.at("inputs_sha256").get<std::string>();
+    m.variants = j.at("variants").get<size_t>();
+    m.mode = j.at("mode").get<std::string>();
+    m.version = j.at("version").get<std::string>();
+    if (j.contains("shard")) m.shard = j.at("shard").get<std::string>();
     return m;
-  } catch (const json::exception& e) {
-    *error = fmt::format("'{}' is not an sscs sweep manifest: {}", path, e.what());
-    return std::nullopt;
-  }
+  });
 }
 
 std::string header_json(const TableHeader& h) {
@@ -176,19 +170,14 @@ std::string results_json(const TableHeader& header, const std::vector<VariantRow
 }
 
 std::optional<TableHeader> read_header(const std::string& path, std::string* error) {
-  auto j = read_json(path, error);
-  if (!j) return std::nullopt;
-  try {
+  return read_json_as(path, "the results.json of an sscs sweep", error, [](const json& j) {
     TableHeader h;
-    h.sweep = j->at("sweep").get<std::string>();
-    for (const json& p : j->at("parameters")) h.parameters.emplace_back(p.at("name").get<std::string>(), p.at("unit").get<std::string>());
-    h.metrics = j->at("metrics").get<std::vector<std::string>>();
-    h.simulated = j->at("simulated").get<bool>();
+    h.sweep = j.at("sweep").get<std::string>();
+    for (const json& p : j.at("parameters")) h.parameters.emplace_back(p.at("name").get<std::string>(), p.at("unit").get<std::string>());
+    h.metrics = j.at("metrics").get<std::vector<std::string>>();
+    h.simulated = j.at("simulated").get<bool>();
     return h;
-  } catch (const json::exception& e) {
-    *error = fmt::format("'{}' is not the results.json of an sscs sweep: {}", path, e.what());
-    return std::nullopt;
-  }
+  });
 }
 
 }  // namespace sscs

@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 #include <thread>
 #include <tuple>
 
@@ -87,6 +86,9 @@ class Study {
       if (set_.axes[a].spec->name == name) return static_cast<int>(a);
     return -1;
   }
+  template <class Spec, class Load>
+  const Spec* parsed(std::map<std::string, Spec>& cache, const std::string& path, SourceMark where, std::string_view what,
+                     Load load);
   const VaultSpec* vault_file(const std::string& path, SourceMark where);
   const ScenarioSpec* scenario_file(const std::string& path, SourceMark where);
   bool prepare_case(Case& c);
@@ -116,26 +118,28 @@ class Study {
   pid_t parent_pid_ = getpid();
 };
 
-const VaultSpec* Study::vault_file(const std::string& path, SourceMark where) {
-  if (auto it = vaults_.find(path); it != vaults_.end()) return &it->second;
+/// The spec of the file at `path`, parsed once: `what` ("vault", "scenario") names it in the
+/// message when it does not exist, reported at `where`.
+template <class Spec, class Load>
+const Spec* Study::parsed(std::map<std::string, Spec>& cache, const std::string& path, SourceMark where,
+                          std::string_view what, Load load) {
+  if (auto it = cache.find(path); it != cache.end()) return &it->second;
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
-    diag_.error(where, fmt::format("vault file '{}' does not exist", path));
+    diag_.error(where, fmt::format("{} file '{}' does not exist", what, path));
     return nullptr;
   }
-  auto spec = load_vault(path, sources_, diag_);
-  return spec ? &vaults_.emplace(path, std::move(*spec)).first->second : nullptr;
+  auto spec = load(path, sources_, diag_);
+  return spec ? &cache.emplace(path, std::move(*spec)).first->second : nullptr;
+}
+
+const VaultSpec* Study::vault_file(const std::string& path, SourceMark where) {
+  return parsed(vaults_, path, where, "vault", [](const std::string& p, Sources& s, Diagnostics& d) { return load_vault(p, s, d); });
 }
 
 const ScenarioSpec* Study::scenario_file(const std::string& path, SourceMark where) {
-  if (auto it = scenarios_.find(path); it != scenarios_.end()) return &it->second;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    diag_.error(where, fmt::format("scenario file '{}' does not exist", path));
-    return nullptr;
-  }
-  auto spec = load_scenario(path, sources_, diag_);
-  return spec ? &scenarios_.emplace(path, std::move(*spec)).first->second : nullptr;
+  return parsed(scenarios_, path, where, "scenario",
+                [](const std::string& p, Sources& s, Diagnostics& d) { return load_scenario(p, s, d); });
 }
 
 void Study::validate_axes(const Workcell& wc, const Case& c) {

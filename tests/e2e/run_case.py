@@ -87,10 +87,12 @@ def golden(sscs, root, case):
 def bad(sscs, root, expect):
     fields = parse_case(expect)
     name = os.path.basename(expect)[:-len(".expect")]
-    args = [a.replace("{build}", build_dir(sscs)) for a in shlex.split(fields.get("args", f"check tests/data/bad/{name}.yaml"))]
     if not fields["stderr"]:
         fail(f"{expect} names no stderr fragment")
     with tempfile.TemporaryDirectory() as tmp:
+        # {tmp}: an output path inside the folder that must stay empty.
+        args = [a.replace("{build}", build_dir(sscs)).replace("{tmp}", os.path.join(tmp, "out"))
+                for a in shlex.split(fields.get("args", f"check tests/data/bad/{name}.yaml"))]
         out_file = os.path.join(tmp, "report.json")
         proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate", "sweep") and "merge" not in args else args)
         if proc.returncode != int(fields["exit"]):
@@ -1202,33 +1204,23 @@ def schemas(sscs, root):
     print(f"ok schemas ({len(good)} good files valid; {rejected} bad files rejected by the schemas, {len(listed)} listed)")
 
 
+MODES = {"simulate": simulate, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+         "schemas": schemas, "sweep": sweep, "cli": cli}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sscs", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("mode", choices=["golden", "bad", "cli", "simulate", "render", "plugins", "ci", "ci_recipes", "schemas", "sweep"])
+    ap.add_argument("mode", choices=["golden", "bad", *MODES])
     ap.add_argument("file", nargs="?")
     a = ap.parse_args()
     if a.mode == "golden":
         golden(a.sscs, a.root, a.file)
     elif a.mode == "bad":
         bad(a.sscs, a.root, a.file)
-    elif a.mode == "simulate":
-        simulate(a.sscs, a.root)
-    elif a.mode == "render":
-        render(a.sscs, a.root)
-    elif a.mode == "plugins":
-        plugins(a.sscs, a.root)
-    elif a.mode == "ci":
-        ci(a.sscs, a.root)
-    elif a.mode == "sweep":
-        sweep(a.sscs, a.root)
-    elif a.mode == "ci_recipes":
-        ci_recipes(a.sscs, a.root)
-    elif a.mode == "schemas":
-        schemas(a.sscs, a.root)
     else:
-        cli(a.sscs, a.root)
+        MODES[a.mode](a.sscs, a.root)
 
 
 if __name__ == "__main__":
