@@ -21,7 +21,7 @@ echo
 echo "== sscs simulate scenarios/drum-transfer/arm-loads-drum.yaml"
 video=()
 command -v ffmpeg >/dev/null && video=(--video "$out/arm-loads-drum.mp4")
-"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" "${video[@]}" --quiet
+"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" --force "${video[@]}" --quiet
 grep -E '"(status|cycle_time)"' "$out/arm-loads-drum/summary.json" | sed 's/^ */  /'
 echo
 echo "exit status $status (1: the demo has failing constraints on purpose; see README)"

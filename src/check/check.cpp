@@ -4,6 +4,7 @@
 #include "kinematics/ik.h"
 
 #include <algorithm>
+#include <set>
 #include <cmath>
 #include <functional>
 
@@ -135,14 +136,19 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
 
 constexpr double kTouch = kTouchTolerance;  // touching within this is not overlap
 
+/// A spatial margin within `eps` of the limit is the limit: a clearance of exactly its minimum, or
+/// an object flush with its container's face, holds although rounding left it at -4e-16.
+double at_limit(double margin, double eps) { return std::abs(margin) <= eps ? 0.0 : margin; }
+
 std::string pair_text(const Workcell& wc, int a, int b) {
   return fmt::format("{} and {}", wc.objects[a].name, wc.objects[b].name);
 }
 
 /// clearance, no_overlap and inside: failing members one result each; when none fails, one
-/// passing result with the smallest margin seen.
+/// passing result with the smallest margin seen. Comparisons hold within the constraint's eps or
+/// `tolerance`, whichever is larger.
 void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryModel& geometry, CollisionWorld& world,
-                   int index, std::vector<CheckResult>& out) {
+                   double tolerance, int index, std::vector<CheckResult>& out) {
   auto result = [&](std::vector<int> subjects, Status status, std::optional<double> lhs, std::optional<double> rhs,
                     std::optional<double> margin, std::string message) {
     CheckResult r;
@@ -156,6 +162,7 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
     r.message = std::move(message);
     out.push_back(std::move(r));
   };
+  const double eps = std::max(sc.eps_si, tolerance);
   size_t first = out.size();
   std::optional<double> smallest;
   std::optional<std::pair<int, int>> closest;
@@ -167,17 +174,24 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
   };
   switch (sc.kind) {
     case SpatialCheck::Kind::ClearancePair: {
-      if (sc.objects.size() != 2) return;
-      int a = sc.objects[0], b = sc.objects[1];
-      auto d = world.distance(a, b);
-      if (!d) {
-        result({a, b}, Status::Error, {}, {}, {}, fmt::format("{}: one of them has no geometry", pair_text(wc, a, b)));
-        return;
-      }
-      double margin = *d - sc.min_si;
-      result({a, b}, margin >= 0 ? Status::Pass : Status::Fail, *d, sc.min_si, margin,
-             fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(sc.min_si)));
-      return;
+      // Every pair across the two sides (each a single object, or a selector).
+      std::set<std::pair<int, int>> seen;
+      for (int a : sc.objects)
+        for (int b : sc.others) {
+          if (a == b || !seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
+          auto d = world.distance(a, b);
+          if (!d) {
+            result({a, b}, Status::Error, {}, {}, {}, fmt::format("{}: one of them has no geometry", pair_text(wc, a, b)));
+            continue;
+          }
+          double margin = at_limit(*d - sc.min_si, eps);
+          note(margin, a, b);
+          if (margin < 0 || sc.objects.size() * sc.others.size() == 1)
+            result({a, b}, margin >= 0 ? Status::Pass : Status::Fail, *d, sc.min_si, margin,
+                   fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(sc.min_si)));
+        }
+      if (sc.objects.size() * sc.others.size() == 1) return;
+      break;
     }
     case SpatialCheck::Kind::ClearanceSet:
     case SpatialCheck::Kind::NoOverlap: {
@@ -187,9 +201,9 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
         if (wc.related(a, b)) continue;  // a rack stands inside its room
         auto d = world.distance(a, b);
         if (!d) continue;
-        double margin = *d - min;
+        double margin = overlap ? *d : at_limit(*d - min, eps);
         note(margin, a, b);
-        bool fails = overlap ? *d < -kTouch : margin < 0;
+        bool fails = overlap ? *d < -std::max(kTouch, eps) : margin < 0;
         if (!fails) continue;
         if (overlap)
           result({a, b}, Status::Fail, *d, 0.0, *d,
@@ -214,16 +228,22 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
       if (sc.container < 0) return;
       for (int o : sc.objects) {
         std::string why;
-        auto m = inside_margin(geometry, o, sc.container, &why);
+        auto m = inside_margin(geometry, o, sc.container, &why, sc.faces, sc.min_si);
         if (!m) {
           result({o, sc.container}, Status::Error, {}, {}, {}, fmt::format("{} in {}: {}", wc.objects[o].name,
                                                                             wc.objects[sc.container].name, why));
           continue;
         }
-        note(*m, o, sc.container);
-        if (*m < -1e-9)
-          result({o, sc.container}, Status::Fail, {}, {}, *m,
-                 fmt::format("{} sticks out of {} by {:g} m", wc.objects[o].name, wc.objects[sc.container].name, stable(-*m)));
+        double margin = at_limit(*m, eps);
+        note(margin, o, sc.container);
+        if (margin >= 0) continue;
+        // Sticking out (through any face) or only too near a counted face?
+        double out_by = -inside_margin(geometry, o, sc.container, &why).value_or(0);
+        result({o, sc.container}, Status::Fail, {}, {}, margin,
+               out_by > eps
+                   ? fmt::format("{} sticks out of {} by {:g} m", wc.objects[o].name, wc.objects[sc.container].name, stable(out_by))
+                   : fmt::format("{} is {:g} m from a face of {}, min {:g} m", wc.objects[o].name, stable(sc.min_si + margin),
+                                 wc.objects[sc.container].name, stable(sc.min_si)));
       }
       break;
     }
@@ -453,7 +473,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
     }
     if (const auto* sc = std::get_if<SpatialCheck>(&c.body)) {
       size_t first = report.results.size();
-      check_spatial(wc, *sc, geometry, world, static_cast<int>(i), report.results);
+      check_spatial(wc, *sc, geometry, world, options.spatial_tolerance, static_cast<int>(i), report.results);
       for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
       continue;
     }

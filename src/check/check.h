@@ -41,6 +41,9 @@ struct CheckOptions {
   bool describe_passes = true;
   /// When not empty: check only the constraints marked here (indexed like Workcell::constraints).
   std::vector<char> only;
+  /// Spatial comparisons (clearance, inside) hold within the larger of each constraint's eps and
+  /// this (m): a run's re-checks see ODE contacts sink by micrometres.
+  double spatial_tolerance = 0;
 };
 
 /// Checks every constraint at the workcell's values and geometry.

@@ -525,6 +525,7 @@ struct SimulateArgs {
   bool no_frames = false;
   std::string video;
   bool shadows = false;
+  bool force = false;  // replace an existing run folder or bundle
 };
 
 int run_simulate(const Common& common, const SimulateArgs& args) {
@@ -565,6 +566,15 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     return kInputError;
   }
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
+  // An earlier run (perhaps of another scenario file with the same name) is never replaced silently.
+  for (const std::string& target : {out, bundle}) {
+    std::error_code exists_ec;
+    if (!args.force && !target.empty() && std::filesystem::exists(std::filesystem::symlink_status(target, exists_ec))) {
+      std::cerr << fmt::format("sscs: error: '{}' exists (an earlier run?); pass --force to replace it, or --out another folder\n",
+                               target);
+      return kInputError;
+    }
+  }
   RunInputs inputs = collect_run_inputs(*spec, ps.overrides, *wc, geometry, ps.sources);
   RunOptions run;
   run.out_dir = out;
@@ -747,6 +757,7 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_flag("--no-frames", sim_args.no_frames, "do not render the scenario's frames");
     sim_cmd->add_option("--video", sim_args.video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
     sim_cmd->add_flag("--shadows", sim_args.shadows, "frames with shadows of the key light");
+    sim_cmd->add_flag("--force", sim_args.force, "replace an existing run folder or bundle (never replaced without it)");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;

@@ -454,30 +454,42 @@ void compile_parameters(CompileState& st, const CompileOptions& options, std::ve
   }
 }
 
-/// Evaluates a count or pitch of an array: parameters only.
-std::optional<double> array_number(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
-  ParsedValue v = parse_value(s, dim, what, st.diag);
+}  // namespace
+
+std::optional<double> CompileState::number_now(const Scalar& s, Dim dim, std::string_view what, bool parameters_only) {
+  ParsedValue v = parse_value(s, dim, what, diag);
   if (v.kind == ParsedValue::Kind::Number) return v.si;
   if (v.kind == ParsedValue::Kind::Error) return std::nullopt;
-  auto expr = st.parse_expression(s, what);
+  auto expr = parse_expression(s, what);
   if (!expr) return std::nullopt;
-  std::vector<Operand> inputs;
-  for (const std::string& n : expr->names()) {
-    auto it = st.parameter_index.find(n);
-    if (it == st.parameter_index.end()) {
-      st.diag.error(s.mark, fmt::format("{} may use parameters only; '{}' is not one{}", what, n,
-                                        did_you_mean(n, st.parameter_names())));
-      return std::nullopt;
-    }
-  }
   std::vector<double> values;
-  for (const std::string& n : expr->names()) values.push_back(st.wc.values[st.wc.parameters[st.parameter_index[n]].slot]);
+  if (parameters_only) {
+    for (const std::string& n : expr->names()) {
+      auto it = parameter_index.find(n);
+      if (it == parameter_index.end()) {
+        diag.error(s.mark, fmt::format("{} may use parameters only; '{}' is not one{}", what, n, did_you_mean(n, parameter_names())));
+        return std::nullopt;
+      }
+      values.push_back(wc.values[wc.parameters[it->second].slot]);
+    }
+  } else {
+    std::vector<Operand> inputs;
+    if (!resolve_inputs(*expr, s, {}, inputs)) return std::nullopt;
+    for (const Operand& op : inputs) values.push_back(op.kind == Operand::Kind::Slot ? wc.values[op.slot] : op.constant_si);
+  }
   double r = expr->evaluate(values.data());
   if (!std::isfinite(r)) {
-    st.diag.error(s.mark, fmt::format("{} '{}' evaluates to {}", what, s.text, r));
+    diag.error(s.mark, fmt::format("{} '{}' evaluates to {}, not a finite number", what, s.text, r));
     return std::nullopt;
   }
   return r;
+}
+
+namespace {
+
+/// Evaluates a count or pitch of an array: parameters only.
+std::optional<double> array_number(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
+  return st.number_now(s, dim, what, /*parameters_only=*/true);
 }
 
 constexpr size_t kMaxObjects = 2'000'000;
@@ -491,7 +503,8 @@ void expand_objects(CompileState& st) {
     auto t = std::find_if(st.wc.types.begin(), st.wc.types.end(), [&](const ObjectType& x) { return x.name == o.type; });
     if (t == st.wc.types.end()) {
       std::string hint = did_you_mean(o.type, type_names);
-      if (hint.empty() && st.plugins->files().empty()) hint = " (no plugins are loaded: a plugin's type needs --plugins DIR)";
+      // Both hints: a near name may be a typo, or the type may be a plugin's that is not loaded.
+      if (st.plugins->files().empty()) hint += " (no plugins are loaded: a plugin's type needs --plugins DIR)";
       st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, hint));
       if (o.name.present) st.unbuilt.insert(o.name.text);
       continue;
@@ -546,6 +559,27 @@ void expand_objects(CompileState& st) {
       st.diag.error(a.mark, fmt::format("array makes more than {} objects", kMaxObjects));
       continue;
     }
+    // skip: index tuples (as many indices as counts, each within its count) and name globs.
+    std::vector<std::array<int, 3>> skip_index(a.skip.size(), std::array<int, 3>{0, 0, 0});
+    std::vector<char> skip_used(a.skip.size(), 0);
+    for (size_t s = 0; s < a.skip.size(); ++s) {
+      const ArraySpec::Skip& sk = a.skip[s];
+      if (sk.glob.present) continue;
+      if (sk.index.size() != a.count.size()) {
+        st.diag.error(sk.mark, fmt::format("array skip needs {} indices, one per count, found {}", a.count.size(), sk.index.size()));
+        skip_used[s] = 1;  // reported
+        continue;
+      }
+      for (size_t d = 0; d < sk.index.size(); ++d) {
+        auto n = parse_number(sk.index[d].text);
+        if (!n || *n != std::floor(*n) || *n < 1 || *n > count[d]) {
+          st.diag.error(sk.index[d].mark, fmt::format("expected an index from 1 to {} in array skip, found '{}'", count[d], sk.index[d].text));
+          skip_used[s] = 1;
+          break;
+        }
+        skip_index[s][d] = static_cast<int>(*n);
+      }
+    }
     bool reported = false;
     for (int i = 1; i <= count[0]; ++i)
       for (int j = 1; j <= count[1]; ++j)
@@ -553,6 +587,15 @@ void expand_objects(CompileState& st) {
           std::string name = pattern;
           for (auto [key, v] : {std::pair{"{i}", i}, std::pair{"{j}", j}, std::pair{"{k}", k}})
             for (size_t p; (p = name.find(key)) != std::string::npos;) name.replace(p, 3, std::to_string(v));
+          bool skipped = false;
+          for (size_t s = 0; s < a.skip.size(); ++s) {
+            const ArraySpec::Skip& sk = a.skip[s];
+            const std::array<int, 3> at = {i, a.count.size() >= 2 ? j : 0, a.count.size() >= 3 ? k : 0};
+            bool hit = sk.glob.present ? glob_match(sk.glob.text, name) : skip_index[s] == at;  // {0,0,0}: invalid
+            if (hit) skip_used[s] = 1;
+            skipped = skipped || hit;
+          }
+          if (skipped) continue;
           if (!is_valid_name(name)) {
             if (!reported)
               st.diag.error(a.name_pattern.mark, fmt::format("array name '{}' makes '{}', which is not a valid name", pattern, name));
@@ -561,6 +604,10 @@ void expand_objects(CompileState& st) {
           }
           add(name, a.name_pattern.mark, {i, j, k}, {(i - 1) * pitch[0], (j - 1) * pitch[1], (k - 1) * pitch[2]});
         }
+    for (size_t s = 0; s < a.skip.size(); ++s)
+      if (!skip_used[s])
+        st.diag.error(a.skip[s].mark, fmt::format("array skip '{}' matches no position of the array",
+                                                  a.skip[s].glob.present ? a.skip[s].glob.text : "this index"));
   }
   if (st.wc.objects.size() > kMaxObjects) return;
   // Unique names, then the sorted index used by every lookup.

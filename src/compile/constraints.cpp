@@ -1,5 +1,6 @@
 // Pass: constraints. Resolve references and selectors to slots and objects, check dimensions.
 #include <algorithm>
+#include <cmath>
 #include <string_view>
 #include <unordered_set>
 
@@ -112,6 +113,48 @@ int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
   return o;
 }
 
+/// A number a constraint gives (a tolerance, a minimum, eps): a literal or an expression over
+/// parameters and attributes, evaluated now (values are known by the time constraints compile).
+std::optional<double> number_si(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
+  return st.number_now(s, dim, what);
+}
+
+/// A side of a clearance pair: one object by name (with "did you mean"), or a selector.
+std::vector<int> pair_side(CompileState& st, const SelectorSpec& sel, std::string_view what) {
+  bool one_name = sel.items.size() == 1 && !sel.items[0].text.starts_with("type:") &&
+                  sel.items[0].text.find_first_of("*?") == std::string::npos;
+  if (!one_name) return select(st, sel, what);
+  int o = object_ref(st, sel.items[0], "clearance");
+  return o < 0 ? std::vector<int>{} : std::vector<int>{o};
+}
+
+void spatial_eps(CompileState& st, const Scalar& eps, SpatialCheck& sc) {
+  if (!eps.present) return;
+  sc.eps_si = number_si(st, eps, Dim::Length, "eps").value_or(sc.eps_si);
+  if (sc.eps_si < 0) st.diag.error(eps.mark, "eps must not be negative");
+}
+
+/// `faces:` of an inside constraint: all (default), walls, or a list of x- x+ y- y+ z- z+.
+uint8_t inside_faces(CompileState& st, const InsideSpec& in) {
+  static constexpr std::pair<std::string_view, uint8_t> kFaces[] = {
+      {"x-", SpatialCheck::XMin}, {"x+", SpatialCheck::XMax}, {"y-", SpatialCheck::YMin},
+      {"y+", SpatialCheck::YMax}, {"z-", SpatialCheck::ZMin}, {"z+", SpatialCheck::ZMax}};
+  if (in.faces.empty()) return SpatialCheck::All;
+  if (in.faces.size() == 1 && in.faces[0].text == "all") return SpatialCheck::All;
+  if (in.faces.size() == 1 && in.faces[0].text == "walls") return SpatialCheck::Walls;
+  uint8_t mask = 0;
+  for (const Scalar& f : in.faces) {
+    auto it = std::find_if(std::begin(kFaces), std::end(kFaces), [&](const auto& k) { return k.first == f.text; });
+    if (it == std::end(kFaces)) {
+      st.diag.error(f.mark, fmt::format("expected all, walls, or a list of x- x+ y- y+ z- z+ for inside faces, found '{}'", f.text));
+      continue;
+    }
+    if (mask & it->second) st.diag.error(f.mark, fmt::format("face '{}' is listed twice", f.text));
+    mask |= it->second;
+  }
+  return mask;
+}
+
 void add_subjects(std::vector<int>& subjects, const std::vector<Operand>& ops) {
   for (const Operand& op : ops)
     if (op.object >= 0) subjects.push_back(op.object);
@@ -175,11 +218,11 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
   check.rhs = *rhs;
   check.op = b.op;
   if (b.lhs_tol.present)
-    check.lhs_tol_si = literal_si(b.lhs_tol, check.dim, "lhs_tol", st.diag).value_or(0);
+    check.lhs_tol_si = number_si(st, b.lhs_tol, check.dim, "lhs_tol").value_or(0);
   if (b.rhs_tol.present)
-    check.rhs_tol_si = literal_si(b.rhs_tol, check.dim, "rhs_tol", st.diag).value_or(0);
+    check.rhs_tol_si = number_si(st, b.rhs_tol, check.dim, "rhs_tol").value_or(0);
   if (b.eps.present) {
-    check.eps_si = literal_si(b.eps, check.dim, "eps", st.diag).value_or(1e-9);
+    check.eps_si = number_si(st, b.eps, check.dim, "eps").value_or(1e-9);
     if (check.eps_si < 0) st.diag.error(b.eps.mark, "eps must not be negative");
   }
   add_subjects(c.subjects, {check.lhs, check.rhs});
@@ -271,8 +314,8 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   }
   rc.match_orientation = r.match_orientation;
   rc.offset = literal_pose(r.offset, "reach offset", st.diag);
-  if (r.position_tol.present) rc.position_tol_si = literal_si(r.position_tol, Dim::Length, "position_tol", st.diag).value_or(1e-3);
-  if (r.angle_tol.present) rc.angle_tol_si = literal_si(r.angle_tol, Dim::Angle, "angle_tol", st.diag).value_or(rc.angle_tol_si);
+  if (r.position_tol.present) rc.position_tol_si = number_si(st, r.position_tol, Dim::Length, "position_tol").value_or(1e-3);
+  if (r.angle_tol.present) rc.angle_tol_si = number_si(st, r.angle_tol, Dim::Angle, "angle_tol").value_or(rc.angle_tol_si);
   for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})
     if (!(v > 0)) st.diag.error(s->mark, fmt::format("{} must be positive, found {}", s == &r.position_tol ? "position_tol" : "angle_tol", s->text));
   return rc;
@@ -336,18 +379,21 @@ void compile_constraints(CompileState& st) {
       if (cl->objects) {
         sc.kind = SpatialCheck::Kind::ClearanceSet;
         sc.objects = select(st, *cl->objects, "clearance objects");
-      } else {
+      } else if (cl->a && cl->b) {
         sc.kind = SpatialCheck::Kind::ClearancePair;
-        for (const Scalar* s : {&cl->a, &cl->b})
-          if (int o = object_ref(st, *s, "clearance"); o >= 0) sc.objects.push_back(o);
+        sc.objects = pair_side(st, *cl->a, "clearance a");
+        sc.others = pair_side(st, *cl->b, "clearance b");
       }
-      sc.min_si = literal_si(cl->min, Dim::Length, "clearance min", st.diag).value_or(0);
+      if (cl->min.present) sc.min_si = number_si(st, cl->min, Dim::Length, "clearance min").value_or(0);
+      spatial_eps(st, cl->eps, sc);
       c.subjects = sc.objects;
+      c.subjects.insert(c.subjects.end(), sc.others.begin(), sc.others.end());
       c.body = std::move(sc);
     } else if (auto* nbox = std::get_if<Boxed<NoOverlapSpec>>(&spec.kind)) {
       SpatialCheck sc;
       sc.kind = SpatialCheck::Kind::NoOverlap;
       sc.objects = select(st, (*nbox)->objects, "no_overlap objects");
+      spatial_eps(st, (*nbox)->eps, sc);
       c.subjects = sc.objects;
       c.body = std::move(sc);
     } else if (auto* inbox = std::get_if<Boxed<InsideSpec>>(&spec.kind)) {
@@ -358,6 +404,9 @@ void compile_constraints(CompileState& st) {
       sc.container = object_ref(st, in->container, "inside container");
       // The container is never checked against itself.
       sc.objects.erase(std::remove(sc.objects.begin(), sc.objects.end(), sc.container), sc.objects.end());
+      if (in->min.present) sc.min_si = number_si(st, in->min, Dim::Length, "inside min").value_or(0);
+      spatial_eps(st, in->eps, sc);
+      sc.faces = inside_faces(st, *in);
       c.subjects = sc.objects;
       if (sc.container >= 0) c.subjects.push_back(sc.container);
       c.body = std::move(sc);

@@ -65,6 +65,10 @@ struct CompileState {
                                            bool allow_bbox = false);
   /// Evaluates every pending value in dependency order, reporting cycles with their path.
   void evaluate_pending();
+  /// A number given where a value is needed now (an array count, a constraint's tolerance): a
+  /// literal with or without a unit, or an expression over parameters (and, unless
+  /// `parameters_only`, attributes) evaluated at once; a non-finite result is an input error.
+  std::optional<double> number_now(const Scalar& s, Dim dim, std::string_view what, bool parameters_only = false);
 };
 
 void compile_constraints(CompileState& st);

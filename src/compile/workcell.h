@@ -107,9 +107,14 @@ struct PluginCheck {
 /// clearance, no_overlap and inside: evaluated on the geometry with FCL.
 struct SpatialCheck {
   enum class Kind : uint8_t { ClearancePair, ClearanceSet, NoOverlap, Inside } kind = Kind::NoOverlap;
-  std::vector<int> objects;  ///< the selected set, or the pair {a, b}
+  /// Faces of an `inside` container's box (in its frame) whose distance counts.
+  enum Face : uint8_t { XMin = 1, XMax = 2, YMin = 4, YMax = 8, ZMin = 16, ZMax = 32, Walls = 15, All = 63 };
+  std::vector<int> objects;  ///< the selected set, or side a of a pair
+  std::vector<int> others;   ///< clearance pair: side b (every pair across a and b)
   int container = -1;        ///< inside
-  double min_si = 0;         ///< clearance
+  double min_si = 0;         ///< clearance; inside: the gap required to the faces
+  double eps_si = 1e-9;      ///< comparisons at the limit hold within eps (m)
+  uint8_t faces = All;       ///< inside
 };
 
 /// reach: the device's tool at every target, within limits and without collision.

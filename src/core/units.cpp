@@ -119,7 +119,7 @@ std::optional<Quantity> parse_quantity(std::string_view text, std::string* unkno
   std::string_view word = trim(text.substr(number_len));
   if (word.empty()) return std::nullopt;
   for (const Unit& u : kUnits)
-    if (word == u.word) return Quantity{*number * u.to_si, u.dim, true};
+    if (word == u.word) return Quantity{*number * u.to_si, u.dim, true, u.to_si};
   // A number followed by a single word that is not an expression: an unknown unit.
   bool is_word = std::all_of(word.begin(), word.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '/' || c == '%';

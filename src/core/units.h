@@ -32,6 +32,7 @@ struct Quantity {
   double si = 0;
   Dim dim = Dim::None;
   bool has_unit = false;  ///< written with a unit ("2 ft"), not a plain number
+  double unit_si = 0;     ///< the SI value of one of the unit written ("mm": 0.001); 0 when plain
 };
 
 /// Parses a plain number ("1.5", "-2e3"). Rejects anything else, including inf and nan.

@@ -26,31 +26,37 @@ const char* kind_name(Kind kind) {
 
 // ---- Node --------------------------------------------------------------------------------------
 
-Kind Node::kind() const { return doc_->nodes_[index_].kind; }
+// An absent node (a key not in the file: !valid()) reads as null, with no mark, text or items,
+// so a reader that forgets to ask valid() gets "nothing", never a crash.
+Kind Node::kind() const { return doc_ ? doc_->nodes_[index_].kind : Kind::Null; }
 
 SourceMark Node::mark() const {
+  if (!doc_) return {};
   const auto& r = doc_->nodes_[index_];
   return {doc_->file_, r.line, r.column};
 }
 
 std::string_view Node::text() const {
+  if (!doc_) return {};
   const auto& r = doc_->nodes_[index_];
   if (r.kind != Kind::Scalar) return {};
   return std::string_view(doc_->text_).substr(r.a, r.b);
 }
 
-bool Node::quoted() const { return doc_->nodes_[index_].quoted; }
+bool Node::quoted() const { return doc_ && doc_->nodes_[index_].quoted; }
 
 size_t Node::size() const {
+  if (!doc_) return 0;
   const auto& r = doc_->nodes_[index_];
   if (r.kind == Kind::Sequence) return r.b;
   if (r.kind == Kind::Map) return r.b / 2;
   return 0;
 }
 
-Node Node::item(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + i]); }
-Node Node::key(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i]); }
-Node Node::value(size_t i) const { return Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i + 1]); }
+// Out of range (or on an absent node): an absent node.
+Node Node::item(size_t i) const { return i < size() && is_sequence() ? Node(doc_, doc_->kids_[doc_->nodes_[index_].a + i]) : Node(); }
+Node Node::key(size_t i) const { return i < size() && is_map() ? Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i]) : Node(); }
+Node Node::value(size_t i) const { return i < size() && is_map() ? Node(doc_, doc_->kids_[doc_->nodes_[index_].a + 2 * i + 1]) : Node(); }
 
 Node Node::find(std::string_view k) const {
   if (!is_map()) return {};

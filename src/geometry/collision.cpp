@@ -44,32 +44,96 @@ std::shared_ptr<fcl::CollisionGeometryd> make_geometry(const Shape& s) {
   return nullptr;
 }
 
-/// Penetration depth of two placed shapes: > 0 when they interpenetrate, 0 when apart or touching.
-double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
-  fcl::CollisionRequestd req(1, /*enable_contact=*/true);
-  fcl::CollisionResultd res;
-  if (fcl::collide(a, b, req, res) == 0) return 0;
+Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c);
+bool inside_mesh(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& tris);
+std::vector<Eigen::Vector3d> hull_points(const Shape& s, const Eigen::Isometry3d& X);
+
+/// The shape a placed FCL object was made from (set as its user data).
+const Shape& shape_of(const fcl::CollisionObjectd* o) { return *static_cast<const Shape*>(o->getUserData()); }
+
+bool closed_mesh(const Shape& s) { return s.kind == Shape::Kind::Mesh && s.mesh && s.mesh->closed; }
+
+/// A closed mesh is a solid. FCL checks meshes as surfaces, so what lies wholly inside one, or
+/// crosses it without contacts that carry a depth (meshes report none), would pass as apart or
+/// touching. Returns how deep `inner` lies in the closed mesh `outer`: the largest distance to
+/// the mesh's surface of the points of inner's hull (its vertices; a primitive's tessellation)
+/// that lie inside; 0 when none does or `outer` is no closed mesh.
+double depth_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
+  const Shape& so = shape_of(outer);
+  if (!closed_mesh(so) || !outer->getAABB().overlap(inner->getAABB())) return 0;
+  std::vector<Eigen::Vector3d> v;
+  v.reserve(so.mesh->vertices.size());
+  for (const Eigen::Vector3d& p : so.mesh->vertices) v.push_back(p.cwiseProduct(so.scale));
+  const auto& tris = so.mesh->triangles;
+  Shape si = shape_of(inner);
+  si.X_object_shape.setIdentity();
+  const Eigen::Isometry3d X_outer_inner(outer->getTransform().inverse() * inner->getTransform());
+  double depth = 0;
+  for (const Eigen::Vector3d& p : hull_points(si, X_outer_inner)) {
+    if (!inside_mesh(p, v, tris)) continue;
+    double d = INFINITY;
+    for (const Eigen::Vector3i& t : tris) d = std::min(d, (p - closest_on_triangle(p, v[t.x()], v[t.y()], v[t.z()])).norm());
+    depth = std::max(depth, d);
+  }
+  return depth;
+}
+
+/// Whether one of two shapes that do not intersect lies wholly inside the other, a closed mesh:
+/// one point of the inner shape decides (its centre; a mesh's first vertex).
+bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
+  const Shape& so = shape_of(outer);
+  if (!closed_mesh(so)) return false;
+  const fcl::AABBd &bo = outer->getAABB(), &bi = inner->getAABB();
+  if (!bo.contain(bi)) return false;
+  const Shape& si = shape_of(inner);
+  Eigen::Vector3d p_inner = si.kind == Shape::Kind::Mesh ? Eigen::Vector3d(si.mesh->vertices[0].cwiseProduct(si.scale))
+                                                         : Eigen::Vector3d::Zero();
+  Eigen::Vector3d p = outer->getTransform().inverse() * (inner->getTransform() * p_inner);
+  std::vector<Eigen::Vector3d> v;
+  v.reserve(so.mesh->vertices.size());
+  for (const Eigen::Vector3d& q : so.mesh->vertices) v.push_back(q.cwiseProduct(so.scale));
+  return inside_mesh(p, v, so.mesh->triangles);
+}
+
+/// The depth of a collision FCL found between two shapes, with closed meshes as solids.
+double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, const fcl::CollisionResultd& res) {
   double depth = 0;
   for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
-  // A contact without depth (meshes report none) still is a collision: count it as touching.
+  if (depth <= kTouchTolerance && (closed_mesh(shape_of(a)) || closed_mesh(shape_of(b))))
+    depth = std::max({depth, depth_in_closed_mesh(a, b), depth_in_closed_mesh(b, a)});
+  // A contact without depth (two open surfaces) still is a collision: count it as touching.
   return std::max(depth, 0.0);
 }
 
-/// Signed distance between two placed shapes: minus the penetration depth when they collide.
+/// Penetration depth of two placed shapes: > 0 when they interpenetrate, 0 when apart or touching.
+/// A shape wholly inside a closed mesh interpenetrates it by its distance to the mesh's surface.
+double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  fcl::CollisionRequestd req(1, /*enable_contact=*/true);
+  fcl::CollisionResultd res;
+  if (fcl::collide(a, b, req, res) != 0) return contact_depth(a, b, res);
+  if (!contained_in_closed_mesh(a, b) && !contained_in_closed_mesh(b, a)) return 0;
+  fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
+  fcl::DistanceResultd dres;
+  fcl::distance(a, b, dreq, dres);
+  return std::max(dres.min_distance, 0.0);
+}
+
+/// Signed distance between two placed shapes: minus the penetration depth when they collide, or
+/// when one lies wholly inside the other, a closed mesh (minus its distance to the surface).
 /// The distance query first: apart is the common case, and only contact needs the depth.
 double signed_distance(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
   // The independent GJK with a tight tolerance: libccd's default is off by centimetres on rotated boxes.
   fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
   fcl::DistanceResultd dres;
   fcl::distance(a, b, dreq, dres);
-  if (dres.min_distance > 0) return dres.min_distance;
+  if (dres.min_distance > 0)
+    return contained_in_closed_mesh(a, b) || contained_in_closed_mesh(b, a) ? -dres.min_distance : dres.min_distance;
   // In contact (FCL answers 0 or -1): the depth from the collision query, 0 when only touching.
   fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
   fcl::CollisionResultd cres;
   if (fcl::collide(a, b, creq, cres) == 0) return 0;
-  double depth = 0;
-  for (size_t k = 0; k < cres.numContacts(); ++k) depth = std::max(depth, cres.getContact(k).penetration_depth);
-  return -std::max(depth, 0.0);
+  return -contact_depth(a, b, cres);
 }
 
 /// How far any point of a placed shape has moved since it was at `X_then`: the displacement of
@@ -138,6 +202,7 @@ struct CollisionWorld::Impl {
     for (const Shape& s : g.shapes) {
       Eigen::Isometry3d X = g.X_world_object * s.X_object_shape;
       auto obj = std::make_unique<fcl::CollisionObjectd>(geometry_of(s), fcl::Transform3d(X.matrix()));
+      obj->setUserData(const_cast<Shape*>(&s));  // read back by shape_of()
       obj->computeAABB();
       list.push_back(std::move(obj));
     }
@@ -152,6 +217,7 @@ struct CollisionWorld::Impl {
       for (const Shape& s : d.parts[p].shapes) {
         Eigen::Isometry3d Xs = X[p] * s.X_object_shape;
         auto obj = std::make_unique<fcl::CollisionObjectd>(geometry_of(s), fcl::Transform3d(Xs.matrix()));
+        obj->setUserData(const_cast<Shape*>(&s));  // read back by shape_of()
         obj->computeAABB();
         out.emplace_back(static_cast<int>(p), std::move(obj));
       }
@@ -398,7 +464,8 @@ std::vector<Eigen::Vector3d> hull_points(const Shape& s, const Eigen::Isometry3d
 
 }  // namespace
 
-std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why) {
+std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
+                                    uint8_t faces, double min) {
   const ObjectGeometry& c = geometry.objects[container];
   if (c.shapes.size() != 1 || c.shapes[0].kind == Shape::Kind::Sphere) {
     *why = "the container must have exactly one box, cylinder or mesh shape (its inside)";
@@ -411,40 +478,59 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
   }
   const Shape& cs = c.shapes[0];
   Eigen::Isometry3d X_c_world = (c.X_world_object * cs.X_object_shape).inverse();
-  double margin = INFINITY;
+  // Per face: the smallest distance of the object inside it (negative: protrusion). Counted faces
+  // give the margin less `min`; any protrusion fails, counted or not.
+  double counted = INFINITY, protrusion = 0;
+  auto face = [&](uint8_t bit, double distance) {
+    if (faces & bit) counted = std::min(counted, distance - min);
+    protrusion = std::min(protrusion, distance);
+  };
+  auto result = [&]() { return protrusion < 0 ? std::min(protrusion, counted) : counted; };
   switch (cs.kind) {
     case Shape::Kind::Box: {
       // Bounds in the box's own frame are exact for boxes, cylinders and spheres at any rotation.
       Eigen::Vector3d half = cs.box_size / 2;
       Eigen::AlignedBox3d b;
       for (const Shape& s : g.shapes) b.extend(shape_bounds(s, X_c_world * g.X_world_object * s.X_object_shape));
-      for (int k = 0; k < 3; ++k) margin = std::min({margin, b.min()[k] + half[k], half[k] - b.max()[k]});
-      return margin;
+      for (int k = 0; k < 3; ++k) {
+        face(static_cast<uint8_t>(1 << (2 * k)), b.min()[k] + half[k]);
+        face(static_cast<uint8_t>(2 << (2 * k)), half[k] - b.max()[k]);
+      }
+      return result();
     }
     case Shape::Kind::Cylinder: {
+      if ((faces & SpatialCheck::Walls) != 0 && (faces & SpatialCheck::Walls) != SpatialCheck::Walls) {
+        *why = "a cylinder's faces are walls (its round side), z- and z+";
+        return std::nullopt;
+      }
       // Along the axis: exact bounds; radially: the farthest point from the axis.
       double half = cs.length / 2;
       for (const Shape& s : g.shapes) {
         Eigen::Isometry3d X = X_c_world * g.X_world_object * s.X_object_shape;
         Eigen::AlignedBox3d b = shape_bounds(s, X);
-        margin = std::min({margin, b.min().z() + half, half - b.max().z()});
+        face(SpatialCheck::ZMin, b.min().z() + half);
+        face(SpatialCheck::ZMax, half - b.max().z());
         double radial = 0;
         if (s.kind == Shape::Kind::Sphere) {
           radial = X.translation().head<2>().norm() + s.radius;
         } else {
           for (const Eigen::Vector3d& p : hull_points(s, X)) radial = std::max(radial, p.head<2>().norm());
         }
-        margin = std::min(margin, cs.radius - radial);
+        face(SpatialCheck::Walls, cs.radius - radial);
       }
-      return margin;
+      return result();
     }
     case Shape::Kind::Mesh: {
+      if (faces != SpatialCheck::All) {
+        *why = "a mesh container has no named faces: use faces: all";
+        return std::nullopt;
+      }
       // Every point of the object's hull inside the closed mesh; margin: the distance from the
       // nearest point to the surface, or minus the farthest outside point's distance.
       std::vector<Eigen::Vector3d> v;
       for (const Eigen::Vector3d& p : cs.mesh->vertices) v.push_back(p.cwiseProduct(cs.scale));
       const auto& tris = cs.mesh->triangles;
-      double worst_outside = 0;
+      double margin = INFINITY, worst_outside = 0;
       bool any_outside = false;
       for (const Shape& s : g.shapes)
         for (const Eigen::Vector3d& p : hull_points(s, X_c_world * g.X_world_object * s.X_object_shape)) {
@@ -457,7 +543,8 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
             worst_outside = std::max(worst_outside, d);
           }
         }
-      return any_outside ? -worst_outside : margin;
+      face(SpatialCheck::All, any_outside ? -worst_outside : margin);
+      return result();
     }
     default: return std::nullopt;
   }

@@ -81,10 +81,13 @@ class CollisionWorld {
   std::unique_ptr<Impl> impl_;
 };
 
-/// How far `object` lies within `container` (a single box: a room's box is its inside): the
-/// smallest distance from the object's geometry to the box's faces when inside, minus the
-/// largest protrusion when not. nullopt (with `why`) when the container is not one box or an
-/// object has no geometry.
-std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why);
+/// How far `object` lies within `container` (one box, cylinder or closed mesh: a room's box is its
+/// inside), less the gap `min`: the smallest distance from the object's geometry to the counted
+/// faces of the container (`faces`: SpatialCheck::Face bits; a cylinder's walls are its round side,
+/// z- and z+ its ends; a mesh counts as one face, all) minus `min` when inside, and minus the
+/// largest protrusion through any face, counted or not, when not. nullopt (with `why`) when the
+/// container is not such a shape, the faces do not apply to it, or the object has no geometry.
+std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
+                                    uint8_t faces = SpatialCheck::All, double min = 0);
 
 }  // namespace sscs

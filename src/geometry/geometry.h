@@ -18,7 +18,14 @@ struct TriangleMesh {
   std::string path;
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> triangles;
+  /// Watertight: every edge (vertices welded by position) is shared by exactly two triangles that
+  /// run it in opposite directions. A closed mesh is a solid (what lies inside it overlaps it);
+  /// an open one is a surface.
+  bool closed = false;
 };
+
+/// Whether a triangle soup is watertight (see TriangleMesh::closed).
+bool is_closed(const std::vector<Eigen::Vector3d>& vertices, const std::vector<Eigen::Vector3i>& triangles);
 
 /// One primitive of an object, in SI, placed in the object's frame.
 struct Shape {

@@ -4,7 +4,9 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <array>
 #include <filesystem>
+#include <map>
 #include <functional>
 
 #include <fmt/format.h>
@@ -38,12 +40,33 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
             mesh->triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
         }
       }
+      mesh->closed = is_closed(mesh->vertices, mesh->triangles);
       if (mesh->triangles.empty()) diag.error(where, fmt::format("mesh '{}' has no triangles", path));
       else result = std::move(mesh);
     }
   }
   meshes_[path] = result;
   return result;
+}
+
+bool is_closed(const std::vector<Eigen::Vector3d>& vertices, const std::vector<Eigen::Vector3i>& triangles) {
+  if (triangles.empty()) return false;
+  // Weld by exact position: formats repeat a corner per face (STL) or per normal (OBJ, glTF).
+  std::map<std::array<double, 3>, int> ids;
+  std::vector<int> weld(vertices.size());
+  for (size_t v = 0; v < vertices.size(); ++v)
+    weld[v] = ids.try_emplace({vertices[v].x(), vertices[v].y(), vertices[v].z()}, static_cast<int>(ids.size())).first->second;
+  // Each directed edge once, and its reverse once: a closed, consistently oriented 2-manifold.
+  std::map<std::pair<int, int>, int> directed;
+  for (const Eigen::Vector3i& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      int a = weld[t[k]], b = weld[t[(k + 1) % 3]];
+      if (a == b) continue;  // a degenerate triangle adds no edge
+      if (++directed[{a, b}] > 1) return false;
+    }
+  for (const auto& [edge, n] : directed)
+    if (!directed.count({edge.second, edge.first})) return false;
+  return true;
 }
 
 }  // namespace sscs

@@ -39,9 +39,13 @@ std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) cons
 Eigen::Isometry3d Device::tool_pose(const Eigen::VectorXd& q) const { return part_poses(q)[tool_part] * X_part_tool; }
 
 std::vector<char> Device::tool_parts() const {
+  // The tool is a rigid body: its part and every part fixed to it, up the tree too (ROS-Industrial's
+  // tool0 hangs off link_6 by a fixed joint: link_6 is the flange the tool is bolted to).
+  int top = tool_part;
+  while (parts[top].parent >= 0 && parts[top].joint.type == JointType::Fixed) top = parts[top].parent;
   std::vector<char> out(parts.size(), 0);
-  for (size_t p = 0; p < parts.size(); ++p)  // parents come first
-    out[p] = static_cast<int>(p) == tool_part || (parts[p].parent >= 0 && out[parts[p].parent]);
+  for (size_t p = 0; p < parts.size(); ++p)  // parents come first: the rigid body and what it carries
+    out[p] = static_cast<int>(p) == top || (parts[p].parent >= 0 && out[parts[p].parent]);
   return out;
 }
 

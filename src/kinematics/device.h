@@ -58,8 +58,9 @@ struct Device {
   /// Whether parts a and b are joined directly (one is the other's parent): such parts touch by
   /// design and are not checked against each other for self-collision.
   bool adjacent(int a, int b) const { return parts[a].parent == b || parts[b].parent == a; }
-  /// Per part: whether it is the tool's part or one the tool's part carries (its descendants):
-  /// the parts that may touch what the tool holds or reaches for.
+  /// Per part: whether it belongs to the tool: the tool's part, every part rigidly attached to it
+  /// through fixed joints (either way: the flange a tool0 frame hangs off), and the parts those
+  /// carry. These may touch what the tool holds or reaches for.
   std::vector<char> tool_parts() const;
   /// Whether q lies within every joint's limits (within `eps`).
   bool within_limits(const Eigen::VectorXd& q, double eps = 1e-9) const;

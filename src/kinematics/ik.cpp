@@ -112,6 +112,9 @@ Eigen::Matrix<double, 6, 1> pose_error(const Eigen::Isometry3d& current, const E
   return e;
 }
 
+/// The largest damping (error energy, m²) of a step: above it steps go nearly Gauss-Newton.
+constexpr double kMaxDamping = 10;
+
 IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eigen::VectorXd& seed,
                   const IkOptions& opt, const std::function<bool(const Eigen::VectorXd&)>& accept) {
   using Clock = std::chrono::steady_clock;
@@ -127,9 +130,11 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
   };
   auto converged = [&](double pos, double ang) { return pos <= opt.position_tol && ang <= opt.angle_tol; };
   // A revolute joint whose range spans more than a turn reaches the same pose a turn away:
-  // of those equivalent angles, take the one nearest the seed.
+  // of those equivalent angles, take the one nearest the seed. A prismatic joint has no turns:
+  // shifting it by 2π metres would move the tool (a crane sent to 12 m stopped at 5.7 m).
   auto nearest_turn = [&](Eigen::VectorXd& q) {
     for (int k = 0; k < n; ++k) {
+      if (!chain.revolute(k)) continue;
       while (q[k] - seed[k] > kPi && q[k] - 2 * kPi >= chain.lower(k)) q[k] -= 2 * kPi;
       while (seed[k] - q[k] > kPi && q[k] + 2 * kPi <= chain.upper(k)) q[k] += 2 * kPi;
     }
@@ -228,10 +233,12 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
       }
       if (n == 0) break;
       // Levenberg–Marquardt step with Sugihara's damping: the error's energy plus a small bias,
-      // which stays well-conditioned through singularities without slowing convergence.
+      // which stays well-conditioned through singularities without slowing convergence. The
+      // energy is capped: a vehicle or crane tens of metres from its target would otherwise creep
+      // (a damping of 5000 for 100 m), stall and report a reachable pose unreachable.
       auto Jr = J.topRows(rows);
       H.noalias() = Jr.transpose() * Jr;
-      H.diagonal().array() += cost + 1e-6;
+      H.diagonal().array() += std::min(cost, kMaxDamping) + 1e-6;
       g.noalias() = Jr.transpose() * e.head(rows);
       llt.compute(H);
       dq = llt.solve(g);

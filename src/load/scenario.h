@@ -62,6 +62,7 @@ struct ScenarioSpec {
   std::string vault_path;         ///< resolved
   std::vector<std::pair<std::string, Scalar>> set;  ///< parameter overrides
   Scalar timestep, limit;
+  Scalar check_tolerance;         ///< sim.check_tolerance: spatial re-checks during the run
   bool gravity = true;
   Scalar trajectory_rate;
   bool frames = false;

@@ -152,6 +152,13 @@ struct ArraySpec {
   std::vector<Scalar> count;
   std::array<Scalar, 3> pitch;
   SourceMark mark;
+  /// Positions left out: 1-based index tuples, or name globs.
+  struct Skip {
+    SourceMark mark;
+    std::vector<Scalar> index;  ///< a tuple [i, j, k] (as many as counts)
+    Scalar glob;                ///< or a glob over the generated names
+  };
+  std::vector<Skip> skip;
 };
 
 struct AttrValue {
@@ -195,16 +202,20 @@ struct PluginSpec {
   nlohmann::ordered_json args;
 };
 struct ClearanceSpec {
-  Scalar a, b;
+  std::optional<SelectorSpec> a, b;  ///< a pair: each side a name or a selector
   std::optional<SelectorSpec> objects;
-  Scalar min;
+  Scalar min, eps;
 };
 struct NoOverlapSpec {
   SelectorSpec objects;
+  Scalar eps;
 };
 struct InsideSpec {
   SelectorSpec objects;
   Scalar container;
+  Scalar min, eps;
+  std::vector<Scalar> faces;  ///< `all` (default), `walls`, or a list of x- x+ y- y+ z- z+
+  SourceMark faces_mark;
 };
 struct ReachSpec {
   Scalar device;

@@ -67,6 +67,17 @@ ObjectSpec read_object(yaml::Node node, Diagnostics& diag) {
     } else if (pitch.valid()) {
       load::expected(diag, pitch, "a sequence of one to three steps [x, y, z]", "array pitch");
     }
+    yaml::Node skip = a.take("skip");
+    if (skip.valid() && !skip.is_sequence()) load::expected(diag, skip, "a list of index tuples [i, j] or name globs", "array skip");
+    for (size_t i = 0; skip.is_sequence() && i < skip.size(); ++i) {
+      yaml::Node item = skip.item(i);
+      ArraySpec::Skip s;
+      s.mark = item.mark();
+      if (item.is_sequence()) s.index = load::scalar_list(item, "an array skip index", diag);
+      else if (item.is_scalar()) s.glob = load::scalar(item, "an array skip glob", diag);
+      else load::expected(diag, item, "an index tuple [i, j] or a name glob", "array skip");
+      spec.skip.push_back(std::move(s));
+    }
     a.finish();
     o.array = std::move(spec);
   } else {
@@ -154,28 +165,37 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     out = std::move(p);
   } else if (kind == "clearance") {
     ClearanceSpec c;
-    c.a = load::scalar(r.take("a"), "clearance a", diag);
-    c.b = load::scalar(r.take("b"), "clearance b", diag);
+    yaml::Node a = r.take("a"), b = r.take("b");
+    if (a.valid()) c.a = read_selector(a, "clearance a", diag);
+    if (b.valid()) c.b = read_selector(b, "clearance b", diag);
     yaml::Node objects = r.take("objects");
-    if (objects.valid()) {
-      c.objects = read_selector(objects, "clearance objects", diag);
-      allow_empty(*c.objects);
-    } else {
-      r.take("allow_empty");
-    }
-    if (objects.valid() == (c.a.present || c.b.present) || c.a.present != c.b.present)
+    if (objects.valid()) c.objects = read_selector(objects, "clearance objects", diag);
+    // allow_empty belongs to whichever selection the constraint makes.
+    bool empty_ok = load::boolean(r.take("allow_empty"), "allow_empty", diag);
+    for (auto* sel : {&c.a, &c.b, &c.objects})
+      if (*sel) (*sel)->allow_empty = empty_ok;
+    if (objects.valid() == (a.valid() || b.valid()) || a.valid() != b.valid())
       diag.error(r.mark(), "clearance takes either a pair {a, b} or a set {objects}");
     c.min = load::scalar(r.require("min"), "clearance min", diag);
+    c.eps = load::scalar(r.take("eps"), "eps", diag);
     out = std::move(c);
   } else if (kind == "no_overlap") {
-    NoOverlapSpec n{read_selector(r.require("objects"), "no_overlap objects", diag)};
+    NoOverlapSpec n{read_selector(r.require("objects"), "no_overlap objects", diag), {}};
     allow_empty(n.objects);
+    n.eps = load::scalar(r.take("eps"), "eps", diag);
     out = std::move(n);
   } else if (kind == "inside") {
     InsideSpec in;
     in.objects = read_selector(r.require("objects"), "inside objects", diag);
     allow_empty(in.objects);
     in.container = load::scalar(r.require("container"), "inside container", diag);
+    in.min = load::scalar(r.take("min"), "inside min", diag);
+    in.eps = load::scalar(r.take("eps"), "eps", diag);
+    yaml::Node faces = r.take("faces");
+    if (faces.valid()) {
+      in.faces_mark = faces.mark();
+      in.faces = load::scalar_list(faces, "inside faces", diag);
+    }
     out = std::move(in);
   } else {  // reach
     ReachSpec re;

@@ -43,6 +43,12 @@ class Planner {
     };
     positive(spec.timestep, Dim::Time, "sim.timestep", s.timestep);
     positive(spec.limit, Dim::Time, "sim.limit", s.limit);
+    if (spec.check_tolerance.present) {
+      auto x = literal_si(spec.check_tolerance, Dim::Length, "sim.check_tolerance", diag_);
+      if (x && !(*x >= 0 && *x <= 0.01))
+        diag_.error(spec.check_tolerance.mark, fmt::format("sim.check_tolerance must be between 0 and 10 mm, found {}", spec.check_tolerance.text));
+      else if (x) s.check_tolerance = *x;
+    }
     positive(spec.trajectory_rate, Dim::Frequency, "trajectory rate", s.rate);
     s.gravity = spec.gravity;
     s.frames = spec.frames;

@@ -25,6 +25,7 @@ namespace sscs {
 struct SimSettings {
   double timestep = 1e-3;  ///< s
   double limit = 60;       ///< s of simulated time
+  double check_tolerance = 1e-4;  ///< m: spatial re-checks during the run hold within this (contacts sink)
   double rate = 100;       ///< trajectory rows per simulated second
   bool gravity = true;
   bool frames = false;

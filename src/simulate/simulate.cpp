@@ -65,6 +65,7 @@ class Run {
         live_(geometry), live_values_(wc.values) {
     recheck_.describe_passes = false;
     recheck_.only = rechecked_constraints();
+    recheck_.spatial_tolerance = plan.settings.check_tolerance;
   }
 
   RunSummary run() {

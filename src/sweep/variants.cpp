@@ -70,9 +70,11 @@ std::optional<Axis> range_axis(const VarySpec& v, Diagnostics& diag) {
     }
   }
   // The range is stepped in the file unit of its dimension (degrees, not radians), so values
-  // are round where the user wrote round numbers.
+  // are round where the user wrote round numbers. A plain number takes the unit written on the
+  // first value that has one: {from: 100 mm, to: 300 mm, step: 100} steps by 100 mm.
   double unit = file_unit_to_si(axis.dim);
-  auto in_file_unit = [&](const Quantity& q) { return q.has_unit ? q.si / unit : q.si; };
+  const double plain_unit = first_unit ? parse_quantity(first_unit->text)->unit_si : unit;
+  auto in_file_unit = [&](const Quantity& q) { return (q.has_unit ? q.si : q.si * plain_unit) / unit; };
   double a = in_file_unit(*from), b = in_file_unit(*to), d = in_file_unit(*step);
   if (!(d > 0)) {
     diag.error(v.step.mark, fmt::format("the step of '{}' must be greater than 0, found '{}'", v.name, v.step.text));

@@ -1,4 +1,7 @@
 #include <cmath>
+#include <random>
+
+#include <fmt/format.h>
 
 #include "geometry/collision.h"
 #include "vault_fixture.h"
@@ -181,6 +184,115 @@ TEST_F(Collision, ReposedGeometryMovesShapesBoundsAndFrames) {
   EXPECT_NEAR(g.bbox_world.min().z(), 1 - h, 1e-9);  // upside down, hanging below its origin
   EXPECT_NEAR(g.bbox_world.max().z(), 1, 1e-9);
   EXPECT_NEAR(g.bbox_world.center().x(), 4, 1e-9);
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+// A unit cube as a closed mesh (12 outward triangles, corners shared) and as an open one (its top
+// face missing): the same solid as the `cube` primitive when closed, a surface when open.
+const char* kCubeObj =
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+    "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+    "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+
+class MeshSolid : public VaultTest {
+ public:
+  void SetUp() override {
+    auto types = kShapes;
+    types.push_back({"mcube", "sscs: 1\ntype: mcube\nattributes:\n  side: {type: length, default: 1}\n"
+                              "geometry:\n  - mesh: {file: cube.obj, scale: [side, side, side]}\n"});
+    types.push_back({"ocube", "sscs: 1\ntype: ocube\nattributes:\n  side: {type: length, default: 1}\n"
+                              "geometry:\n  - mesh: {file: open.obj, scale: [side, side, side]}\n"});
+    options.library_dirs = {type_dir(types)};
+    std::filesystem::path dir = options.library_dirs[0];
+    std::ofstream(dir / "cube.obj") << kCubeObj;
+    std::string open = kCubeObj;
+    open = open.substr(0, open.find("f 5 6 7"));
+    open += "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";  // no top (5 6 7 8)
+    std::ofstream(dir / "open.obj") << open;
+  }
+  Built build_objects(const std::string& objects) {
+    Built b{must_compile("objects:\n" + objects), {}};
+    b.geometry = build_geometry(b.wc, diag);
+    EXPECT_FALSE(diag.has_errors()) << diag.format(sources);
+    return b;
+  }
+};
+
+TEST_F(MeshSolid, WatertightMeshesAreClosedAndOthersOpen) {
+  Built b = build_objects("  - {type: mcube, name: M}\n  - {type: ocube, name: O, location: [5, 0, 0]}\n");
+  ASSERT_EQ(b.geometry.objects[0].shapes[0].kind, Shape::Kind::Mesh);
+  EXPECT_TRUE(b.geometry.objects[0].shapes[0].mesh->closed);
+  EXPECT_FALSE(b.geometry.objects[1].shapes[0].mesh->closed);
+  // The same test on raw triangles.
+  std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  EXPECT_TRUE(is_closed(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}));   // a tetrahedron
+  EXPECT_FALSE(is_closed(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 3, 2}}));  // one face flipped
+  EXPECT_FALSE(is_closed(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}}));             // one face missing
+}
+
+TEST_F(MeshSolid, AShapeInsideAClosedMeshOverlapsIt) {
+  // A small ball, a small cube and a small mesh cube inside a big closed mesh cube (side 4).
+  Built b = build_objects("  - {type: mcube, name: Big, side: 4}\n"
+                          "  - {type: ball, name: S, r: 0.2, location: [0.5, 0, 0]}\n"
+                          "  - {type: cube, name: C, side: 0.4, location: [-1, 0, 0]}\n"
+                          "  - {type: mcube, name: M, side: 0.4, location: [0, 1.2, 0]}\n"
+                          "  - {type: ocube, name: Shell, side: 4, location: [20, 0, 0]}\n"
+                          "  - {type: ball, name: InShell, r: 0.2, location: [20, 0, 0]}\n");
+  CollisionWorld w(b.geometry);
+  // Depth: the distance from the inner shape to the surface.
+  EXPECT_NEAR(*w.distance(0, 1), -(2 - 0.5 - 0.2), 1e-6);
+  EXPECT_NEAR(*w.distance(0, 2), -(2 - 1 - 0.2), 1e-6);
+  EXPECT_NEAR(*w.distance(0, 3), -(2 - 1.2 - 0.2), 1e-6);
+  EXPECT_NEAR(*w.distance(3, 0), -(2 - 1.2 - 0.2), 1e-6);  // symmetric
+  // An open mesh stays a surface: a ball within it is 1.8 m from it.
+  EXPECT_NEAR(*w.distance(4, 5), 2 - 0.2, 1e-6);
+}
+
+TEST_F(MeshSolid, ClosedMeshCubesAgreeWithBoxesOverRandomPlacements) {
+  // Property: a closed mesh cube is the same solid as a box. For random sizes and placements,
+  // mesh-vs-mesh and box-vs-mesh pairs placed like a box-vs-box pair agree with it: overlapping
+  // (beyond touch) exactly when the boxes overlap, and the same distance when apart.
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> pos(-1.5, 1.5), size(0.2, 2.5), ang(-180, 180);
+  int overlaps = 0, containments = 0, apart = 0;
+  for (int i = 0; i < 120; ++i) {
+    double s1 = size(rng), s2 = size(rng), x = pos(rng), y = pos(rng), z = pos(rng);
+    double r = ang(rng), p = ang(rng), w = ang(rng);
+    std::string objects;
+    const char* pairs[3][2] = {{"cube", "cube"}, {"mcube", "mcube"}, {"cube", "mcube"}};
+    for (int k = 0; k < 3; ++k)
+      objects += fmt::format("  - {{type: {}, name: A{}, side: {}, location: [{}, 0, 0]}}\n"
+                             "  - {{type: {}, name: B{}, side: {}, location: [{}, {}, {}], orientation: [{}, {}, {}]}}\n",
+                             pairs[k][0], k, s1, 20 * k, pairs[k][1], k, s2, 20 * k + x, y, z, r, p, w);
+    diag = Diagnostics{};
+    Built b = build_objects(objects);
+    ASSERT_FALSE(diag.has_errors());
+    CollisionWorld world(b.geometry);
+    double boxes = *world.distance(0, 1);
+    SCOPED_TRACE(objects);
+    for (int k = 1; k < 3; ++k) {
+      double d = *world.distance(2 * k, 2 * k + 1);
+      if (boxes > 1e-4) {
+        EXPECT_NEAR(d, boxes, 1e-6);
+      } else if (boxes < -1e-4) {
+        EXPECT_LT(d, -kTouchTolerance) << "boxes overlap by " << -boxes;
+      }
+    }
+    overlaps += boxes < -1e-4;
+    apart += boxes > 1e-4;
+    // Wholly inside: the smaller cube's bounds within the larger's (axis-aligned check on A).
+    Eigen::AlignedBox3d inner = b.geometry.objects[1].bbox_world, outer = b.geometry.objects[0].bbox_world;
+    containments += outer.contains(inner) || inner.contains(outer);
+  }
+  // The sample covers every case.
+  EXPECT_GT(overlaps, 20);
+  EXPECT_GT(apart, 20);
+  EXPECT_GT(containments, 3);
 }
 
 }  // namespace

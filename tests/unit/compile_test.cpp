@@ -117,7 +117,9 @@ TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
   compile_text(
       "objects:\n  - {type: drumm, name: A}\n  - {type: drum, name: B, diamter: 1}\n  - {type: room, name: C}\n");
   ASSERT_EQ(diag.count(), 5u) << diag.format(sources);  // and no range errors for the missing values
-  EXPECT_EQ(diag.errors()[0].message, "unknown type 'drumm' (did you mean 'drum'?)");
+  // Both hints: a typo, or a plugin's type without --plugins.
+  EXPECT_EQ(diag.errors()[0].message,
+            "unknown type 'drumm' (did you mean 'drum'?) (no plugins are loaded: a plugin's type needs --plugins DIR)");
   EXPECT_EQ(diag.errors()[1].message, "type 'drum' has no attribute 'diamter' (did you mean 'diameter'?)");
   EXPECT_EQ(diag.errors()[2].message, "object 'C' (a room) needs a value for 'length', which has no default");
 }

@@ -15,6 +15,10 @@ TEST(Names, EditDistance) {
   EXPECT_EQ(edit_distance("Door1", "Door1"), 0u);
   EXPECT_EQ(edit_distance("Dor1", "Door1"), 1u);
   EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  // A transposition of neighbours is one edit.
+  EXPECT_EQ(edit_distance("heigth", "height"), 1u);
+  EXPECT_EQ(edit_distance("ab", "ba"), 1u);
+  EXPECT_EQ(edit_distance("ca", "abc"), 3u);  // optimal string alignment: no edit of a moved pair
 }
 
 TEST(Names, DidYouMeanPicksTheClosePlausibleName) {
@@ -22,6 +26,8 @@ TEST(Names, DidYouMeanPicksTheClosePlausibleName) {
   EXPECT_EQ(did_you_mean("Dor1", names), " (did you mean 'Door1'?)");
   EXPECT_EQ(closest_name("Rack_11", names), "Rack_1_1");
   EXPECT_EQ(did_you_mean("Conveyor", names), "");  // nothing close: no suggestion
+  EXPECT_EQ(closest_name("heigth", {"diameter", "length", "height"}), "height");
+  EXPECT_EQ(closest_name("heigth", {"length", "height"}), "height");
 }
 
 TEST(Names, Glob) {

@@ -71,6 +71,15 @@ TEST_F(SweepTest, UnitsConvertToTheFirstUnitsDimension) {
   VariantSet angles = expand("vary:\n  yaw: {from: 0 deg, to: 90 deg, step: 45}\n");
   ASSERT_EQ(angles.variants.size(), 3u);  // a plain step is in the ends' unit (degrees)
   EXPECT_EQ(angles.axes[0].values[2].set_text, "90 deg");
+  // A plain step takes the unit written on the ends, whatever that unit is (not the file unit).
+  VariantSet mm = expand("vary:\n  gap: {from: 100 mm, to: 300 mm, step: 100}\n");
+  ASSERT_EQ(mm.variants.size(), 3u);
+  EXPECT_DOUBLE_EQ(mm.axes[0].values[1].si, 0.2);
+  EXPECT_EQ(mm.axes[0].values[2].set_text, "0.3 m");
+  // Plain ends with a step in a unit: the ends are in that unit too.
+  VariantSet ft = expand("vary:\n  gap: {from: 1, to: 3, step: 1 ft}\n");
+  ASSERT_EQ(ft.variants.size(), 3u);
+  EXPECT_NEAR(ft.axes[0].values[2].si, 3 * 0.3048, 1e-12);
 }
 
 TEST_F(SweepTest, FolderNamesAreStableAndPadded) {
