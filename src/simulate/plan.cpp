@@ -21,6 +21,7 @@ constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
 constexpr double kLinearSpeed = 0.25, kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
+constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to its target, or fails
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
 // How close the tool must be to an object's bounds to grasp it.
@@ -297,6 +298,18 @@ class Planner {
     return opt;
   }
 
+  /// The guard behind the solver: the joint values a move ends at put the tool on its target
+  /// (a solver that returned shifted values once sent a crane to 5.7 m instead of 12 m, and the
+  /// run said ok). A miss beyond 1 mm fails the plan; it never runs silently elsewhere.
+  bool ends_at_target(const Chain& chain, const Eigen::VectorXd& q, const Eigen::Isometry3d& target, size_t index, int d,
+                      double start) {
+    double miss = (chain.forward(q).translation() - target.translation()).norm();
+    if (std::isfinite(miss) && miss <= kTargetTolerance) return true;
+    fail(start, "unreachable", index, d,
+         fmt::format("{}: the solved joint values put the tool {:g} m from the move_to target", wc_.objects[d].name, stable(miss)), miss);
+    return false;
+  }
+
   double move_to_joint(DeviceState& st, int d, const Eigen::Isometry3d& X_world, double f, size_t index, double start) {
     const Device& m = model(d);
     Chain chain(m);
@@ -308,6 +321,7 @@ class Planner {
            r.position_error);
       return start;
     }
+    if (!ends_at_target(chain, r.q, target, index, d, start)) return start;
     Eigen::VectorXd q = st.q;
     chain.to_device(r.q, q);
     return move_joints(st, m, q, f, start);
@@ -327,6 +341,7 @@ class Planner {
                        stable(end_ik.position_error)), end_ik.position_error);
       return start;
     }
+    if (!ends_at_target(chain, end_ik.q, T1, index, d, start)) return start;
     double length = (T1.translation() - T0.translation()).norm();
     Eigen::Quaterniond r0(T0.linear()), r1(T1.linear());
     double turn = r0.angularDistance(r1);

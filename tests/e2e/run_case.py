@@ -276,9 +276,16 @@ def simulate(sscs, root):
         if p.returncode != 2 or "--video needs ffmpeg, which is not installed" not in p.stderr or \
                 os.path.exists(os.path.join(tmp, "novideo")):
             fail("--video without ffmpeg", p)
-        # A second run gives the same bytes, frames too.
+        # An existing run folder is never replaced without --force (issue 17): exit 2, untouched.
+        before = open(os.path.join(out, "summary.json"), "rb").read()
+        p = run(sscs, root, ["simulate", arm, "--out", out, "--quiet", "--no-frames"])
+        if p.returncode != 2 or f"'{out}' exists (an earlier run?); pass --force to replace it" not in p.stderr or \
+                open(os.path.join(out, "summary.json"), "rb").read() != before or p.stdout.strip():
+            fail("a second run into the same folder must be refused", p)
+        # A second run gives the same bytes, frames too; --force replaces a folder.
         again = os.path.join(tmp, "again")
-        run(sscs, root, ["simulate", arm, "--out", again, "--quiet"])
+        os.makedirs(again)
+        run(sscs, root, ["simulate", arm, "--out", again, "--quiet", "--force"])
         for f in ["summary.json", "events.jsonl", "trajectories/Robot.csv", "objects.csv", "frames/index.csv",
                   "contact_sheet.png"] + \
                 [f"frames/{f}" for f in frames]:

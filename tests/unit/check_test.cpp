@@ -1,5 +1,7 @@
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "vault_fixture.h"
 
 namespace sscs::testing {
@@ -170,6 +172,91 @@ TEST_F(Check, SelectorsExpandNamesGlobsAndTypes) {
   EXPECT_EQ(wc.constraints[0].subjects, (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(wc.constraints[1].subjects, (std::vector<int>{0, 1}));
   EXPECT_TRUE(wc.constraints[2].subjects.empty());
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+using SpatialRules = VaultTest;
+
+const char* kBlock = "sscs: 1\ntype: block\nattributes:\n  sx: {type: length, default: 1}\n"
+                     "geometry:\n  - box: {size: [sx, 1, 1], xyz: [\"sx/2\", 0.5, 0.5]}\n";
+
+TEST_F(SpatialRules, AClearanceExactlyAtItsMinimumHoldsWhateverTheRounding) {
+  // Property: for gaps written as sums that round in binary (0.1 + 0.2 ...), a clearance whose
+  // min is the gap as written passes with margin 0, and one 1 µm larger fails.
+  options.library_dirs = {type_dir({{"block", kBlock}})};
+  for (const char* gap : {"0.3", "0.1 + 0.2", "0.7 - 0.4", "3 * 0.1", "1.1 - 0.8", "0.35 - 0.05"}) {
+    SCOPED_TRACE(gap);
+    diag = Diagnostics{};
+    Workcell wc = must_compile(fmt::format(
+        "parameters: {{g: 0.3}}\nobjects:\n  - {{type: block, name: A, sx: 1.1}}\n"
+        "  - {{type: block, name: B, location: [\"1.1 + {0}\", 0, 0]}}\n"
+        "constraints:\n  - {{name: at, clearance: {{a: A, b: B, min: \"{0}\"}}}}\n"
+        "  - {{name: above, clearance: {{a: A, b: B, min: \"{0} + 0.000001\"}}}}\n", gap));
+    CheckReport r = check(wc, build_geometry(wc, diag));
+    ASSERT_EQ(r.results.size(), 2u);
+    EXPECT_EQ(r.results[0].status, Status::Pass) << r.results[0].message;
+    EXPECT_EQ(*r.results[0].margin, 0.0);
+    EXPECT_EQ(r.results[1].status, Status::Fail);
+  }
+}
+
+TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
+  options.library_dirs = {type_dir({{"block", kBlock}})};
+  // A 1 m block on the floor of a 10 x 6 x 4 room, 0.4 m from its x- wall and 2.5 m from y-.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: block, name: B, parent: R, location: [0.4, 2.5, 0]}\n"
+      "constraints:\n"
+      "  - {name: all faces, inside: {objects: B, container: R}}\n"
+      "  - {name: walls, inside: {objects: B, container: R, faces: walls, min: 0.3 m}}\n"
+      "  - {name: walls too close, inside: {objects: B, container: R, faces: walls, min: 0.5 m}}\n"
+      "  - {name: y faces, inside: {objects: B, container: R, faces: [y-, y+], min: 2 m}}\n"
+      "  - {name: floor counts, inside: {objects: B, container: R, min: 0.1}}\n");
+  CheckReport r = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(r.results.size(), 5u);
+  auto margin_of = [&](int k) { return r.results[k].margin.value_or(NAN); };
+  EXPECT_EQ(r.results[0].status, Status::Pass);
+  EXPECT_NEAR(margin_of(0), 0.0, 1e-12);  // standing on the floor
+  EXPECT_EQ(r.results[1].status, Status::Pass);
+  EXPECT_NEAR(margin_of(1), 0.1, 1e-12);
+  EXPECT_EQ(r.results[2].status, Status::Fail);
+  EXPECT_NEAR(margin_of(2), -0.1, 1e-12);
+  EXPECT_NE(r.results[2].message.find("is 0.4 m from a face of R, min 0.5 m"), std::string::npos) << r.results[2].message;
+  EXPECT_EQ(r.results[3].status, Status::Pass);
+  EXPECT_NEAR(margin_of(3), 0.5, 1e-12);
+  EXPECT_EQ(r.results[4].status, Status::Fail);  // 0 from the floor, min 0.1
+  // Sticking out through a face that is not counted still fails, as sticking out.
+  Workcell out = must_compile(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: block, name: B, parent: R, location: [2, 2, 3.5]}\n"
+      "constraints:\n  - {name: walls, inside: {objects: B, container: R, faces: walls}}\n");
+  CheckReport ro = check(out, build_geometry(out, diag));
+  ASSERT_EQ(ro.results.size(), 1u);
+  EXPECT_EQ(ro.results[0].status, Status::Fail);
+  EXPECT_NEAR(*ro.results[0].margin, -0.5, 1e-12);
+  EXPECT_NE(ro.results[0].message.find("sticks out of R by 0.5 m"), std::string::npos) << ro.results[0].message;
+}
+
+TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
+  options.library_dirs = {type_dir({{"block", kBlock}})};
+  Workcell wc = must_compile(
+      "parameters: {gap: 0.5 m}\nobjects:\n"
+      "  - type: block\n    array: {name: \"Rack_{i}\", count: [3], pitch: [2, 0, 0], skip: [[2]]}\n"
+      "  - {type: block, name: Wall_1, location: [0, 1.4, 0], sx: 6}\n"
+      "  - {type: block, name: Wall_2, location: [0, -1.8, 0], sx: 6}\n"
+      "constraints:\n  - {name: racks off walls, clearance: {a: \"Rack_*\", b: \"Wall_*\", min: \"gap - 0.1\"}}\n");
+  EXPECT_EQ(wc.find_object("Rack_2"), -1);  // skipped
+  ASSERT_GE(wc.find_object("Rack_3"), 0);
+  CheckReport r = check(wc, build_geometry(wc, diag));
+  // Rack_1 and Rack_3 are 0.4 m from Wall_1 (margin 0) and 0.8 m from Wall_2: all pass.
+  ASSERT_EQ(r.results.size(), 1u);
+  EXPECT_EQ(r.results[0].status, Status::Pass) << r.results[0].message;
+  EXPECT_NEAR(*r.results[0].margin, 0.0, 1e-12);
 }
 
 }  // namespace
