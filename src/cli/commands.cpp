@@ -20,6 +20,8 @@
 #include "geometry/export.h"
 #include "geometry/geometry.h"
 #include "load/scenario.h"
+#include "cli/type_listing.h"
+#include "core/pose.h"
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
 #include "core/data_dirs.h"
@@ -189,7 +191,25 @@ const char* joint_type_name(JointType t) {
   return "fixed";
 }
 
-nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device) {
+/// "[1.2, 0, 0.851]" (6 significant digits; inf where unbounded).
+std::string vec_text(const Eigen::Vector3d& v) {
+  return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", stable(v.x()), stable(v.y()), stable(v.z()));
+}
+nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
+  auto j = nlohmann::ordered_json::array();
+  for (int k = 0; k < 3; ++k) j.push_back(std::isfinite(v[k]) ? nlohmann::ordered_json(stable(v[k])) : nlohmann::ordered_json(nullptr));
+  return j;
+}
+/// A frame's orientation in degrees, or nothing when it is the type's own.
+std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X) {
+  Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * (180 / std::numbers::pi);
+  for (int k = 0; k < 3; ++k) rpy[k] = std::abs(rpy[k]) < 1e-9 ? 0.0 : rpy[k];
+  if (rpy.isZero(1e-9)) return std::nullopt;
+  return rpy;
+}
+
+nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device,
+                                 const TypeInstance& instance) {
   nlohmann::ordered_json j;
   j["name"] = t.name;
   j["extends"] = t.base >= 0 ? types[t.base].name : "object";
@@ -211,9 +231,21 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
     attrs.push_back(std::move(aj));
   }
   j["attributes"] = std::move(attrs);
+  // Where things are, at the default attributes, in the type's frame (m, deg).
   auto frames = nlohmann::ordered_json::array();
-  for (const FrameSpec& f : t.spec->frames) frames.push_back(f.name);
+  for (const auto& [name, X] : instance.frames) {
+    nlohmann::ordered_json fj = {{"name", name}, {"xyz", vec_json(X.translation())}};
+    auto rpy = frame_rpy_deg(X);
+    fj["rpy"] = rpy ? vec_json(*rpy) : vec_json(Eigen::Vector3d::Zero());
+    frames.push_back(std::move(fj));
+  }
   j["frames"] = std::move(frames);
+  j["bounds"] = instance.bounds.isEmpty() ? nlohmann::ordered_json(nullptr)
+                                           : nlohmann::ordered_json{{"min", vec_json(instance.bounds.min())}, {"max", vec_json(instance.bounds.max())}};
+  auto meshes = nlohmann::ordered_json::array();
+  for (const TypeInstance::Mesh& m : instance.meshes) meshes.push_back({{"file", m.file}, {"closed", m.closed}});
+  j["meshes"] = std::move(meshes);
+  j["unbuilt"] = instance.unbuilt.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(instance.unbuilt);
   if (device) {
     nlohmann::ordered_json dj;
     auto parts = nlohmann::ordered_json::array();
@@ -228,6 +260,8 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
     dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
     dj["driven"] = device->kinematic ? "kinematic" : "motors";
     dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
+    dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
+                                 : nlohmann::ordered_json(nullptr);
     j["device"] = std::move(dj);
   }
   return j;
@@ -245,6 +279,12 @@ int run_types(const Common& common, const std::string& format) {
     std::cerr << diag.format(sources, common.color_for(stderr));
     return kInputError;
   }
+  // One instance of each type at its defaults shows where its frames, bounds and reach are.
+  auto library = std::make_shared<const std::vector<ObjectType>>(types);
+  CompileOptions instance_options;
+  instance_options.package_paths = common.package_paths;
+  std::map<std::string, TypeInstance> instances;
+  for (const ObjectType& t : *library) instances[t.name] = instance_at_defaults(library, t, instance_options);
   std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
   // Sorting moved them: base indices refer to the old order, so look bases up by name below.
   std::map<std::string, std::string> base_of;
@@ -259,7 +299,7 @@ int run_types(const Common& common, const std::string& format) {
     j["sscs"] = 1;
     auto arr = nlohmann::ordered_json::array();
     for (const ObjectType& t : types) {
-      auto tj = type_json(t, types, device_of(t, by_name));
+      auto tj = type_json(t, types, device_of(t, by_name), instances[t.name]);
       tj["extends"] = base_of[t.name];
       arr.push_back(std::move(tj));
     }
@@ -288,10 +328,23 @@ int run_types(const Common& common, const std::string& format) {
       std::cout << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,
                                def, range, values, a.description.empty() ? "" : "  # " + a.description);
     }
-    if (!t.spec->frames.empty()) {
-      std::vector<std::string> names;
-      for (const FrameSpec& f : t.spec->frames) names.push_back(f.name);
-      std::cout << fmt::format("  frames: {}\n", fmt::join(names, ", "));
+    const TypeInstance& in = instances[t.name];
+    if (!in.unbuilt.empty()) {
+      std::cout << fmt::format("  at its defaults: no instance ({})\n", in.unbuilt);
+    } else {
+      std::vector<std::string> frames;
+      for (const auto& [name, X] : in.frames) {
+        auto rpy = frame_rpy_deg(X);
+        frames.push_back(fmt::format("{} {}{}", name, vec_text(X.translation()), rpy ? " rpy " + vec_text(*rpy) : ""));
+      }
+      std::cout << fmt::format("  frames at the defaults (m, deg, in the type's frame): {}\n", fmt::join(frames, "; "));
+      if (!in.bounds.isEmpty())
+        std::cout << fmt::format("  bounds at the defaults: {} to {} m\n", vec_text(in.bounds.min()), vec_text(in.bounds.max()));
+      std::vector<std::string> meshes;
+      for (const TypeInstance::Mesh& m : in.meshes) meshes.push_back(fmt::format("{} ({})", m.file, m.closed ? "closed: a solid" : "open: a surface"));
+      if (!meshes.empty()) std::cout << fmt::format("  meshes: {}\n", fmt::join(meshes, ", "));
+      if (in.reach)
+        std::cout << fmt::format("  tool reach over the joint ranges: {} to {} m\n", vec_text(in.reach->min()), vec_text(in.reach->max()));
     }
     if (const DeviceSpec* d = device_of(t, by_name)) {
       std::vector<std::string> parts;

@@ -18,9 +18,9 @@ struct TriangleMesh {
   std::string path;
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> triangles;
-  /// Watertight: every edge (vertices welded by position) is shared by exactly two triangles that
-  /// run it in opposite directions. A closed mesh is a solid (what lies inside it overlaps it);
-  /// an open one is a surface.
+  /// Watertight: every edge (vertices welded by position) is run by as many triangles in one
+  /// direction as in the other (two for a single solid). A closed mesh is a solid (what lies
+  /// inside it overlaps it); an open one is a surface.
   bool closed = false;
 };
 

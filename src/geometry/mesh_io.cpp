@@ -56,16 +56,18 @@ bool is_closed(const std::vector<Eigen::Vector3d>& vertices, const std::vector<E
   std::vector<int> weld(vertices.size());
   for (size_t v = 0; v < vertices.size(); ++v)
     weld[v] = ids.try_emplace({vertices[v].x(), vertices[v].y(), vertices[v].z()}, static_cast<int>(ids.size())).first->second;
-  // Each directed edge once, and its reverse once: a closed, consistently oriented 2-manifold.
+  // Every edge is run as often in one direction as in the other: the boundary of a solid,
+  // consistently oriented (pieces that touch along an edge, a pallet's boards and blocks, count).
   std::map<std::pair<int, int>, int> directed;
   for (const Eigen::Vector3i& t : triangles)
     for (int k = 0; k < 3; ++k) {
       int a = weld[t[k]], b = weld[t[(k + 1) % 3]];
-      if (a == b) continue;  // a degenerate triangle adds no edge
-      if (++directed[{a, b}] > 1) return false;
+      if (a != b) ++directed[{a, b}];  // a degenerate triangle adds no edge
     }
-  for (const auto& [edge, n] : directed)
-    if (!directed.count({edge.second, edge.first})) return false;
+  for (const auto& [edge, n] : directed) {
+    auto back = directed.find({edge.second, edge.first});
+    if (back == directed.end() || back->second != n) return false;
+  }
   return true;
 }
 

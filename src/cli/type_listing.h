@@ -1,0 +1,33 @@
+#pragma once
+/// What `sscs types` shows of a type beyond its file: an instance at its default attributes, so a
+/// user sees where things are (frames, bounds, the tool's reach) without reading type files.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "compile/compile.h"
+
+namespace sscs {
+
+struct TypeInstance {
+  std::string unbuilt;  ///< why there is no instance at the defaults (a required attribute), or ""
+  Eigen::AlignedBox3d bounds;  ///< of its geometry, in the type's frame; empty without geometry
+  /// The type's named frames (own and inherited) and, for devices, the tool, in the type's frame.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> frames;
+  struct Mesh {
+    std::string file;  ///< relative to the type file's folder
+    bool closed = false;
+  };
+  std::vector<Mesh> meshes;
+  std::optional<Eigen::AlignedBox3d> reach;  ///< devices: the tool's envelope over the joint ranges
+};
+
+/// Compiles one instance of `type` at its defaults (with the library already loaded) and reads
+/// its geometry. Never fails: a type that cannot be instanced says why in `unbuilt`.
+TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<ObjectType>>& library, const ObjectType& type,
+                                  const CompileOptions& options);
+
+}  // namespace sscs

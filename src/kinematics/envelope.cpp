@@ -1,0 +1,69 @@
+#include "kinematics/envelope.h"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "kinematics/ik.h"
+
+namespace sscs {
+
+Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& q) {
+  Chain chain(device);
+  const int n = chain.size();
+  Eigen::AlignedBox3d box;
+  Eigen::VectorXd lo(n), hi(n);
+  bool unbounded = false;
+  for (int k = 0; k < n; ++k) {
+    lo[k] = chain.lower(k);
+    hi[k] = chain.upper(k);
+    if (chain.revolute(k)) {
+      if (!std::isfinite(lo[k])) lo[k] = -std::numbers::pi;
+      if (!std::isfinite(hi[k])) hi[k] = std::numbers::pi;
+    } else if (!std::isfinite(lo[k]) || !std::isfinite(hi[k])) {
+      unbounded = true;
+      lo[k] = std::isfinite(lo[k]) ? lo[k] : 0;
+      hi[k] = std::isfinite(hi[k]) ? hi[k] : 0;
+    }
+  }
+  auto add = [&](const Eigen::VectorXd& cq) { box.extend(chain.forward(cq).translation()); };
+  Eigen::VectorXd cq = chain.from_device(q);
+  add(cq);
+  if (n <= 7)
+    for (int corner = 0; corner < (1 << n); ++corner) {
+      for (int k = 0; k < n; ++k) cq[k] = (corner >> k) & 1 ? hi[k] : lo[k];
+      add(cq);
+    }
+  if (n <= 3) {
+    constexpr int kSteps = 20;
+    int total = 1;
+    for (int k = 0; k < n; ++k) total *= kSteps + 1;
+    for (int i = 0; i < total; ++i) {
+      for (int k = 0, rest = i; k < n; ++k, rest /= kSteps + 1) cq[k] = lo[k] + (hi[k] - lo[k]) * (rest % (kSteps + 1)) / kSteps;
+      add(cq);
+    }
+  } else {
+    std::mt19937_64 rng(1);
+    for (int i = 0; i < 20000; ++i) {
+      for (int k = 0; k < n; ++k) cq[k] = std::uniform_real_distribution<double>(lo[k], hi[k])(rng);
+      add(cq);
+    }
+  }
+  if (unbounded) {
+    // Along an unlimited prismatic axis the tool goes on for ever: say so with infinite bounds.
+    for (int k = 0; k < n; ++k) {
+      if (chain.revolute(k) || (std::isfinite(chain.lower(k)) && std::isfinite(chain.upper(k)))) continue;
+      Eigen::VectorXd a = chain.from_device(q), b = a;
+      b[k] += 1;
+      Eigen::Vector3d dir = chain.forward(b).translation() - chain.forward(a).translation();
+      for (int axis = 0; axis < 3; ++axis) {
+        if (std::abs(dir[axis]) < 1e-9) continue;
+        if (!std::isfinite(chain.lower(k))) (dir[axis] > 0 ? box.min() : box.max())[axis] = dir[axis] > 0 ? -INFINITY : INFINITY;
+        if (!std::isfinite(chain.upper(k))) (dir[axis] > 0 ? box.max() : box.min())[axis] = dir[axis] > 0 ? INFINITY : -INFINITY;
+      }
+    }
+  }
+  return box;
+}
+
+}  // namespace sscs
