@@ -1,12 +1,14 @@
 #include "check/check.h"
 
 #include "geometry/collision.h"
+#include "core/selection_calls.h"
 #include "kinematics/ik.h"
 
 #include <algorithm>
 #include <set>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -34,6 +36,22 @@ double read(const Operand& op, const State& st) {
   switch (op.kind) {
     case Operand::Kind::Slot: return st.values[op.slot];
     case Operand::Kind::BoundingBox: return bbox_value(st.geometry, op.object, op.slot);
+    case Operand::Kind::Aggregate: {
+      using K = SelectionCall::Kind;
+      const std::vector<Operand>& members = *op.members;
+      const auto kind = static_cast<K>(op.aggregate);
+      if (kind == K::Count) return static_cast<double>(members.size());
+      // The min, max or mean of nothing is undefined: NaN, which the check reports as an error.
+      if (members.empty()) return kind == K::Sum ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+      double total = 0, lo = INFINITY, hi = -INFINITY;
+      for (const Operand& m : members) {
+        double x = read(m, st);
+        total += x;
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      return kind == K::Min ? lo : kind == K::Max ? hi : kind == K::Avg ? total / static_cast<double>(members.size()) : total;
+    }
     default: return op.constant_si;
   }
 }
@@ -112,7 +130,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   double v = evaluate(*e.expr, e.inputs, values, scratch);
   if (std::isnan(v)) {
     r.status = Status::Error;
-    r.message = fmt::format("'{}' could not be evaluated (not a number)", e.expr->text());
+    r.message = fmt::format("'{}' could not be evaluated (not a number)", e.text);
     return;
   }
   bool pass = v != 0;
@@ -120,7 +138,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   if (e.margin) {
     double lhs = NAN, rhs = NAN;
     double m = margin_of(*e.margin, values, scratch, &lhs, &rhs);
-    if (std::isfinite(m)) r.margin = m;
+    if (std::isfinite(m)) r.margin = m == 0 ? 0.0 : m;  // never -0
     if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or) {
       r.lhs = lhs;
       r.rhs = rhs;
@@ -130,7 +148,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   std::vector<std::string> parts;
   for (size_t i = 0; i < e.inputs.size(); ++i)
     if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
-  r.message = fmt::format("{}: {}{}", e.expr->text(), pass ? "holds" : "violated",
+  r.message = fmt::format("{}: {}{}", e.text, pass ? "holds" : "violated",
                           parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
 }
 

@@ -14,6 +14,7 @@
 #include "core/timer.h"
 #include "compile/values.h"
 #include "core/names.h"
+#include "core/selection_calls.h"
 #include "load/load.h"
 
 namespace fs = std::filesystem;
@@ -127,7 +128,7 @@ std::shared_ptr<const Expression> CompileState::parse_expression(const Scalar& s
   auto e = Expression::parse(s.text, &err);
   if (!e) {
     diag.error(mark_at(s, err.position), fmt::format("cannot read '{}' as a number, unit value or expression for {}: {}",
-                                                     s.text, what, err.message));
+                                                     s.text, what, without_position(err.message)));
     return nullptr;
   }
   auto shared = std::make_shared<const Expression>(std::move(*e));

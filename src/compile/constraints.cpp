@@ -10,6 +10,7 @@
 #include "compile/values.h"
 #include "core/names.h"
 #include "core/pose.h"
+#include "core/selection_calls.h"
 
 namespace sscs {
 
@@ -166,31 +167,98 @@ void finish_subjects(std::vector<int>& subjects) {
 }
 
 
-std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string& text, const Scalar& whole) {
-  Scalar s = whole;
-  s.text = text;
+/// An expr constraint's text with its aggregate calls (count, sum, min, max, avg over selectors)
+/// replaced by variables, and the operand each call stands for.
+struct ExprSource {
+  const Scalar& whole;  ///< as written
+  RewrittenExpression rewritten;
+  std::vector<Operand> calls;
+};
+
+/// Resolves the names of `expr` (parsed from a piece of the rewritten text starting at `offset`):
+/// a call's variable to its aggregate, anything else as a reference, marked where it was written.
+bool resolve_expr_inputs(CompileState& st, const Expression& expr, const ExprSource& src, size_t offset, std::vector<Operand>& out) {
+  bool ok = true;
+  out.clear();
+  for (const std::string& n : expr.names()) {
+    if (int call = RewrittenExpression::call_index(n); call >= 0 && call < static_cast<int>(src.calls.size())) {
+      out.push_back(src.calls[call]);
+      continue;
+    }
+    size_t pos = src.rewritten.text.find(n, offset);
+    auto op = st.resolve_reference(n, mark_at(src.whole, pos == std::string::npos ? 0 : src.rewritten.original(pos)), {},
+                                   /*allow_bbox=*/true);
+    if (!op) {
+      ok = false;
+      continue;
+    }
+    out.push_back(*op);
+  }
+  return ok;
+}
+
+/// The operand of an aggregate call: each selected object's attribute (SI), reduced at check time.
+std::optional<Operand> aggregate_operand(CompileState& st, const SelectionCall& call, const Scalar& whole, bool allow_empty) {
+  SelectorSpec sel;
+  sel.items.push_back(whole);
+  sel.items.back().text = call.selector;
+  sel.items.back().mark = mark_at(whole, call.arg_position);
+  sel.mark = sel.items.back().mark;
+  sel.allow_empty = true;  // reported below, naming the call
+  size_t errors = st.diag.count();
+  std::vector<int> objects = select(st, sel, "");
+  if (st.diag.count() != errors) return std::nullopt;
+  const char* name = selection_call_name(call.kind);
+  if (objects.empty() && !allow_empty) {
+    st.diag.error(sel.mark, fmt::format("{}({}) selects no objects (add allow_empty: true beside expr if that is intended)", name,
+                                        call.kind == SelectionCall::Kind::Count ? call.selector : call.selector + "." + call.attribute));
+    return std::nullopt;
+  }
+  Operand op;
+  op.kind = Operand::Kind::Aggregate;
+  op.aggregate = static_cast<uint8_t>(call.kind);
+  op.text = call.kind == SelectionCall::Kind::Count ? fmt::format("count({})", call.selector)
+                                                     : fmt::format("{}({}.{})", name, call.selector, call.attribute);
+  auto members = std::make_shared<std::vector<Operand>>();
+  for (int o : objects) {
+    if (call.kind == SelectionCall::Kind::Count) {
+      members->push_back(Operand{});
+      members->back().object = o;
+      continue;
+    }
+    auto m = st.resolve_reference(st.wc.objects[o].name + "." + call.attribute, sel.mark, {}, /*allow_bbox=*/true);
+    if (!m) return std::nullopt;
+    if (op.dim == Dim::None) op.dim = m->dim;
+    members->push_back(*m);
+  }
+  op.members = std::move(members);
+  return op;
+}
+
+std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string& text, const ExprSource& src) {
   Expression::Error err;
   auto e = Expression::parse(text, &err);
   if (!e) return std::nullopt;
   ExprCheck::Side side;
   side.expr = std::make_shared<const Expression>(std::move(*e));
-  if (!st.resolve_inputs(*side.expr, s, {}, side.inputs, true)) return std::nullopt;
+  size_t offset = src.rewritten.text.find(text);
+  if (!resolve_expr_inputs(st, *side.expr, src, offset == std::string::npos ? 0 : offset, side.inputs)) return std::nullopt;
   return side;
 }
 
-std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const MarginTree& tree, const Scalar& whole) {
+std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const MarginTree& tree, const ExprSource& src) {
   ExprCheck::MarginNode node;
   node.op = tree.op;
   if (tree.op == MarginTree::Op::Or || tree.op == MarginTree::Op::And) {
     for (const MarginTree& c : tree.children) {
-      auto child = compile_margin(st, c, whole);
+      auto child = compile_margin(st, c, src);
       if (!child) return std::nullopt;
       node.children.push_back(std::move(*child));
     }
     return node;
   }
-  auto lhs = compile_side(st, tree.lhs, whole);
-  auto rhs = compile_side(st, tree.rhs, whole);
+  auto lhs = compile_side(st, tree.lhs, src);
+  auto rhs = compile_side(st, tree.rhs, src);
   if (!lhs || !rhs) return std::nullopt;
   node.lhs = std::move(*lhs);
   node.rhs = std::move(*rhs);
@@ -230,17 +298,42 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
 }
 
 void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
+  using K = SelectionCall::Kind;
   if (e.expr.null || e.expr.text.empty()) {
     st.diag.error(e.expr.mark, "expected a boolean expression for expr, found nothing");
     return;
   }
-  auto expr = st.parse_expression(e.expr, "an expr constraint");
+  Expression::Error err;
+  auto rewritten = rewrite_selection_calls(e.expr.text, {K::Count, K::Sum, K::Min, K::Max, K::Avg}, &err);
+  if (!rewritten) {
+    st.diag.error(mark_at(e.expr, err.position), fmt::format("{} in the expr '{}'", err.message, e.expr.text));
+    return;
+  }
+  ExprSource src{e.expr, std::move(*rewritten), {}};
+  std::shared_ptr<const Expression> expr;
+  if (src.rewritten.calls.empty()) {
+    expr = st.parse_expression(e.expr, "an expr constraint");  // shared by constraints of the same text
+  } else {
+    auto parsed = Expression::parse(src.rewritten.text, &err);
+    if (!parsed)
+      st.diag.error(mark_at(e.expr, src.rewritten.original(err.position)),
+                    fmt::format("cannot read '{}' as an expression for an expr constraint: {}", e.expr.text, without_position(err.message)));
+    else
+      expr = std::make_shared<const Expression>(std::move(*parsed));
+  }
   if (!expr) return;
+  for (const SelectionCall& call : src.rewritten.calls) {
+    auto op = aggregate_operand(st, call, e.expr, e.allow_empty);
+    if (!op) return;
+    for (const Operand& m : *op->members) c.subjects.push_back(m.object);
+    src.calls.push_back(std::move(*op));
+  }
   ExprCheck check;
+  check.text = e.expr.text;
   check.expr = expr;
-  if (!st.resolve_inputs(*expr, e.expr, {}, check.inputs, /*allow_bbox=*/true)) return;
+  if (!resolve_expr_inputs(st, *expr, src, 0, check.inputs)) return;
   add_subjects(c.subjects, check.inputs);
-  if (auto tree = split_for_margin(e.expr.text)) check.margin = compile_margin(st, *tree, e.expr);
+  if (auto tree = split_for_margin(src.rewritten.text)) check.margin = compile_margin(st, *tree, src);
   c.body = std::move(check);
 }
 

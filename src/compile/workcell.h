@@ -59,7 +59,10 @@ struct Object {
 
 /// What a constraint operand reads.
 struct Operand {
-  enum class Kind : uint8_t { Constant, Slot, BoundingBox } kind = Kind::Constant;
+  /// Aggregate: count, sum, min, max or avg (SelectionCall::Kind) of `members`, one per selected object.
+  enum class Kind : uint8_t { Constant, Slot, BoundingBox, Aggregate } kind = Kind::Constant;
+  uint8_t aggregate = 0;
+  std::shared_ptr<const std::vector<Operand>> members;
   double constant_si = 0;
   uint32_t slot = 0;          ///< for Slot
   int object = -1;            ///< the object it belongs to (-1 for constants and parameters)
@@ -75,6 +78,7 @@ struct BoundCheck {
 };
 
 struct ExprCheck {
+  std::string text;  ///< as written (aggregate calls and all), for reports
   std::shared_ptr<const Expression> expr;
   std::vector<Operand> inputs;  ///< one per expr->names()
   struct Side {

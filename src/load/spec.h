@@ -195,6 +195,7 @@ struct BoundSpec {
 };
 struct ExprSpec {
   Scalar expr;
+  bool allow_empty = false;  ///< aggregates (count, sum, ...) may select nothing
 };
 struct PluginSpec {
   Scalar cls;

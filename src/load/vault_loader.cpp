@@ -279,6 +279,14 @@ std::optional<ConstraintSpec> read_constraint(yaml::Node node, Diagnostics& diag
       diag.error(c.mark, fmt::format("constraint '{}' has no kind; expected one of {}", c.name, fmt::join(kKinds, ", ")));
     return std::nullopt;
   }
+  // An expr has no mapping of its own: its aggregates' allow_empty stands beside it.
+  yaml::Node empty = r.take("allow_empty");
+  if (empty.valid()) {
+    if (auto* e = kind ? std::get_if<ExprSpec>(&*kind) : nullptr)
+      e->allow_empty = load::boolean(empty, "allow_empty", diag);
+    else if (kind)
+      diag.error(empty.mark(), "allow_empty belongs inside the constraint's kind (beside objects or targets); beside the kind only for expr");
+  }
   r.finish();
   if (!kind) return std::nullopt;
   c.kind = std::move(*kind);

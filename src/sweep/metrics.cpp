@@ -8,21 +8,11 @@
 
 #include "compile/values.h"
 #include "core/names.h"
+#include "core/selection_calls.h"
 
 namespace sscs {
 
 namespace {
-
-bool ident_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-bool ident_char(char c) { return ident_start(c) || (c >= '0' && c <= '9') || c == '.'; }
-
-std::string trim(std::string_view s) {
-  size_t a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
-  if (a == std::string_view::npos) return {};
-  std::string out(s.substr(a, b - a + 1));
-  if (out.size() >= 2 && (out.front() == '"' || out.front() == '\'') && out.back() == out.front()) out = out.substr(1, out.size() - 2);
-  return out;
-}
 
 const std::vector<std::string> kCounts = {"passed", "failed", "warnings"};
 
@@ -34,83 +24,32 @@ const std::vector<std::string>& run_fields() {
 }
 
 std::optional<Metric> Metric::parse(const MetricSpec& spec, Diagnostics& diag) {
+  using K = SelectionCall::Kind;
   Metric m;
   m.spec_ = spec;
   const std::string& text = spec.expr.text;
-  std::string rewritten;
-  for (size_t i = 0; i < text.size();) {
-    if (!ident_start(text[i]) || (i > 0 && ident_char(text[i - 1]))) {
-      rewritten += text[i++];
-      continue;
-    }
-    size_t end = i;
-    while (end < text.size() && ident_char(text[end])) ++end;
-    std::string word = text.substr(i, end - i);
-    size_t open = end;
-    while (open < text.size() && text[open] == ' ') ++open;
-    bool called = open < text.size() && text[open] == '(';
-    static const std::vector<std::string> kFunctions = {"count", "sum", "min_margin", "margin"};
-    if (!called || std::find(kFunctions.begin(), kFunctions.end(), word) == kFunctions.end()) {
-      rewritten += word;
-      i = end;
-      continue;
-    }
-    int depth = 0;
-    size_t close = open;
-    for (; close < text.size(); ++close) {
-      depth += text[close] == '(' ? 1 : text[close] == ')' ? -1 : 0;
-      if (depth == 0) break;
-    }
-    if (close >= text.size()) {
-      diag.error(mark_at(spec.expr, open), fmt::format("metric '{}': '(' of {}() is never closed", spec.name, word));
-      return std::nullopt;
-    }
-    std::string arg = trim(std::string_view(text).substr(open + 1, close - open - 1));
-    Call call;
-    call.position = i;
-    if (word == "min_margin") {
-      call.kind = Call::Kind::MinMargin;
-      if (!arg.empty()) diag.error(mark_at(spec.expr, open + 1), fmt::format("metric '{}': min_margin() takes no argument", spec.name));
-    } else if (word == "margin") {
-      call.kind = Call::Kind::Margin;
-      call.constraint = arg;
-      if (arg.empty()) diag.error(mark_at(spec.expr, open + 1), fmt::format("metric '{}': margin() needs a constraint name, as margin(door clear height)", spec.name));
-    } else if (word == "count") {
-      call.kind = Call::Kind::Count;
-      call.selector = arg;
-      if (arg.empty()) diag.error(mark_at(spec.expr, open + 1), fmt::format("metric '{}': count() needs a selector, as count(type:drum)", spec.name));
-    } else {
-      call.kind = Call::Kind::Sum;
-      size_t dot = arg.rfind('.');
-      if (dot == std::string::npos || dot == 0 || dot + 1 == arg.size()) {
-        diag.error(mark_at(spec.expr, open + 1), fmt::format("metric '{}': sum() needs SELECTOR.attribute, as sum(type:rack.levels), found '{}'", spec.name, arg));
-      } else {
-        call.selector = arg.substr(0, dot);
-        call.attribute = arg.substr(dot + 1);
-      }
-    }
-    rewritten += fmt::format("_call{}", m.calls_.size());
-    m.calls_.push_back(call);
-    i = close + 1;
-  }
   Expression::Error err;
-  auto expr = Expression::parse(rewritten, &err);
-  if (!expr) {
-    // Positions in the rewritten text differ after a call; point at the metric when they might.
-    SourceMark where = m.calls_.empty() ? mark_at(spec.expr, err.position) : spec.expr.mark;
-    std::string message = err.message;
-    if (size_t at = message.find(" at position "); at != std::string::npos && !m.calls_.empty()) message.resize(at);
-    diag.error(where, fmt::format("metric '{}': {} in '{}'", spec.name, message, text));
+  auto rewritten = rewrite_selection_calls(text, {K::Count, K::Sum, K::Min, K::Max, K::Avg, K::MinMargin, K::Margin}, &err);
+  if (!rewritten) {
+    diag.error(mark_at(spec.expr, err.position), fmt::format("metric '{}': {}", spec.name, err.message));
     return std::nullopt;
   }
+  auto expr = Expression::parse(rewritten->text, &err);
+  if (!expr) {
+    diag.error(mark_at(spec.expr, rewritten->original(err.position)),
+               fmt::format("metric '{}': {} in '{}'", spec.name, without_position(err.message), text));
+    return std::nullopt;
+  }
+  m.calls_ = std::move(rewritten->calls);
   m.expr_ = std::make_shared<const Expression>(std::move(*expr));
   return m;
 }
 
 void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) const {
   auto where = [&](size_t pos) { return mark_at(spec_.expr, pos); };
-  for (const Call& c : calls_) {
-    if (c.kind == Call::Kind::Margin) {
+  using K = SelectionCall::Kind;
+  for (const SelectionCall& c : calls_) {
+    if (c.kind == K::Margin) {
       bool found = std::any_of(wc.constraints.begin(), wc.constraints.end(), [&](const Constraint& k) { return k.name == c.constraint; });
       if (!found) {
         std::vector<std::string> names;
@@ -121,7 +60,7 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
                                                   c.constraint, hint));
       }
     }
-    if (c.kind != Call::Kind::Count && c.kind != Call::Kind::Sum) continue;
+    if (c.kind == K::MinMargin || c.kind == K::Margin) continue;
     if (c.selector.starts_with("type:") && wc.find_type(c.selector.substr(5)) < 0) {
       std::vector<std::string> names;
       for (const ObjectType& t : wc.types) names.push_back(t.name);
@@ -129,7 +68,7 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
                                                 did_you_mean(c.selector.substr(5), names)));
       continue;
     }
-    if (c.kind == Call::Kind::Sum) {
+    if (c.kind != K::Count) {
       // The attribute must be one of the selected objects' types (checked on the types, as a
       // variant may select other objects).
       bool known = false;
@@ -140,7 +79,7 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
     }
   }
   for (const std::string& name : expr_->names()) {
-    if (name.starts_with("_call")) continue;
+    if (RewrittenExpression::call_index(name) >= 0) continue;
     bool is_run = std::find(run_fields().begin(), run_fields().end(), name) != run_fields().end();
     if (is_run && !simulated) {
       diag.error(spec_.expr.mark, fmt::format("metric '{}' reads '{}', which only a simulated sweep has (add scenario:)", spec_.name, name));
@@ -158,47 +97,63 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
 
 double Metric::evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run, std::string* error) const {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  auto call_value = [&](const Call& c) -> double {
+  using K = SelectionCall::Kind;
+  auto call_value = [&](const SelectionCall& c) -> double {
     switch (c.kind) {
-      case Call::Kind::MinMargin:
-      case Call::Kind::Margin: {
+      case K::MinMargin:
+      case K::Margin: {
         double best = kNaN;
         for (const CheckResult& r : report.results) {
           if (!r.margin || !std::isfinite(*r.margin)) continue;
-          if (c.kind == Call::Kind::Margin && wc.constraints[r.constraint].name != c.constraint) continue;
+          if (c.kind == K::Margin && wc.constraints[r.constraint].name != c.constraint) continue;
           best = std::isnan(best) ? *r.margin : std::min(best, *r.margin);
         }
+        if (std::isnan(best))
+          *error = c.kind == K::Margin ? fmt::format("metric '{}': constraint '{}' has no margin in this variant", spec_.name, c.constraint)
+                                      : fmt::format("metric '{}': no check has a margin in this variant", spec_.name);
         return best;
       }
-      case Call::Kind::Count:
-      case Call::Kind::Sum: {
+      default: {
         auto objects = wc.select(c.selector);
-        if (!objects) return c.kind == Call::Kind::Count ? 0.0 : kNaN;  // a name this variant lacks selects nothing
-        if (c.kind == Call::Kind::Count) return static_cast<double>(objects->size());
-        double total = 0;
+        if (c.kind == K::Count) return objects ? static_cast<double>(objects->size()) : 0.0;  // a name this variant lacks
+        if (!objects || objects->empty()) {
+          // Undefined for this variant: an empty cell, and why (docs/sweeps.md).
+          *error = fmt::format("metric '{}': {}({}.{}) selects no object in this variant", spec_.name, selection_call_name(c.kind),
+                               c.selector, c.attribute);
+          return kNaN;
+        }
+        double total = 0, lo = INFINITY, hi = -INFINITY;
         for (int o : *objects) {
           const Object& obj = wc.objects[o];
-          if (c.attribute.starts_with("location.")) {
-            total += wc.values[obj.first_slot + kLocationSlot + (c.attribute.back() - 'x')];
-            continue;
+          double x;
+          if (c.attribute.starts_with("location.") && c.attribute.size() == 10) {
+            x = wc.values[obj.first_slot + kLocationSlot + (c.attribute.back() - 'x')];
+          } else {
+            const ObjectType& t = wc.types[obj.type];
+            int a = t.find_attribute(c.attribute);
+            if (a < 0) {
+              *error = fmt::format("metric '{}': {} ({}) has no attribute '{}'", spec_.name, obj.name, t.name, c.attribute);
+              return kNaN;
+            }
+            x = si_to_file(wc.values[obj.first_slot + kFirstAttributeSlot + a], t.attributes[a].dim);
           }
-          const ObjectType& t = wc.types[obj.type];
-          int a = t.find_attribute(c.attribute);
-          if (a < 0) {
-            *error = fmt::format("metric '{}': {} ({}) has no attribute '{}'", spec_.name, obj.name, t.name, c.attribute);
-            return kNaN;
-          }
-          total += si_to_file(wc.values[obj.first_slot + kFirstAttributeSlot + a], t.attributes[a].dim);
+          total += x;
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
         }
-        return total;
+        switch (c.kind) {
+          case K::Min: return lo;
+          case K::Max: return hi;
+          case K::Avg: return total / static_cast<double>(objects->size());
+          default: return total;
+        }
       }
     }
-    return kNaN;
   };
   std::vector<double> values;
   for (const std::string& name : expr_->names()) {
-    if (name.starts_with("_call")) {
-      values.push_back(call_value(calls_[std::stoul(name.substr(5))]));
+    if (int call = RewrittenExpression::call_index(name); call >= 0) {
+      values.push_back(call_value(calls_[call]));
     } else if (name == "passed" || name == "failed" || name == "warnings") {
       values.push_back(static_cast<double>(name == "passed" ? report.passed : name == "failed" ? report.failed : report.warnings));
     } else if (run && name == "cycle_time") {

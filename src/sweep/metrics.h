@@ -3,6 +3,7 @@
 /// every sscs expression they may call
 ///   count(SELECTOR)            objects selected (`type:drum`, `Rack_*`, `*`, a name)
 ///   sum(SELECTOR.attribute)    the attribute summed over the selected objects (file units)
+///   min/max/avg(SELECTOR.attribute)  its smallest, largest, mean value (undefined for no object)
 ///   min_margin()               the smallest margin of any check (file units of each check)
 ///   margin(CONSTRAINT NAME)    the smallest margin of that constraint's checks
 /// and read the variables passed, failed, warnings, any vault parameter (file units) and, when a
@@ -16,6 +17,7 @@
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
 #include "core/expr.h"
+#include "core/selection_calls.h"
 #include "load/sweep.h"
 #include "simulate/simulate.h"
 
@@ -38,13 +40,8 @@ class Metric {
   const std::string& name() const { return spec_.name; }
 
  private:
-  struct Call {
-    enum class Kind { Count, Sum, MinMargin, Margin } kind;
-    std::string selector, attribute, constraint;
-    size_t position = 0;  ///< of the call in the text
-  };
   MetricSpec spec_;
-  std::vector<Call> calls_;                 ///< stand in the expression as the variables `_call0`, `_call1`, ...
+  std::vector<SelectionCall> calls_;        ///< stand in the expression as the variables `_call0`, `_call1`, ...
   std::shared_ptr<const Expression> expr_;  ///< shared: metrics are copied into each worker
 };
 

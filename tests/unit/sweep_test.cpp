@@ -158,6 +158,20 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
   EXPECT_NEAR(eval("margin(tall)"), height - 1, 1e-12);
   EXPECT_NEAR(eval("min_margin()"), std::min(2 - height, height - 1), 1e-12);
   EXPECT_EQ(eval("rows * 10 + passed"), 30.0 + static_cast<double>(report.passed));
+  // min, max, avg over a selection (one implementation with expr constraints); min(a, b) stays a function.
+  EXPECT_EQ(eval("min(type:rack.levels) + max(type:rack.levels)"), 8);
+  EXPECT_EQ(eval("avg(type:rack.levels)"), 4);
+  EXPECT_EQ(eval("min(2, 3) + max(count(R_*), 1)"), 5);
+  // Selecting nothing: count is 0; the others are undefined, an empty cell with the reason.
+  EXPECT_EQ(eval("count(Nothing_*)"), 0);
+  MetricSpec spec;
+  spec.name = "m";
+  spec.expr.text = "sum(Nothing_*.levels)";
+  auto m = Metric::parse(spec, diag);
+  ASSERT_TRUE(m);
+  std::string error;
+  EXPECT_TRUE(std::isnan(m->evaluate(wc, report, nullptr, &error)));
+  EXPECT_EQ(error, "metric 'm': sum(Nothing_*.levels) selects no object in this variant");
 }
 
 TEST_F(MetricTest, UnknownNamesAreInputErrors) {
@@ -177,7 +191,7 @@ TEST_F(MetricTest, UnknownNamesAreInputErrors) {
   EXPECT_EQ(errors_of("cycle_time"), "metric 'm' reads 'cycle_time', which only a simulated sweep has (add scenario:)");
   EXPECT_EQ(errors_of("cycle_time", true), "");
   EXPECT_EQ(errors_of("count(type:drum"), "metric 'm': '(' of count() is never closed");
-  EXPECT_EQ(errors_of("sum(D1)"), "metric 'm': sum() needs SELECTOR.attribute, as sum(type:rack.levels), found 'D1'");
+  EXPECT_EQ(errors_of("sum(D1)"), "metric 'm': sum() needs SELECTOR.attribute, as sum(type:drum.fill_mass), found 'D1'");
 }
 
 TEST(SweepProgress, RateAndEta) {
