@@ -101,7 +101,10 @@ std::string format_sarif(const std::vector<VaultReport>& reports, const Sources&
       res["ruleIndex"] = rule_index(c.kind);
       res["kind"] = "fail";
       res["level"] = warning && !strict ? "warning" : "error";
-      res["message"] = {{"text", fmt::format("{}{}{}{}: {}{}{}", c.name, subject.empty() ? "" : " [", fmt::join(subject, ", "),
+      // Checks of plugin classes share the rule sscs/plugin: the message names the class.
+      const auto* plugin = std::get_if<PluginCheck>(&c.body);
+      std::string cls = plugin && plugin->cls ? fmt::format(" (plugin class {})", plugin->cls->name) : "";
+      res["message"] = {{"text", fmt::format("{}{}{}{}{}: {}{}{}", c.name, cls, subject.empty() ? "" : " [", fmt::join(subject, ", "),
                                              subject.empty() ? "" : "]", r.status == Status::Error ? "could not be evaluated: " : "",
                                              r.message, margin)}};
       res["locations"] = nlohmann::ordered_json::array({location(c, sources, base_dir)});

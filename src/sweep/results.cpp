@@ -102,6 +102,9 @@ std::string manifest_json(const Manifest& m) {
   j["sweep"] = m.sweep;
   j["sweep_sha256"] = m.sweep_sha256;
   j["inputs_sha256"] = m.inputs_sha256;
+  json inputs = json::array();
+  for (const auto& [file, sha] : m.inputs) inputs.push_back({{"file", file}, {"sha256", sha}});
+  j["inputs"] = std::move(inputs);
   j["variants"] = m.variants;
   j["mode"] = m.mode;
   j["version"] = m.version;
@@ -115,6 +118,8 @@ std::optional<Manifest> read_manifest(const std::string& path, std::string* erro
     m.sweep = j.at("sweep").get<std::string>();
     m.sweep_sha256 = j.at("sweep_sha256").get<std::string>();
     m.inputs_sha256 = j.at("inputs_sha256").get<std::string>();
+    if (j.contains("inputs"))
+      for (const json& i : j.at("inputs")) m.inputs.emplace_back(i.at("file").get<std::string>(), i.at("sha256").get<std::string>());
     m.variants = j.at("variants").get<size_t>();
     m.mode = j.at("mode").get<std::string>();
     m.version = j.at("version").get<std::string>();

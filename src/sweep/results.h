@@ -38,6 +38,8 @@ struct Manifest {
   std::string sweep;
   std::string sweep_sha256;   ///< of the sweep file's bytes
   std::string inputs_sha256;  ///< of every file the sweep read (vaults, scenarios, types), by content
+  /// Every input read: its name (relative to the sweep file, or `<library>/...`) and sha256.
+  std::vector<std::pair<std::string, std::string>> inputs;
   size_t variants = 0;
   std::string mode;           ///< grid or random
   std::string version;        ///< of sscs

@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "check/check.h"
+#include "core/data_dirs.h"
 #include "core/digest.h"
 #include "core/files.h"
 #include "core/names.h"
@@ -93,6 +94,9 @@ class Study {
   const ScenarioSpec* scenario_file(const std::string& path, SourceMark where);
   bool prepare_case(Case& c);
   void validate_axes(const Workcell& wc, const Case& c);
+  /// Every varied parameter exists in the vault, and every metric names what the vault has.
+  void validate_names(const Workcell& wc, const std::string& vault_path, bool simulated);
+  void report_with_vault();
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
   void run_variant(const Variant& v, const std::string& tmp);
@@ -142,18 +146,38 @@ const ScenarioSpec* Study::scenario_file(const std::string& path, SourceMark whe
                 [](const std::string& p, Sources& s, Diagnostics& d) { return load_scenario(p, s, d); });
 }
 
+void Study::validate_names(const Workcell& wc, const std::string& vault_path, bool simulated) {
+  for (const VarySpec& v : spec_.vary) {
+    if (v.files()) continue;
+    bool found = std::any_of(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == v.name; });
+    if (found) continue;
+    std::vector<std::string> names;
+    for (const Parameter& x : wc.parameters) names.push_back(x.name);
+    diag_.error(v.mark, fmt::format("vault '{}' ({}) has no parameter '{}' to vary{}", wc.name, vault_path, v.name,
+                                    did_you_mean(v.name, names)));
+  }
+  for (const Metric& m : metrics_) m.validate(wc, simulated, diag_);
+}
+
+void Study::report_with_vault() {
+  // The values could not be expanded: still say what else is wrong with the file, against the
+  // vault it names (when it names one plainly), so one run reports every error.
+  if (spec_.vault_path.empty()) return;
+  const VaultSpec* vault = vault_file(spec_.vault_path, spec_.vault.mark);
+  if (!vault) return;
+  CompileOptions options = options_.compile;
+  Diagnostics scratch;  // the vault's own errors are reported when the values are fixed
+  auto wc = compile(*vault, options, sources_, scratch);
+  if (wc) validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty());
+}
+
 void Study::validate_axes(const Workcell& wc, const Case& c) {
+  validate_names(wc, c.vault_path, c.scenario != nullptr);
   for (const Axis& axis : set_.axes) {
     const VarySpec& v = *axis.spec;
     if (v.files()) continue;
     auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == v.name; });
-    if (p == wc.parameters.end()) {
-      std::vector<std::string> names;
-      for (const Parameter& x : wc.parameters) names.push_back(x.name);
-      diag_.error(v.mark, fmt::format("vault '{}' ({}) has no parameter '{}' to vary{}", wc.name, c.vault_path, v.name,
-                                      did_you_mean(v.name, names)));
-      continue;
-    }
+    if (p == wc.parameters.end()) continue;  // reported by validate_names
     if (axis.has_unit && axis.dim != p->dim) {
       diag_.error(v.mark, fmt::format("the values of '{}' are {}, but parameter '{}' of vault '{}' is {}", v.name,
                                       a_dim(axis.dim), v.name, wc.name, a_dim(p->dim)));
@@ -187,7 +211,6 @@ bool Study::prepare_case(Case& c) {
   if (!wc) return false;
   if (!c.library) c.library = std::make_shared<const std::vector<ObjectType>>(wc->types);
   validate_axes(*wc, c);
-  for (const Metric& m : metrics_) m.validate(*wc, c.scenario != nullptr, diag_);
   GeometryModel geometry = build_geometry(*wc, diag_, &meshes_);  // reads every mesh once, before the forks
   if (c.scenario && !diag_.has_errors()) plan_scenario(*c.scenario, *wc, geometry, diag_);
   return !diag_.has_errors();
@@ -200,6 +223,7 @@ bool Study::prepare(const std::string& path) {
   auto set = expand_variants(spec_, diag_);
   for (const MetricSpec& m : spec_.metrics)
     if (auto metric = Metric::parse(m, diag_)) metrics_.push_back(std::move(*metric));
+  if (!set) report_with_vault();
   if (!set || diag_.has_errors()) return false;
   set_ = std::move(*set);
 
@@ -256,7 +280,21 @@ bool Study::prepare(const std::string& path) {
   manifest_.sweep = spec_.name;
   manifest_.sweep_sha256 = sha256_hex(sources_.text(sources_.find(spec_.path)));
   std::vector<std::string> digests;
-  for (uint32_t f = 1; f < sources_.size(); ++f) digests.push_back(sha256_hex(sources_.text(f)));
+  // Each input by name: the standard library's files under "<library>/", the rest relative to the
+  // sweep file's folder, so the same study elsewhere names them alike.
+  const fs::path library = fs::absolute(standard_library_dir()).lexically_normal();
+  const fs::path home = fs::absolute(spec_.path).parent_path().lexically_normal();
+  for (uint32_t f = 1; f < sources_.size(); ++f) {
+    std::string digest = sha256_hex(sources_.text(f));
+    digests.push_back(digest);
+    fs::path p = fs::absolute(sources_.path(f)).lexically_normal();
+    fs::path in_library = p.lexically_relative(library);
+    std::string name = !in_library.empty() && *in_library.begin() != ".." ? "<library>/" + in_library.string()
+                                                                           : p.lexically_relative(home).string();
+    manifest_.inputs.emplace_back(name.empty() ? p.string() : name, digest);
+  }
+  std::sort(manifest_.inputs.begin(), manifest_.inputs.end());
+  manifest_.inputs.erase(std::unique(manifest_.inputs.begin(), manifest_.inputs.end()), manifest_.inputs.end());
   std::sort(digests.begin(), digests.end());
   manifest_.inputs_sha256 = sha256_hex(fmt::format("{}", fmt::join(digests, "\n")));
   manifest_.variants = set_.variants.size();

@@ -600,6 +600,12 @@ def plugins(sscs, root):
     if hall.get("status") != "pass" or hall.get("margin") != 0 or store.get("status") != "fail" or \
             store.get("margin") != -1 or store.get("unit") != "m" or "must be lower than 7.00: it is 8.00" not in store.get("message", ""):
         fail(f"room_door_rule results: {results}", p)
+    # SARIF: checks of plugin classes share the rule sscs/plugin; the message names the class.
+    p = run(sscs, root, ["check", rooms, "--plugins", examples, "--format", "sarif"])
+    sarif = [r for r in json.loads(p.stdout)["runs"][0]["results"]] if p.returncode == 1 else []
+    if len(sarif) != 1 or sarif[0]["ruleId"] != "sscs/plugin" or \
+            not sarif[0]["message"]["text"].startswith("store door height (plugin class room_door_rule)"):
+        fail(f"SARIF of a plugin class: {sarif}", p)
     p = run(sscs, root, ["check", rooms])
     if p.returncode != 2 or "no loaded plugin provides constraint class 'room_door_rule'" not in p.stderr:
         fail("a plugin class without --plugins is an input error", p)
@@ -863,6 +869,13 @@ def sweep(sscs, root):
             open(golden, "w").write(actual)
         if actual != open(golden).read():
             fail(f"results.csv differs from {golden} (SSCS_UPDATE_GOLDEN=1 to update after review)")
+        # The manifest names every input with its own sha256 (issue 17).
+        import hashlib
+        manifest = json.load(open(os.path.join(full, "sweep.json")))
+        inputs = {i["file"]: i["sha256"] for i in manifest["inputs"]}
+        for name, path in (("store.yaml", "scenarios/sweeps/store.yaml"), ("<library>/types/rack.yaml", "library/types/rack.yaml")):
+            if inputs.get(name) != hashlib.sha256(open(os.path.join(root, path), "rb").read()).hexdigest():
+                fail(f"sweep.json inputs lack {name} with its sha256: {sorted(inputs)}")
         # Every row against hand counts: 4 bays x rows racks of 3 levels of 4 drums; the cart
         # rule is aisle >= 1.219 + 0.3 m; the lane rule 1 + 1.067 rows + (rows - 1) aisle + 1.5 <= 9.
         rows = rows_of(full)
