@@ -53,12 +53,13 @@ struct Common {
   bool allow_vault_plugins = false;
   std::string color = "auto";
 
-  void add_to(CLI::App* app) {
+  /// The options every command takes; `with_set` false for commands that read no vault (types).
+  void add_to(CLI::App* app, bool with_set = true) {
     app->add_option("--library", library, "extra type-library folder (repeatable)");
     app->add_option("--plugins", plugins, "load the plugins in this folder (repeatable)");
     app->add_flag("--allow-vault-plugins", allow_vault_plugins, "also load the folders a vault's plugins: key names");
     app->add_option("--package-path", package_paths, "folder of ROS packages for URDF package:// references (repeatable)");
-    app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
+    if (with_set) app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
     app->add_flag("--quiet", quiet, "print only summaries and errors");
     app->add_option("--color", color, "colour output: auto, always or never")
         ->check(CLI::IsMember({"auto", "always", "never"}));
@@ -794,7 +795,7 @@ int run_cli(int argc, char** argv) {
     std::string types_format = "text";
     CLI::App* types_cmd = app.add_subcommand("types", "list the object types, devices and constraint kinds");
     types_cmd->add_option("--format", types_format, "text or json")->check(CLI::IsMember({"text", "json"}));
-    common.add_to(types_cmd);
+    common.add_to(types_cmd, /*with_set=*/false);  // types reads no vault: --set would do nothing
 
     std::string export_vault, export_out;
     CLI::App* export_cmd = app.add_subcommand("export", "the composed workcell as one 3D file (glb, gltf, obj, stl)");

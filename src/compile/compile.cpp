@@ -744,8 +744,12 @@ void check_values(CompileState& st) {
       std::string text = written != o.attributes.end() ? written->value.text : def.default_value.text;
       if (def.type == AttrType::Integer) {
         if (v < -2147483648.0 || v > 2147483647.0) {
-          st.diag.error(mark, fmt::format("integer attribute '{}' of '{}' is {}, outside the 32-bit range "
-                                          "-2147483648 to 2147483647", def.name, obj.name, text));
+          // The range the value may take: the type's, within what 32 bits hold.
+          double lo = std::max(-2147483648.0, def.min_si.value_or(-2147483648.0));
+          double hi = std::min(2147483647.0, def.max_si.value_or(2147483647.0));
+          st.diag.error(mark, fmt::format("integer attribute '{}' of '{}' is {}, outside {} {:.0f} to {:.0f}", def.name, obj.name, text,
+                                          def.min_si || def.max_si ? fmt::format("the range of type '{}':", type.name)
+                                                                   : "the 32-bit range", lo, hi));
           continue;
         }
         if (v != std::floor(v)) {

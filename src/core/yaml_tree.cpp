@@ -6,6 +6,7 @@
 #include <yaml-cpp/parser.h>
 
 #include <algorithm>
+#include <optional>
 #include <istream>
 #include <streambuf>
 #include <unordered_map>
@@ -255,6 +256,58 @@ class Builder : public YAML::EventHandler {
   std::unordered_map<YAML::anchor_t, uint32_t> anchors_;
 };
 
+namespace {
+
+/// The innermost flow collection (`{` or `[`) still open where a parse error was found, if any:
+/// its line and column (1-based) and the bracket that would close it. yaml-cpp reports a missing
+/// `}` at the next line as "illegal block entry"; this names what is missing and where.
+struct Unclosed {
+  uint32_t line = 0, column = 0, line_end = 0;
+  char closer = 0;
+};
+std::optional<Unclosed> unclosed_flow(const std::string& text, uint32_t error_line, uint32_t error_column) {
+  std::vector<Unclosed> open;
+  uint32_t line = 1, column = 0;
+  char quote = 0;
+  bool comment = false;
+  std::vector<uint32_t> line_ends;
+  for (size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    ++column;
+    if (line > error_line || (line == error_line && column >= error_column)) break;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      comment = false;
+      if (quote == '\'') quote = 0;  // a single-quoted scalar may span lines; be lenient
+      continue;
+    }
+    if (comment) continue;
+    if (quote) {
+      if (c == '\\' && quote == '"') ++i, ++column;
+      else if (c == quote) quote = 0;
+      continue;
+    }
+    if (c == '#' && (column == 1 || text[i - 1] == ' ' || text[i - 1] == '\t')) comment = true;
+    else if (c == '"' || c == '\'') quote = c;
+    else if (c == '{' || c == '[') open.push_back({line, column, 0, c == '{' ? '}' : ']'});
+    else if ((c == '}' || c == ']') && !open.empty()) open.pop_back();
+  }
+  if (open.empty()) return std::nullopt;
+  Unclosed u = open.back();
+  // Where the closer belongs: the end of the opening line's content (before a comment).
+  size_t start = 0;
+  for (uint32_t l = 1; l < u.line && start != std::string::npos; ++l) start = text.find('\n', start) + 1;
+  std::string_view rest(text.data() + start, text.find('\n', start) == std::string::npos ? text.size() - start : text.find('\n', start) - start);
+  size_t hash = rest.find(" #");
+  std::string_view content = rest.substr(0, hash == std::string_view::npos ? rest.size() : hash);
+  while (!content.empty() && (content.back() == ' ' || content.back() == '\r')) content.remove_suffix(1);
+  u.line_end = static_cast<uint32_t>(content.size() + 1);
+  return u;
+}
+
+}  // namespace
+
 Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const Limits& limits) {
   Document doc;
   doc.file_ = file;
@@ -278,8 +331,14 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
     diag.error(e.mark, e.message);
     return Document{};
   } catch (const YAML::Exception& e) {
-    diag.error({file, static_cast<uint32_t>(e.mark.line + 1), static_cast<uint32_t>(e.mark.column + 1)},
-               "invalid YAML: " + e.msg);
+    const auto line = static_cast<uint32_t>(e.mark.line + 1), column = static_cast<uint32_t>(e.mark.column + 1);
+    if (auto u = unclosed_flow(text, line, column); u && u->line < line) {
+      diag.error({file, u->line, u->line_end},
+                 fmt::format("invalid YAML: expected '{}' here to close the '{}' opened at column {} (the parser stopped at "
+                             "line {}: {})", u->closer, u->closer == '}' ? '{' : '[', u->column, line, e.msg));
+    } else {
+      diag.error({file, line, column}, "invalid YAML: " + e.msg);
+    }
     return Document{};
   }
   return doc;

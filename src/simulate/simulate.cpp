@@ -557,10 +557,20 @@ class Run {
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
       nlohmann::ordered_json travel = nlohmann::ordered_json::object();
-      for (int k = 0; k < m.dof(); ++k)
-        travel[m.joint(k).name] = r9(m.joint(k).type == JointType::Revolute ? dr.travel[k] * kRad : dr.travel[k]);
+      // Totals per joint kind: degrees and metres never add up.
+      nlohmann::ordered_json totals = nlohmann::ordered_json::object();
+      double revolute = 0, prismatic = 0;
+      bool any_revolute = false, any_prismatic = false;
+      for (int k = 0; k < m.dof(); ++k) {
+        bool turns = m.joint(k).type == JointType::Revolute;
+        travel[m.joint(k).name] = r9(turns ? dr.travel[k] * kRad : dr.travel[k]);
+        (turns ? revolute : prismatic) += turns ? dr.travel[k] * kRad : dr.travel[k];
+        (turns ? any_revolute : any_prismatic) = true;
+      }
+      if (any_revolute) totals["revolute_deg"] = r9(revolute);
+      if (any_prismatic) totals["prismatic_m"] = r9(prismatic);
       devices[wc_.objects[dr.object].name] = {{"joint_travel", travel}, {"joint_travel_units", "deg for revolute joints, m for prismatic"},
-                                              {"tool_path_length", r9(dr.path)}};
+                                              {"joint_travel_total", totals}, {"tool_path_length", r9(dr.path)}};
     }
     j["devices"] = std::move(devices);
     j["min_clearance"] = min_clearance_json();

@@ -395,6 +395,10 @@ def simulate(sscs, root):
         if not lines[0].split() == [again, gantry] or not any(l.startswith("cycle time (s)") and f"{arm_time:.3f}" in l
                                                                and f"{gantry_time:.3f}" in l for l in lines):
             fail("compare text", p)
+        # Joint travel per joint kind: the arm turns (deg), the gantry slides (m); never one sum.
+        travel = {l.split("  ")[0].strip(): l for l in lines if "joint travel" in l}
+        if sorted(travel) != ["Gantry joint travel, prismatic (m)", "Robot joint travel, revolute (deg)"]:
+            fail(f"compare joint travel rows: {sorted(travel)}", p)
         p = run(sscs, root, ["compare", again, gantry, "--format", "csv"])
         rows = p.stdout.splitlines()
         if len(rows) != 3 or not rows[0].startswith("run,scenario,status,cycle time (s)"):

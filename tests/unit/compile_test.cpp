@@ -109,8 +109,14 @@ TEST_F(Compile, InheritanceCyclesAndUnknownBasesAreErrors) {
 }
 
 TEST_F(Compile, IntegerRangeIsChecked) {
+  // The range a user can act on: the type's (rack levels 1 to 10), not the int32 one.
   EXPECT_EQ(first_error("objects:\n  - {type: rack, name: R, levels: -2147483649}\n"),
-            "integer attribute 'levels' of 'R' is -2147483649, outside the 32-bit range -2147483648 to 2147483647");
+            "integer attribute 'levels' of 'R' is -2147483649, outside the range of type 'rack': 1 to 10");
+  // Without a range in the type, the 32-bit one.
+  diag = Diagnostics{};
+  options.library_dirs = {type_dir({{"counter", "sscs: 1\ntype: counter\nattributes:\n  n: {type: integer, default: 0}\n"}})};
+  EXPECT_EQ(first_error("objects:\n  - {type: counter, name: C, n: 3000000000}\n"),
+            "integer attribute 'n' of 'C' is 3000000000, outside the 32-bit range -2147483648 to 2147483647");
 }
 
 TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
