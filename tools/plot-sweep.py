@@ -8,10 +8,22 @@ Needs python3-matplotlib (Debian; tools/setup.sh installs it).
 """
 import argparse
 import csv
+import os
 import sys
 from collections import defaultdict
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    # tools/setup.sh installs Debian's python3-matplotlib, for Debian's /usr/bin/python3. Another
+    # python3 first on PATH (pyenv, a venv) lacks it: run again with Debian's, once.
+    debian = "/usr/bin/python3"
+    if os.path.realpath(sys.executable) != os.path.realpath(debian) and os.path.exists(debian) and \
+            not os.environ.get("SSCS_PLOT_REEXEC"):
+        os.environ["SSCS_PLOT_REEXEC"] = "1"
+        os.execv(debian, [debian] + sys.argv)
+    sys.exit(f"plot-sweep.py: matplotlib is not installed for {sys.executable}: run tools/setup.sh (it installs "
+             f"Debian's python3-matplotlib for /usr/bin/python3), or pip install matplotlib for this interpreter")
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402

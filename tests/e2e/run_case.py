@@ -906,6 +906,19 @@ def sweep(sscs, root):
                             "--x", "aisel", "--y", "capacity", "--out", png], capture_output=True, text=True)
         if q.returncode == 0 or "has no column 'aisel'" not in q.stderr:
             fail(f"tools/plot-sweep.py with an unknown column: {q.stderr}")
+        # Run as a user would, `tools/plot-sweep.py` with whatever python3 is first on PATH (a pyenv
+        # or venv one lacks Debian's matplotlib: the script runs again with /usr/bin/python3).
+        plot = os.path.join(tmp, "plot2.png")
+        q = subprocess.run(["python3", os.path.join(root, "tools", "plot-sweep.py"), os.path.join(full, "results.csv"),
+                            "--x", "aisle", "--y", "capacity", "--out", plot], capture_output=True, text=True)
+        if q.returncode != 0 or not os.path.exists(plot):
+            fail(f"tools/plot-sweep.py with the python3 on PATH ({shutil.which('python3')}): {q.stderr}")
+        # Without matplotlib at all (-S: no site packages), a message that says what to do.
+        q = subprocess.run([sys.executable, "-S", os.path.join(root, "tools", "plot-sweep.py"), os.path.join(full, "results.csv"),
+                            "--x", "aisle", "--y", "capacity", "--out", plot], capture_output=True, text=True,
+                           env=dict(os.environ, SSCS_PLOT_REEXEC="1"))
+        if q.returncode == 0 or "matplotlib is not installed" not in q.stderr or "tools/setup.sh" not in q.stderr:
+            fail(f"tools/plot-sweep.py without matplotlib: {q.stderr}")
         # --jobs 1 and shards: the same tables, byte for byte.
         one = os.path.join(tmp, "one")
         p = run(sscs, root, ["sweep", study, "--out", one, "--jobs", "1", "--quiet"])
