@@ -24,7 +24,7 @@ command -v ffmpeg >/dev/null && video=(--video "$out/arm-loads-drum.mp4")
 "$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/arm-loads-drum" --force "${video[@]}" --quiet
 grep -E '"(status|cycle_time)"' "$out/arm-loads-drum/summary.json" | sed 's/^ */  /'
 echo
-echo "exit status $status (1: the demo has failing constraints on purpose; see README)"
+echo "exit status $status (1: the demo vault has 4 failing constraints on purpose: door height, fissile mass, the container bay overlapping the store, an unreachable pick point; README.md lists them and why)"
 echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
 echo "3D model: $out/demo.glb (open in Blender or any glTF viewer)"
 echo "still image: $out/demo.png"

@@ -209,6 +209,7 @@ class Planner {
       end = move_joints(st, m, target, f, start);
     } else if (const auto* mt = std::get_if<MoveToSpec>(&step.action)) {
       auto target = target_pose(mt->target);
+      if (!mt->target.pose) ps.target = wc_.find_object(mt->target.ref.text.substr(0, mt->target.ref.text.rfind('.')));
       Eigen::Isometry3d offset = literal_pose(mt->offset, "offset", diag_);
       if (!target) return t0;
       Eigen::Isometry3d X = *target * offset;

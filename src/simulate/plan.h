@@ -59,6 +59,7 @@ struct PlannedStep {
   int device = -1;
   int object = -1;            ///< grasp / release
   double start = 0, end = 0;
+  int target = -1;            ///< move_to: the object whose frame the tool goes to (it may touch it)
 };
 
 /// A failure found while planning: `unreachable` or `singular`, at a step.

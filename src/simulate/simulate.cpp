@@ -48,6 +48,7 @@ constexpr double kApart = 0.1;                // s apart before a touching pair 
 constexpr double kRad = 180 / 3.14159265358979323846;
 constexpr double kClearanceReach = 2.0;       // m: clearances beyond this are not tracked
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
+constexpr double kTargetTouch = 0.001;        // m: the tool touching its move_to target by less is no collision
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {
@@ -237,14 +238,25 @@ class Run {
 
   /// The gripper touching a load it handles (about to grasp, holding, has just released) is
   /// not a collision: the tool's part (and the parts it carries) against handled(device, t).
+  /// Nor is the tool touching, by less than kTargetTouch, the object its current move_to goes to
+  /// (a tool set down on a drum's top, as `reach` lets the tool touch its target).
   bool gripper_meets_its_load(const PhysicsContact& c, double t) const {
     for (auto [dev, part, other] : {std::tuple{c.a, c.part_a, c.b}, std::tuple{c.b, c.part_b, c.a}}) {
       if (dev < 0 || part < 0 || other < 0 || !geometry_.objects[dev].device) continue;
       if (!geometry_.objects[dev].device->tool_parts()[part]) continue;
       std::vector<int> loads = handled(dev, t);
       if (std::find(loads.begin(), loads.end(), other) != loads.end()) return true;
+      if (c.depth < kTargetTouch && move_target(dev, t) == other) return true;
     }
     return false;
+  }
+
+  /// The object the device's latest move (started by t) goes to, when it is a move_to an object.
+  int move_target(int device, double t) const {
+    int target = -1;
+    for (const PlannedStep& ps : plan_.steps)
+      if (ps.device == device && ps.start <= t && (ps.kind == "move_to" || ps.kind == "move_joints")) target = ps.target;
+    return target;
   }
 
   bool held_anywhere(int o) const {

@@ -19,6 +19,7 @@ import hashlib
 import json
 import shutil
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -1258,8 +1259,117 @@ def schemas(sscs, root):
     print(f"ok schemas ({len(good)} good files valid; {rejected} bad files rejected by the schemas, {len(listed)} listed)")
 
 
+def fenced_blocks(text):
+    """The fenced code blocks of a Markdown text, in order: (language, body) with the indentation
+    of the fence removed."""
+    blocks, lines, i = [], text.splitlines(), 0
+    while i < len(lines):
+        stripped = lines[i].lstrip()
+        if stripped.startswith("```"):
+            indent = len(lines[i]) - len(stripped)
+            lang, body = stripped[3:].strip(), []
+            i += 1
+            while i < len(lines) and not lines[i].lstrip().startswith("```"):
+                body.append(lines[i][indent:] if lines[i][:indent].strip() == "" else lines[i])
+                i += 1
+            blocks.append((lang, "\n".join(body) + "\n"))
+        i += 1
+    return blocks
+
+
+def section(text, heading):
+    start = text.index(heading)
+    end = text.find("\n## ", start + len(heading))
+    return text[start:end if end >= 0 else len(text)]
+
+
+def tutorials(sscs, root):
+    """Every tutorial step as written in the docs (issue 17): the YAML blocks of README's tutorial
+    and of docs/simulation.md's are taken out of the Markdown, written where the text says, and run;
+    what the text says they do is checked."""
+    readme = section(open(os.path.join(root, "README.md")).read(), "## Tutorial: a type, a vault")
+    blocks = fenced_blocks(readme)
+    with tempfile.TemporaryDirectory() as tmp:
+        # 1. A type, 2. a vault: as written the last line is an input error, as the text says.
+        type_yaml, vault_yaml = [b for lang, b in blocks if lang == "yaml"][:2]
+        os.makedirs(os.path.join(tmp, "mylib", "types"))
+        open(os.path.join(tmp, "mylib", "types", "crate.yaml"), "w").write(type_yaml)
+        open(os.path.join(tmp, "store.yaml"), "w").write(vault_yaml)
+        p = run(sscs, tmp, ["check", "store.yaml"])
+        if p.returncode != 2 or "use an expr constraint for expressions" not in p.stderr:
+            fail("README step 2: the bound with arithmetic should be an input error", p)
+        fix = re.search(r"change it to\s+`(expr: \"[^`]*\")`", readme).group(1)
+        bad_line = [l for l in vault_yaml.splitlines() if "last crate leaves a 2 m bay" in l][0]
+        fixed = vault_yaml.replace(bad_line, re.sub(r"bound: \[.*\], severity", fix + ", severity", bad_line))
+        open(os.path.join(tmp, "store.yaml"), "w").write(fixed)
+        # 3. Check it: passes; --set aisle=3 prints what the text shows.
+        p = run(sscs, tmp, ["check", "store.yaml"])
+        if p.returncode != 0 or p.stdout.strip() != "3 passed, 0 failed, 0 warnings":
+            fail("README step 3: the fixed vault should pass", p)
+        shown = [b for lang, b in blocks if lang == "" and "--set" not in b][0]
+        p = run(sscs, tmp, ["check", "store.yaml", "--set", "aisle=3"])
+        if p.stdout != shown:
+            fail(f"README step 3: --set aisle=3 prints\n{p.stdout}\nthe README shows\n{shown}", p)
+        # 5. A robot that must reach: the objects and constraints added as the text says, then
+        # every command of the block with its output as shown.
+        robot = [b for lang, b in blocks if lang == "yaml"][2]
+        obj = [l for l in robot.splitlines() if l.strip().startswith("- {type: arm6")]
+        cons = [l for l in robot.splitlines() if l.strip().startswith("- {name:")]
+        text = fixed.replace("constraints:\n", "\n".join(obj) + "\nconstraints:\n") + "\n".join(cons) + "\n"
+        open(os.path.join(tmp, "store.yaml"), "w").write(text)
+        session = [b for lang, b in blocks if lang == "" and "$ build/src/sscs" in b][0]
+        for chunk in re.split(r"^\$ ", session, flags=re.M)[1:]:
+            command, *expected = chunk.splitlines()
+            args = shlex.split(command.split("#")[0])[1:]
+            p = run(sscs, tmp, args)
+            if p.stdout.splitlines() != expected:
+                fail(f"README step 5: {command} prints\n{p.stdout}\nthe README shows\n" + "\n".join(expected), p)
+
+    # docs/simulation.md: "Tutorial: your first scenario".
+    sim = section(open(os.path.join(root, "docs", "simulation.md")).read(), "## Tutorial: your first scenario")
+    steps = [b for lang, b in fenced_blocks(sim) if lang == "yaml"]
+    with tempfile.TemporaryDirectory() as tmp:
+        shutil.copy(os.path.join(root, "scenarios", "drum-transfer", "cell.yaml"), tmp)
+        p = run(sscs, tmp, ["check", "cell.yaml"])
+        if p.returncode != 0:
+            fail("the tutorial's cell should pass its checks", p)
+        header = steps[0][:steps[0].index("steps:\n") + len("steps:\n")]
+
+        def simulate(name, text):
+            open(os.path.join(tmp, "my-first.yaml"), "w").write(text)
+            out = os.path.join(tmp, name)
+            p = run(sscs, tmp, ["simulate", "my-first.yaml", "--out", out, "--quiet", "--no-frames"])
+            events = [json.loads(l) for l in open(os.path.join(out, "events.jsonl"))] if os.path.isdir(out) else []
+            summary = json.load(open(os.path.join(out, "summary.json"))) if os.path.isdir(out) else {}
+            return p, events, summary
+
+        # 1. Move joints: ok, 1.97 s; with j2: 20 the wrist strikes the drum twice.
+        p, events, summary = simulate("step1", steps[0])
+        if p.returncode != 0 or summary.get("status") != "ok" or round(summary["cycle_time"], 2) != 1.97:
+            fail(f"simulation tutorial step 1: {summary.get('status')}, {summary.get('cycle_time')}", p)
+        p, events, summary = simulate("step1b", steps[0].replace("j2: -20", "j2: 20"))
+        hits = sorted((e["a"], e["b"]) for e in events if e["kind"] == "collision")
+        if p.returncode != 1 or hits != [("Robot.link5", "Drum_1"), ("Robot.link6", "Drum_1")]:
+            fail(f"simulation tutorial step 1 with j2: 20: collisions {hits}", p)
+        # 2. Move the tool: ok; a misspelt frame is an input error with "did you mean".
+        p, events, summary = simulate("step2", header + steps[1])
+        if p.returncode != 0 or summary.get("status") != "ok" or any(e["kind"] == "collision" for e in events):
+            fail(f"simulation tutorial step 2: {[e for e in events if e['kind'] != 'step_start' and e['kind'] != 'step_end']}", p)
+        p, _, _ = simulate("step2b", header + steps[1].replace("Drum_1.top", "Drum_1.tpo", 1))
+        if p.returncode != 2 or "did you mean 'top'" not in p.stderr or "my-first.yaml:5:" not in p.stderr:
+            fail("simulation tutorial step 2 with a misspelt frame", p)
+        # 3. Pick and place: grasp, release, landed on the rack, at rest; ok.
+        p, events, summary = simulate("step3", header + steps[2])
+        kinds = [e["kind"] for e in events]
+        landed = [e for e in events if e["kind"] == "landed"]
+        if p.returncode != 0 or summary.get("status") != "ok" or not all(k in kinds for k in ("grasp", "release", "at_rest")) or \
+                len(landed) != 1 or landed[0]["on"] != "Rack_A":
+            fail(f"simulation tutorial step 3: {[e for e in events if e['kind'] not in ('step_start', 'step_end')]}", p)
+    print("ok tutorials")
+
+
 MODES = {"simulate": simulate, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
-         "schemas": schemas, "sweep": sweep, "cli": cli}
+         "schemas": schemas, "sweep": sweep, "cli": cli, "tutorials": tutorials}
 
 
 def main():
