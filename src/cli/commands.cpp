@@ -144,23 +144,39 @@ int run_check(const Common& common, const CheckArgs& args) {
     if (baseline) reports.back().baseline = compare_with_baseline(cells[i], reports.back().report, *baseline);
   }
   timer.lap("check");
-  std::string output;
-  if (format == "json") {
-    output = format_json(reports, sources);
-  } else if (format == "junit") {
-    output = format_junit(reports, sources, args.strict);
-  } else if (format == "sarif") {
-    output = format_sarif(reports, sources, args.strict, std::filesystem::current_path().string());
-  } else {
-    // --quiet shortens what the terminal shows, never a report written to a file.
-    bool terminal = args.out.empty();
-    output = format_text(reports, sources, {terminal && common.color_for(stdout), terminal && common.quiet, args.strict});
-  }
-  timer.lap("report");
+  // JSON, JUnit and SARIF are streamed as they are made (to stdout, or to a temporary file renamed
+  // into place when complete): a report of 100,000 results is never held whole in memory.
+  auto write_report = [&](std::ostream& out) {
+    if (format == "json") {
+      write_json(out, reports, sources);
+    } else if (format == "junit") {
+      write_junit(out, reports, sources, args.strict);
+    } else if (format == "sarif") {
+      write_sarif(out, reports, sources, args.strict, std::filesystem::current_path().string());
+    } else {
+      // --quiet shortens what the terminal shows, never a report written to a file.
+      bool terminal = args.out.empty();
+      out << format_text(reports, sources, {terminal && common.color_for(stdout), terminal && common.quiet, args.strict});
+    }
+  };
   if (args.out.empty()) {
-    std::cout << output << std::flush;
+    write_report(std::cout);
+    std::cout << std::flush;
+    timer.lap("report");
   } else {
-    if (std::string err = write_file_atomic(args.out, output); !err.empty()) {
+    const std::string tmp = temp_path_for(args.out);
+    std::string err;
+    std::error_code ec_ignored;
+    {
+      std::ofstream file(tmp, std::ios::binary);
+      if (file) write_report(file);
+      file.flush();
+      if (!file) err = fmt::format("cannot write '{}': {}", args.out, std::strerror(errno));
+    }
+    if (err.empty()) err = commit_file(tmp, args.out);
+    else std::filesystem::remove(tmp, ec_ignored);
+    timer.lap("report");
+    if (!err.empty()) {
       std::cerr << "sscs: error: " << err << "\n";
       return kInputError;
     }

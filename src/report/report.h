@@ -2,6 +2,7 @@
 /// The report stage: check results -> text, JSON, JUnit, SARIF; the comparison with a baseline
 /// report. Formatting only; no checking here.
 #include <map>
+#include <ostream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -93,13 +94,18 @@ struct TextOptions {
 };
 
 std::string format_text(const std::vector<VaultReport>& reports, const Sources& sources, const TextOptions& options);
-/// One vault: the report object of cli.md. Several: {"sscs": 1, "reports": [...]}.
+/// One vault: the report object of cli.md. Several: {"sscs": 1, "reports": [...]}. Written as it
+/// goes (no tree of the whole report); format_json returns the same text.
+void write_json(std::ostream& out, const std::vector<VaultReport>& reports, const Sources& sources);
 std::string format_json(const std::vector<VaultReport>& reports, const Sources& sources);
-/// One <testsuite> per vault, one <testcase> per check.
+/// One <testsuite> per vault, one <testcase> per check; streamed like write_json.
+void write_junit(std::ostream& out, const std::vector<VaultReport>& reports, const Sources& sources, bool strict);
 std::string format_junit(const std::vector<VaultReport>& reports, const Sources& sources, bool strict);
 /// SARIF 2.1.0: one run, one result per failing check located at its constraint; rules per
 /// constraint kind; `baselineState` with a baseline (fixed ones as `absent`). File URIs are
 /// relative to `base_dir` (the working directory) with uriBaseId SRCROOT when inside it.
+void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
+                 const std::string& base_dir);
 std::string format_sarif(const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
                          const std::string& base_dir);
 

@@ -1,11 +1,13 @@
 // SARIF 2.1.0 for code-scanning tools: a failing check becomes an annotation on the constraint's
 // line in the vault file of a pull request.
 #include <filesystem>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "core/digest.h"
+#include "report/json_writer.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -73,8 +75,8 @@ nlohmann::ordered_json number_or_null(const std::optional<double>& v) {
 
 }  // namespace
 
-std::string format_sarif(const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
-                         const std::string& base_dir) {
+void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
+                 const std::string& base_dir) {
   nlohmann::ordered_json rules = nlohmann::ordered_json::array();
   for (const Rule& r : kRules)
     rules.push_back({{"id", fmt::format("sscs/{}", r.kind)},
@@ -83,7 +85,17 @@ std::string format_sarif(const std::vector<VaultReport>& reports, const Sources&
                      {"fullDescription", {{"text", fmt::format("{} (sscs constraint kind `{}`)", r.text, r.kind)}}},
                      {"defaultConfiguration", {{"level", "error"}}},
                      {"properties", {{"tags", {"design-rule", r.kind}}}}});
-  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  // The document up to "results", then each result as it is made: no tree of them all.
+  JsonWriter w(out);
+  w.begin_object();
+  w.field("$schema", "https://json.schemastore.org/sarif-2.1.0.json");
+  w.field("version", "2.1.0");
+  w.key("runs");
+  w.begin_array();
+  w.begin_object();
+  w.field("tool", nlohmann::ordered_json{{"driver", {{"name", "sscs"}, {"semanticVersion", SSCS_VERSION}, {"rules", std::move(rules)}}}});
+  w.key("results");
+  w.begin_array();
   for (const VaultReport& vr : reports) {
     const Workcell& wc = *vr.workcell;
     for (size_t i = 0; i < vr.report.results.size(); ++i) {
@@ -113,7 +125,7 @@ std::string format_sarif(const std::vector<VaultReport>& reports, const Sources&
       res["properties"] = {{"vault", wc.name},      {"constraint", c.name},       {"status", status_name(r.status)},
                            {"subject", subject},     {"lhs", number_or_null(r.lhs)}, {"rhs", number_or_null(r.rhs)},
                            {"margin", number_or_null(r.margin)}, {"unit", r.margin_unit()}};
-      results.push_back(std::move(res));
+      w.json(res);
     }
     if (!vr.baseline) continue;
     // Baseline failures that are gone: `absent` results (kind pass, level none), at the
@@ -132,20 +144,20 @@ std::string format_sarif(const std::vector<VaultReport>& reports, const Sources&
       res["partialFingerprints"] = {{"sscsResult/v1", fingerprint(wc.name, g.constraint, g.subject)}};
       res["baselineState"] = "absent";
       res["properties"] = {{"vault", wc.name}, {"constraint", g.constraint}, {"subject", g.subject}};
-      results.push_back(std::move(res));
+      w.json(res);
     }
   }
-  nlohmann::ordered_json run;
-  run["tool"] = {{"driver",
-                  {{"name", "sscs"},
-                   {"semanticVersion", SSCS_VERSION},
-                   {"rules", std::move(rules)}}}};
-  run["results"] = std::move(results);
-  nlohmann::ordered_json j;
-  j["$schema"] = "https://json.schemastore.org/sarif-2.1.0.json";
-  j["version"] = "2.1.0";
-  j["runs"] = nlohmann::ordered_json::array({std::move(run)});
-  return j.dump(2) + "\n";
+  w.end_array();
+  w.end_object();
+  w.end_array();
+  w.end_object();
+}
+
+std::string format_sarif(const std::vector<VaultReport>& reports, const Sources& sources, bool strict,
+                         const std::string& base_dir) {
+  std::ostringstream out;
+  write_sarif(out, reports, sources, strict, base_dir);
+  return out.str();
 }
 
 }  // namespace sscs

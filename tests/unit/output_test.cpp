@@ -1,4 +1,12 @@
 // What runs write besides their logs: edited YAML in resolved/, digests of inputs, zip bundles.
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "report/json_writer.h"
+#include "core/units.h"
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -73,6 +81,90 @@ TEST(Archive, ZipRoundTripIsReproducible) {
   EXPECT_NE(error.find("no missing in this archive"), std::string::npos) << error;
   EXPECT_LT(fs::file_size(dir / "1.zip"), 1000u);  // deflated
   fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sscs
+
+namespace sscs {
+namespace {
+
+// Property: the streaming writer's text is nlohmann's dump(2) of the same tree, for random trees
+// of random strings (control characters, quotes, UTF-8), numbers (whole, tiny, huge, negative)
+// and nesting, empty containers included. The report goldens rest on this.
+TEST(JsonWriterProperty, WritesWhatNlohmannDumps) {
+  std::mt19937_64 rng(42);
+  auto random_string = [&] {
+    static const std::vector<std::string> pieces = {"a", "Rack_1", " ", "\"", "\\", "\n", "\t", "\x01", "\x1b[2J", "é", "日本",
+                                                    "/", "\x7f", "margin -0.6", "{", "}", ":"};
+    std::string s;
+    for (int n = std::uniform_int_distribution<int>(0, 5)(rng); n > 0; --n)
+      s += pieces[std::uniform_int_distribution<size_t>(0, pieces.size() - 1)(rng)];
+    return s;
+  };
+  auto random_number = [&] {
+    switch (std::uniform_int_distribution<int>(0, 5)(rng)) {
+      case 0: return static_cast<double>(std::uniform_int_distribution<int>(-1000, 1000)(rng));
+      case 1: return std::uniform_real_distribution<double>(-1, 1)(rng) * 1e-12;
+      case 2: return std::uniform_real_distribution<double>(-1, 1)(rng) * 1e20;
+      case 3: return stable(std::uniform_real_distribution<double>(-100, 100)(rng));
+      case 4: return 1e-9;
+      default: return std::uniform_real_distribution<double>(-1e6, 1e6)(rng);
+    }
+  };
+  std::function<void(nlohmann::ordered_json&, JsonWriter&, int)> build = [&](nlohmann::ordered_json& j, JsonWriter& w, int depth) {
+    int kind = depth > 3 ? std::uniform_int_distribution<int>(0, 3)(rng) : std::uniform_int_distribution<int>(0, 5)(rng);
+    switch (kind) {
+      case 0: { std::string s = random_string(); j = s; w.string(s); break; }
+      case 1: { double d = random_number(); j = d; w.number(d); break; }
+      case 2: { int64_t n = std::uniform_int_distribution<int64_t>(-100000, 100000)(rng); j = n; w.integer(n); break; }
+      case 3: { if (rng() % 2) { j = true; w.boolean(true); } else { j = nullptr; w.null(); } break; }
+      case 4: {
+        j = nlohmann::ordered_json::array();
+        w.begin_array();
+        for (int n = std::uniform_int_distribution<int>(0, 4)(rng); n > 0; --n) {
+          nlohmann::ordered_json child;
+          build(child, w, depth + 1);
+          j.push_back(std::move(child));
+        }
+        w.end_array();
+        break;
+      }
+      default: {
+        j = nlohmann::ordered_json::object();
+        w.begin_object();
+        for (int n = std::uniform_int_distribution<int>(0, 4)(rng); n > 0; --n) {
+          std::string k = "k" + std::to_string(n) + random_string();
+          if (j.contains(k)) continue;
+          w.key(k);
+          nlohmann::ordered_json child;
+          build(child, w, depth + 1);
+          j[k] = std::move(child);
+        }
+        w.end_object();
+      }
+    }
+  };
+  for (int i = 0; i < 500; ++i) {
+    std::ostringstream out;
+    JsonWriter w(out);
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+    w.begin_object();
+    w.key("root");
+    nlohmann::ordered_json child;
+    build(child, w, 0);
+    j["root"] = std::move(child);
+    // A small tree written through json() sits at depth like the rest.
+    nlohmann::ordered_json small = {{"a", {1, 2.5, "x"}}, {"b", nlohmann::ordered_json::object()}};
+    w.field("small", small);
+    j["small"] = small;
+    w.end_object();
+    ASSERT_EQ(out.str(), j.dump(2) + "\n") << "case " << i;
+  }
+  // Bytes that are no UTF-8 become U+FFFD instead of an exception.
+  std::string text;
+  append_json_string(text, "a\xff" "b");
+  EXPECT_EQ(text, "\"a\xEF\xBF\xBD" "b\"");
 }
 
 }  // namespace

@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <cmath>
 #include <numbers>
 
 #include "core/units.h"
@@ -67,6 +71,27 @@ TEST(Units, FileUnitsAreDegreesForAngles) {
   EXPECT_NEAR(si_to_file(std::numbers::pi, Dim::Angle), 180.0, 1e-12);
   EXPECT_DOUBLE_EQ(si_to_file(2.5, Dim::Length), 2.5);
   EXPECT_EQ(known_units(Dim::Angle), "deg, rad");
+}
+
+}  // namespace
+}  // namespace sscs
+
+namespace sscs {
+namespace {
+
+// Property: stable() rounds to 12 significant digits exactly as printf("%.12g") + strtod, over
+// random magnitudes and mantissas (reports and goldens rest on it).
+TEST(UnitsProperty, StableIsPrintfTwelveDigits) {
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 200000; ++i) {
+    double v = std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), std::uniform_int_distribution<int>(-80, 80)(rng));
+    if (i % 7 == 0) v = std::round(v * 1000) / 1000;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.12g", v);
+    double expected = std::strtod(buf, nullptr);
+    if (expected == 0) expected = 0.0;
+    ASSERT_EQ(stable(v), expected) << buf;
+  }
 }
 
 }  // namespace

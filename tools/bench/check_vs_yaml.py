@@ -3,7 +3,10 @@
 side by side with bare yaml-cpp (YAML::LoadFile + a visit of every scalar) on the same file.
 
 Prints wall time and peak resident memory of both and the ratios (targets: time <= 0.6x,
-memory <= 0.25x). usage: check_vs_yaml.py [--build DIR] [--objects N] [--constraints M] [--runs K]
+memory <= 0.25x). With --format json (or junit, sarif) it also runs `sscs check --format json
+--out FILE` side by side with the text report and prints what the streamed report adds over the
+text one (issue 17's target: at most 10 % time and 10 MB).
+usage: check_vs_yaml.py [--build DIR] [--objects N] [--constraints M] [--runs K] [--format F]
 """
 import argparse
 import os
@@ -33,6 +36,7 @@ def main():
     ap.add_argument("--objects", type=int, default=20000)
     ap.add_argument("--constraints", type=int, default=200000)
     ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--format", default="text", choices=["text", "json", "junit", "sarif"])
     a = ap.parse_args()
     sscs = os.path.join(a.build, "src", "sscs")
     bare = os.path.join(a.build, "tools", "bench", "bare_yaml_parse")
@@ -43,12 +47,27 @@ def main():
         size = os.path.getsize(vault) / 1e6
         print(f"vault: {a.objects} objects, {a.constraints} constraints, {size:.1f} MB")
         results = {"sscs check": [], "bare yaml-cpp": []}
-        for _ in range(a.runs):  # interleaved, so drift affects both alike
+        report = f"sscs check --format {a.format}"
+        if a.format != "text":
+            results[report] = []
+        for _ in range(a.runs):  # interleaved, so drift affects all alike
             results["sscs check"].append(measure([sscs, "check", vault, "--quiet"]))
             results["bare yaml-cpp"].append(measure([bare, vault]))
-    best = {k: (min(w for w, _ in v), max(m for _, m in v)) for k, v in results.items()}
+            if a.format != "text":
+                out = os.path.join(tmp, "report." + {"json": "json", "junit": "xml", "sarif": "sarif"}[a.format])
+                results[report].append(measure([sscs, "check", vault, "--quiet", "--format", a.format, "--out", out]))
+                size = os.path.getsize(out) / 1e6
+    best = {k: (min(w for w, _ in v), min(m for _, m in v)) for k, v in results.items()}
     for name, (wall, mem) in best.items():
-        print(f"{name:>14}: {wall:7.2f} s (best of {a.runs})  {mem:8.1f} MiB peak")
+        print(f"{name:>28}: {wall:7.2f} s (best of {a.runs})  {mem:8.1f} MiB peak")
+    if a.format != "text":
+        dt = best[report][0] - best["sscs check"][0]
+        dm = best[report][1] - best["sscs check"][1]
+        rt = best[report][0] / best["sscs check"][0]
+        print(f"{a.format} report ({size:.1f} MB) over the text report: +{dt:.2f} s ({100 * (rt - 1):.1f} %), "
+              f"+{dm:.1f} MiB  (target <= 10 % and 10 MB)  {'met' if rt <= 1.10 and dm <= 10 else 'MISSED'}")
+        print(f"ratio time   {best[report][0] / best['bare yaml-cpp'][0]:.3f}, memory "
+              f"{best[report][1] / best['bare yaml-cpp'][1]:.3f} of bare yaml-cpp with the {a.format} report")
     t = best["sscs check"][0] / best["bare yaml-cpp"][0]
     m = best["sscs check"][1] / best["bare yaml-cpp"][1]
     print(f"ratio time   {t:.3f}  (target <= 0.6)  {'met' if t <= 0.6 else 'MISSED'}")
