@@ -56,6 +56,9 @@ double read(const Operand& op, const State& st) {
   }
 }
 
+/// The rounding a difference of values of magnitude `scale` may carry (a few ulps).
+double rounding_slack(double scale) { return 8 * std::numeric_limits<double>::epsilon() * std::max(scale, 1e-300); }
+
 void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   double lhs = read(b.lhs, values), rhs = read(b.rhs, values);
   if (std::isnan(lhs) || std::isnan(rhs)) {
@@ -66,12 +69,14 @@ void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   double L = lhs + b.lhs_tol_si, R = rhs + b.rhs_tol_si;
   double margin = 0;
   bool pass = false;
+  // A difference of exactly eps (as written) holds whatever binary rounding made of it.
+  const double slack = rounding_slack(std::max({std::abs(L), std::abs(R), b.eps_si}));
   switch (b.op) {
     case RelOp::LT: margin = R - L; pass = margin > 0; break;
-    case RelOp::LE: margin = R - L; pass = margin >= -b.eps_si; break;
+    case RelOp::LE: margin = R - L; pass = margin >= -b.eps_si - slack; break;
     case RelOp::GT: margin = L - R; pass = margin > 0; break;
-    case RelOp::GE: margin = L - R; pass = margin >= -b.eps_si; break;
-    case RelOp::EQ: margin = b.eps_si - std::abs(L - R); pass = margin >= 0; break;
+    case RelOp::GE: margin = L - R; pass = margin >= -b.eps_si - slack; break;
+    case RelOp::EQ: margin = b.eps_si - std::abs(L - R); pass = margin >= -slack; break;
   }
   r.dim = b.dim;
   r.lhs = si_to_file(lhs, b.dim);
@@ -128,6 +133,14 @@ double margin_of(const ExprCheck::MarginNode& n, const State& values, std::vecto
 void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   std::vector<double> scratch;
   double v = evaluate(*e.expr, e.inputs, values, scratch);
+  // An input that is not a number (the min, max or mean of nothing; a size of no geometry) makes
+  // the result undefined even where a comparison with NaN would say "false": an error.
+  for (const Operand& in : e.inputs)
+    if (std::isnan(read(in, values))) {
+      r.status = Status::Error;
+      r.message = fmt::format("'{}' could not be evaluated: {} is not a number", e.text, in.text);
+      return;
+    }
   if (std::isnan(v)) {
     r.status = Status::Error;
     r.message = fmt::format("'{}' could not be evaluated (not a number)", e.text);
@@ -156,7 +169,11 @@ constexpr double kTouch = kTouchTolerance;  // touching within this is not overl
 
 /// A spatial margin within `eps` of the limit is the limit: a clearance of exactly its minimum, or
 /// an object flush with its container's face, holds although rounding left it at -4e-16.
-double at_limit(double margin, double eps) { return std::abs(margin) <= eps ? 0.0 : margin; }
+/// Distances come from GJK run to a tolerance of 1e-9 m: a margin of exactly eps is met within it.
+constexpr double kDistanceAccuracy = 2e-9;
+double at_limit(double margin, double eps) {
+  return std::abs(margin) <= eps + kDistanceAccuracy + rounding_slack(std::max(eps, std::abs(margin))) ? 0.0 : margin;
+}
 
 std::string pair_text(const Workcell& wc, int a, int b) {
   return fmt::format("{} and {}", wc.objects[a].name, wc.objects[b].name);
@@ -197,6 +214,9 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
       for (int a : sc.objects)
         for (int b : sc.others) {
           if (a == b || !seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
+          // Selectors on either side: like a set, an object is not checked against its own
+          // room (an ancestor or descendant); a pair named one by one is checked as asked.
+          if (sc.objects.size() * sc.others.size() > 1 && wc.related(a, b)) continue;
           auto d = world.distance(a, b);
           if (!d) {
             result({a, b}, Status::Error, {}, {}, {}, fmt::format("{}: one of them has no geometry", pair_text(wc, a, b)));
@@ -219,9 +239,9 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
         if (wc.related(a, b)) continue;  // a rack stands inside its room
         auto d = world.distance(a, b);
         if (!d) continue;
-        double margin = overlap ? *d : at_limit(*d - min, eps);
+        double margin = at_limit(*d - min, overlap ? std::max(kTouch, eps) : eps);
         note(margin, a, b);
-        bool fails = overlap ? *d < -std::max(kTouch, eps) : margin < 0;
+        bool fails = margin < 0;
         if (!fails) continue;
         if (overlap)
           result({a, b}, Status::Fail, *d, 0.0, *d,

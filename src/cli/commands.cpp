@@ -636,12 +636,24 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     return kInputError;
   }
   if (out.empty() && bundle.empty()) out = "run-" + spec->name;
-  // An earlier run (perhaps of another scenario file with the same name) is never replaced silently.
+  // An earlier run (perhaps of another scenario file with the same name) is never replaced
+  // silently; and --force replaces only a run (a folder with summary.json, a bundle .zip) or an
+  // empty folder, never a folder of something else.
   for (const std::string& target : {out, bundle}) {
-    std::error_code exists_ec;
-    if (!args.force && !target.empty() && std::filesystem::exists(std::filesystem::symlink_status(target, exists_ec))) {
-      std::cerr << fmt::format("sscs: error: '{}' exists (an earlier run?); pass --force to replace it, or --out another folder\n",
-                               target);
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (target.empty() || !fs::exists(fs::symlink_status(target, ec))) continue;
+    const bool folder = fs::is_directory(fs::symlink_status(target, ec));
+    const bool a_run = folder ? fs::exists(fs::path(target) / "summary.json", ec) || fs::is_empty(target, ec)
+                              : fs::path(target).extension() == ".zip" && target == bundle;
+    if (!a_run) {
+      std::cerr << fmt::format("sscs: error: '{}' exists and is not a run of sscs simulate; it is never replaced, even with "
+                               "--force: choose another {}\n", target, target == bundle ? "--bundle file" : "--out folder");
+      return kInputError;
+    }
+    if (!args.force) {
+      std::cerr << fmt::format("sscs: error: '{}' exists (an earlier run?); pass --force to replace it, or choose another {}\n",
+                               target, target == bundle ? "--bundle file" : "--out folder");
       return kInputError;
     }
   }

@@ -11,12 +11,15 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <map>
 #include <tuple>
 #include <unordered_map>
 
 #include "kinematics/device.h"
+
+#include <fmt/format.h>
 
 namespace sscs {
 
@@ -521,6 +524,11 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       return result();
     }
     case Shape::Kind::Mesh: {
+      if (!cs.mesh->closed) {
+        *why = fmt::format("the container's mesh '{}' is open (a surface, no inside): inside needs a closed mesh",
+                           std::filesystem::path(cs.mesh->path).filename().string());
+        return std::nullopt;
+      }
       if (faces != SpatialCheck::All) {
         *why = "a mesh container has no named faces: use faces: all";
         return std::nullopt;

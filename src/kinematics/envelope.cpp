@@ -34,15 +34,21 @@ Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& 
       for (int k = 0; k < n; ++k) cq[k] = (corner >> k) & 1 ? hi[k] : lo[k];
       add(cq);
     }
-  if (n <= 3) {
-    constexpr int kSteps = 20;
-    int total = 1;
-    for (int k = 0; k < n; ++k) total *= kSteps + 1;
-    for (int i = 0; i < total; ++i) {
-      for (int k = 0, rest = i; k < n; ++k, rest /= kSteps + 1) cq[k] = lo[k] + (hi[k] - lo[k]) * (rest % (kSteps + 1)) / kSteps;
+  // A grid over the ranges (ends and middles included: a vehicle's yaw 0 at its x limit is where
+  // its forks reach farthest), as fine as 50,000 configurations allow; then random samples.
+  int values = 2;
+  while (n > 0 && std::pow(values + 1, n) <= 50000 && values < 21) ++values;
+  if (values % 2 == 0) --values;  // odd: the middle of every range is on the grid
+  if (n > 0 && std::pow(values, n) <= 50000) {
+    long total = 1;
+    for (int k = 0; k < n; ++k) total *= values;
+    for (long i = 0; i < total; ++i) {
+      long rest = i;
+      for (int k = 0; k < n; ++k, rest /= values) cq[k] = lo[k] + (hi[k] - lo[k]) * static_cast<double>(rest % values) / (values - 1);
       add(cq);
     }
-  } else {
+  }
+  if (n > 3) {
     std::mt19937_64 rng(1);
     for (int i = 0; i < 20000; ++i) {
       for (int k = 0; k < n; ++k) cq[k] = std::uniform_real_distribution<double>(lo[k], hi[k])(rng);

@@ -300,6 +300,14 @@ def simulate(sscs, root):
         if p.returncode != 2 or f"'{out}' exists (an earlier run?); pass --force to replace it" not in p.stderr or \
                 open(os.path.join(out, "summary.json"), "rb").read() != before or p.stdout.strip():
             fail("a second run into the same folder must be refused", p)
+        # --force replaces runs only: a folder of something else is never deleted.
+        precious = os.path.join(tmp, "precious")
+        os.makedirs(precious)
+        open(os.path.join(precious, "notes.txt"), "w").write("keep me")
+        p = run(sscs, root, ["simulate", arm, "--out", precious, "--quiet", "--no-frames", "--force"])
+        if p.returncode != 2 or "is not a run of sscs simulate; it is never replaced, even with --force" not in p.stderr or \
+                not os.path.exists(os.path.join(precious, "notes.txt")):
+            fail("--force must not delete a folder that is no run", p)
         # A second run gives the same bytes, frames too; --force replaces a folder.
         again = os.path.join(tmp, "again")
         os.makedirs(again)

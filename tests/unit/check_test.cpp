@@ -1,4 +1,6 @@
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 
@@ -257,6 +259,44 @@ TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
   ASSERT_EQ(r.results.size(), 1u);
   EXPECT_EQ(r.results[0].status, Status::Pass) << r.results[0].message;
   EXPECT_NEAR(*r.results[0].margin, 0.0, 1e-12);
+}
+
+TEST_F(SpatialRules, ATolerranceEqualToTheGapHoldsAndSelectorPairsSkipTheRoom) {
+  options.library_dirs = {type_dir({{"block", kBlock}})};
+  Workcell wc = must_compile(
+      "parameters: {e: 1 mm}\nobjects:\n  - {type: room, name: Hall, length: 10, width: 6, height: 4}\n"
+      "  - {type: drum, name: D1, parent: Hall, location: [2, 2, 0]}\n"
+      "  - {type: block, name: A, parent: Hall, location: [5, 1, 0]}\n"
+      "  - {type: block, name: B, parent: Hall, location: [6.428, 1, 0]}\n"
+      "constraints:\n"
+      "  - {name: eq at eps, bound: {lhs: D1.diameter, op: EQ, rhs: 0.573, eps: e}}\n"
+      "  - {name: le at eps, bound: {lhs: D1.diameter, op: LE, rhs: 0.571, eps: 1 mm}}\n"
+      "  - {name: clearance at eps, clearance: {a: A, b: B, min: 0.429 m, eps: 1 mm}}\n"
+      "  - {name: drums off everything, clearance: {a: \"D*\", b: \"*\", min: 0.1}}\n");
+  CheckReport r = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(r.results.size(), 4u);
+  for (const CheckResult& x : r.results) EXPECT_EQ(x.status, Status::Pass) << wc.constraints[x.constraint].name << ": " << x.message;
+  EXPECT_EQ(*r.results[2].margin, 0.0);
+}
+
+TEST_F(SpatialRules, AnOpenMeshIsNoContainerAndTheMinOfNothingIsNoVerdict) {
+  auto types = std::vector<std::pair<std::string, std::string>>{
+      {"shell", "sscs: 1\ntype: shell\ngeometry:\n  - mesh: {file: open.obj}\n"}};
+  options.library_dirs = {type_dir(types)};
+  // A unit cube without its top: a surface.
+  std::ofstream(std::filesystem::path(options.library_dirs[0]) / "open.obj")
+      << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+         "f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  Workcell wc = must_compile(
+      "objects:\n  - {type: shell, name: S}\n  - {type: drum, name: D, location: [0.5, 0.5, 0.05], diameter: 0.2, height: 0.2}\n"
+      "constraints:\n  - {name: in, inside: {objects: D, container: S}}\n"
+      "  - {name: empty min, expr: \"min(Zz_*.height) >= 0\", allow_empty: true}\n");
+  CheckReport r = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(r.results.size(), 2u);
+  EXPECT_EQ(r.results[0].status, Status::Error);
+  EXPECT_NE(r.results[0].message.find("is open (a surface, no inside)"), std::string::npos) << r.results[0].message;
+  EXPECT_EQ(r.results[1].status, Status::Error);
+  EXPECT_NE(r.results[1].message.find("min(Zz_*.height) is not a number"), std::string::npos) << r.results[1].message;
 }
 
 }  // namespace
