@@ -99,12 +99,68 @@ bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::Col
   return inside_mesh(p, v, so.mesh->triangles);
 }
 
+/// A solid shape at a placement, for point queries: whether a point is inside, and how far it is
+/// from the surface. Meshes must be closed.
+struct Solid {
+  const Shape& shape;
+  Eigen::Isometry3d X_shape_world;
+  std::vector<Eigen::Vector3d> vertices;  // meshes: scaled, in the shape's frame
+  Solid(const fcl::CollisionObjectd* o) : shape(shape_of(o)), X_shape_world(Eigen::Isometry3d(o->getTransform()).inverse()) {
+    if (shape.kind == Shape::Kind::Mesh)
+      for (const Eigen::Vector3d& v : shape.mesh->vertices) vertices.push_back(v.cwiseProduct(shape.scale));
+  }
+  /// Distance from the surface of a point inside (negative or zero when outside).
+  double depth_of(const Eigen::Vector3d& p_world) const {
+    const Eigen::Vector3d p = X_shape_world * p_world;
+    switch (shape.kind) {
+      case Shape::Kind::Box: return ((shape.box_size / 2) - p.cwiseAbs()).minCoeff();
+      case Shape::Kind::Cylinder: return std::min(shape.radius - p.head<2>().norm(), shape.length / 2 - std::abs(p.z()));
+      case Shape::Kind::Sphere: return shape.radius - p.norm();
+      case Shape::Kind::Mesh: {
+        if (!inside_mesh(p, vertices, shape.mesh->triangles)) return 0;
+        double d = INFINITY;
+        for (const Eigen::Vector3i& t : shape.mesh->triangles)
+          d = std::min(d, (p - closest_on_triangle(p, vertices[t.x()], vertices[t.y()], vertices[t.z()])).norm());
+        return d;
+      }
+    }
+    return 0;
+  }
+};
+
+/// How deep two solids (closed meshes or primitives) overlap, sampled on a grid over the
+/// intersection of their bounds: the largest, over points inside both, distance to the nearer
+/// of the two surfaces (the radius of the largest ball the grid finds inside both). It catches
+/// what the vertices miss: meshes crossing with coincident faces (pallets in a row too close,
+/// whose boards share their planes). 0 when they only touch.
+double sampled_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  const fcl::AABBd &ba = a->getAABB(), &bb = b->getAABB();
+  Eigen::Vector3d lo = ba.min_.cwiseMax(bb.min_), hi = ba.max_.cwiseMin(bb.max_);
+  if ((hi - lo).minCoeff() <= kTouchTolerance) return 0;
+  Solid sa(a), sb(b);
+  constexpr int kSteps = 12;
+  double depth = 0;
+  for (int i = 0; i < kSteps; ++i)
+    for (int j = 0; j < kSteps; ++j)
+      for (int k = 0; k < kSteps; ++k) {
+        Eigen::Vector3d p = lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / kSteps);
+        double da = sa.depth_of(p);
+        if (da <= depth) continue;
+        depth = std::max(depth, std::min(da, sb.depth_of(p)));
+      }
+  return depth;
+}
+
 /// The depth of a collision FCL found between two shapes, with closed meshes as solids.
 double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, const fcl::CollisionResultd& res) {
   double depth = 0;
   for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
-  if (depth <= kTouchTolerance && (closed_mesh(shape_of(a)) || closed_mesh(shape_of(b))))
+  const bool a_solid = shape_of(a).kind != Shape::Kind::Mesh || closed_mesh(shape_of(a));
+  const bool b_solid = shape_of(b).kind != Shape::Kind::Mesh || closed_mesh(shape_of(b));
+  if (depth <= kTouchTolerance && (closed_mesh(shape_of(a)) || closed_mesh(shape_of(b)))) {
     depth = std::max({depth, depth_in_closed_mesh(a, b), depth_in_closed_mesh(b, a)});
+    if (depth <= kTouchTolerance && a_solid && b_solid) depth = std::max(depth, sampled_overlap_depth(a, b));
+  }
   // A contact without depth (two open surfaces) still is a collision: count it as touching.
   return std::max(depth, 0.0);
 }

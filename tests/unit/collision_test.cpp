@@ -263,6 +263,13 @@ TEST_F(MeshSolid, ClosedMeshCubesAgreeWithBoxesOverRandomPlacements) {
   for (int i = 0; i < 120; ++i) {
     double s1 = size(rng), s2 = size(rng), x = pos(rng), y = pos(rng), z = pos(rng);
     double r = ang(rng), p = ang(rng), w = ang(rng);
+    if (i % 3 == 0) {
+      // Axis-aligned on a coarse grid: coincident faces and shared planes, where surface-only
+      // tests see no depth.
+      auto snap = [](double v) { return std::round(v * 4) / 4; };
+      s1 = std::max(0.25, snap(s1)), s2 = std::max(0.25, snap(s2)), x = snap(x), y = snap(y), z = snap(z);
+      r = p = w = 0;
+    }
     std::string objects;
     const char* pairs[3][2] = {{"cube", "cube"}, {"mcube", "mcube"}, {"cube", "mcube"}};
     for (int k = 0; k < 3; ++k)
@@ -293,6 +300,19 @@ TEST_F(MeshSolid, ClosedMeshCubesAgreeWithBoxesOverRandomPlacements) {
   EXPECT_GT(overlaps, 20);
   EXPECT_GT(apart, 20);
   EXPECT_GT(containments, 3);
+}
+
+TEST_F(MeshSolid, ClosedMeshesCrossingWithCoincidentFacesOverlap) {
+  // Axis-aligned mesh cubes half a side apart share their top, bottom and side planes: no vertex
+  // of one lies strictly inside the other, FCL reports no depth, yet they overlap (pallets in a
+  // row on too short a pitch). Exactly a side apart they only touch.
+  Built b = build_objects("  - {type: mcube, name: A}\n  - {type: mcube, name: B, location: [0.5, 0, 0]}\n"
+                          "  - {type: mcube, name: C, location: [1.0, 0, 0]}\n  - {type: cube, name: X, location: [10.5, 0, 0]}\n"
+                          "  - {type: mcube, name: Y, location: [10, 0, 0]}\n");
+  CollisionWorld w(b.geometry);
+  EXPECT_LT(*w.distance(0, 1), -0.2);           // the largest ball inside both: radius 0.25
+  EXPECT_GT(*w.distance(0, 2), -kTouchTolerance);  // touching
+  EXPECT_LT(*w.distance(3, 4), -0.2);           // a box and a mesh cube alike
 }
 
 }  // namespace
