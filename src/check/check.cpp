@@ -289,11 +289,14 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
   if (out.size() > first) return;
   // Nothing failed: one passing result for the whole set.
   std::vector<int> subjects = sc.objects;
+  subjects.insert(subjects.end(), sc.others.begin(), sc.others.end());
   if (sc.container >= 0) subjects.push_back(sc.container);
   std::sort(subjects.begin(), subjects.end());
+  subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
   std::string where = closest ? fmt::format("; closest: {}", pair_text(wc, closest->first, closest->second)) : "";
+  const size_t n = subjects.size() - (sc.container >= 0 ? 1 : 0);
   result(subjects, Status::Pass, {}, {}, smallest,
-         fmt::format("{} objects checked{}", sc.objects.size(),
+         fmt::format("{} object{} checked{}", n, n == 1 ? "" : "s",
                      smallest ? where : (sc.kind == SpatialCheck::Kind::Inside ? "" : "; no pair within reach of the limit")));
 }
 

@@ -332,8 +332,9 @@ int run_types(const Common& common, const std::string& format) {
     return kOk;
   }
   for (const ObjectType& t : types) {
-    std::cout << fmt::format("{} ({}{}{}) - {}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
-                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin, t.description);
+    std::cout << fmt::format("{} ({}{}{}){}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
+                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin,
+                             t.description.empty() ? "" : " - " + t.description);
     for (const AttributeDef& a : t.attributes) {
       const char* unit = file_unit(a.dim);
       std::string range;

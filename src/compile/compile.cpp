@@ -572,7 +572,12 @@ void expand_objects(CompileState& st) {
         continue;
       }
       for (size_t d = 0; d < sk.index.size(); ++d) {
-        auto n = parse_number(sk.index[d].text);
+        size_t before = st.diag.count();
+        auto n = st.number_now(sk.index[d], Dim::None, "an array skip index", /*parameters_only=*/true);
+        if (st.diag.count() != before) {
+          skip_used[s] = 1;
+          break;
+        }
         if (!n || *n != std::floor(*n) || *n < 1 || *n > count[d]) {
           st.diag.error(sk.index[d].mark, fmt::format("expected an index from 1 to {} in array skip, found '{}'", count[d], sk.index[d].text));
           skip_used[s] = 1;
@@ -605,10 +610,13 @@ void expand_objects(CompileState& st) {
           }
           add(name, a.name_pattern.mark, {i, j, k}, {(i - 1) * pitch[0], (j - 1) * pitch[1], (k - 1) * pitch[2]});
         }
-    for (size_t s = 0; s < a.skip.size(); ++s)
-      if (!skip_used[s])
-        st.diag.error(a.skip[s].mark, fmt::format("array skip '{}' matches no position of the array",
-                                                  a.skip[s].glob.present ? a.skip[s].glob.text : "this index"));
+    for (size_t s = 0; s < a.skip.size(); ++s) {
+      if (skip_used[s]) continue;
+      const Scalar& g = a.skip[s].glob;
+      bool number = g.present && parse_number(g.text).has_value();
+      st.diag.error(a.skip[s].mark, fmt::format("array skip '{}' matches no position of the array{}", g.present ? g.text : "this index",
+                                                number ? fmt::format(" (an index is a list: [[{}]] leaves out position {})", g.text, g.text) : ""));
+    }
   }
   if (st.wc.objects.size() > kMaxObjects) return;
   // Unique names, then the sorted index used by every lookup.

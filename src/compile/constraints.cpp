@@ -147,7 +147,8 @@ uint8_t inside_faces(CompileState& st, const InsideSpec& in) {
   for (const Scalar& f : in.faces) {
     auto it = std::find_if(std::begin(kFaces), std::end(kFaces), [&](const auto& k) { return k.first == f.text; });
     if (it == std::end(kFaces)) {
-      st.diag.error(f.mark, fmt::format("expected all, walls, or a list of x- x+ y- y+ z- z+ for inside faces, found '{}'", f.text));
+      st.diag.error(f.mark, fmt::format("expected all, walls, or a list of x- x+ y- y+ z- z+ for inside faces, found '{}'{}", f.text,
+                                        did_you_mean(f.text, {"walls", "all", "x-", "x+", "y-", "y+", "z-", "z+"})));
       continue;
     }
     if (mask & it->second) st.diag.error(f.mark, fmt::format("face '{}' is listed twice", f.text));

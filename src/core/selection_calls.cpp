@@ -1,6 +1,7 @@
 #include "core/selection_calls.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include <fmt/format.h>
 
@@ -24,6 +25,37 @@ constexpr std::pair<const char*, SelectionCall::Kind> kNames[] = {
     {"count", SelectionCall::Kind::Count}, {"sum", SelectionCall::Kind::Sum},       {"min", SelectionCall::Kind::Min},
     {"max", SelectionCall::Kind::Max},     {"avg", SelectionCall::Kind::Avg},       {"min_margin", SelectionCall::Kind::MinMargin},
     {"margin", SelectionCall::Kind::Margin}};
+
+/// Whether one of the top-level arguments of a call is a selector with an attribute (`type:drum.h`,
+/// `Rack_*.levels`): not a product (`2*x`) nor a nested call (`count(R_*)`).
+bool selector_argument(std::string_view args) {
+  int depth = 0;
+  size_t start = 0;
+  for (size_t i = 0; i <= args.size(); ++i) {
+    if (i < args.size() && (args[i] == '(' || args[i] == ')')) depth += args[i] == '(' ? 1 : -1;
+    if (i < args.size() && !(args[i] == ',' && depth == 0)) continue;
+    std::string_view arg = args.substr(start, i - start);
+    start = i + 1;
+    size_t a = arg.find_first_not_of(" \t");
+    if (a == std::string_view::npos) continue;
+    arg.remove_prefix(a);
+    if (arg.starts_with("type:")) return true;
+    size_t n = 0;
+    while (n < arg.size() && (std::isalnum(static_cast<unsigned char>(arg[n])) || arg[n] == '_' || arg[n] == '-' || arg[n] == '*' || arg[n] == '?')) ++n;
+    std::string_view head = arg.substr(0, n);
+    if (n >= arg.size() || arg[n] != '.') continue;
+    // A glob's star stands next to '_' or '-' of a name or ends it (Rack_*, Drum_*_1); a
+    // product's stands between operands (x*D1.height).
+    for (size_t k = 0; k < head.size(); ++k) {
+      if (head[k] == '?') return true;
+      if (head[k] != '*') continue;
+      bool before = k > 0 && (head[k - 1] == '_' || head[k - 1] == '-');
+      bool after = k + 1 == head.size() || head[k + 1] == '_' || head[k + 1] == '-';
+      if (before || after) return true;
+    }
+  }
+  return false;
+}
 
 }  // namespace
 
@@ -92,6 +124,10 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
     SelectionCall::Kind kind = named->second;
     // min(a, b) and max(a, b) are the functions of every expression, not aggregates.
     if ((kind == SelectionCall::Kind::Min || kind == SelectionCall::Kind::Max) && comma != std::string_view::npos) {
+      std::string_view args = text.substr(open + 1, close == text.size() ? text.size() - open - 1 : close - open - 1);
+      if (selector_argument(args))
+        return fail(open + 1, fmt::format("{}() with two arguments takes numbers; over a selection write {}(SELECTOR.attribute) "
+                                          "alone", word, word));
       out.text += word;
       i = end;
       continue;
@@ -113,6 +149,8 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
         break;
       case SelectionCall::Kind::Count:
         if (arg.empty()) return fail(call.arg_position, "count() needs a selector, as count(type:drum)");
+        if (arg.find('.') != std::string::npos)
+          return fail(call.arg_position, fmt::format("count() takes a selector without an attribute, as count(type:drum); found '{}'", arg));
         call.selector = arg;
         break;
       default: {

@@ -333,9 +333,11 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
   } catch (const YAML::Exception& e) {
     const auto line = static_cast<uint32_t>(e.mark.line + 1), column = static_cast<uint32_t>(e.mark.column + 1);
     if (auto u = unclosed_flow(text, line, column); u && u->line < line) {
+      const auto lines = static_cast<uint32_t>(std::count(text.begin(), text.end(), '\n') + (text.empty() || text.back() == '\n' ? 0 : 1));
+      std::string where = line > lines ? "at the end of the file" : fmt::format("at line {}", line);
       diag.error({file, u->line, u->line_end},
-                 fmt::format("invalid YAML: expected '{}' here to close the '{}' opened at column {} (the parser stopped at "
-                             "line {}: {})", u->closer, u->closer == '}' ? '{' : '[', u->column, line, e.msg));
+                 fmt::format("invalid YAML: expected '{}' here to close the '{}' opened at column {} (the parser stopped {}: {})",
+                             u->closer, u->closer == '}' ? '{' : '[', u->column, where, e.msg));
     } else {
       diag.error({file, line, column}, "invalid YAML: " + e.msg);
     }
