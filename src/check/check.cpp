@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 namespace sscs {
@@ -84,14 +85,21 @@ void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   r.margin = si_to_file(margin, b.dim);
   r.status = pass ? Status::Pass : Status::Fail;
   if (pass && !values.describe_passes) return;
+  // Written straight into the message (a JSON report describes every pass: 100,000 of them).
+  const char* unit = file_unit(b.dim);
+  const char* space = *unit ? " " : "";
+  std::string& m = r.message;
+  m.clear();
+  auto out = std::back_inserter(m);
   auto side = [&](const Operand& op, double value, double tol) {
-    std::string s = op.kind != Operand::Kind::Constant ? fmt::format("{} = {}", op.text, with_unit(value, b.dim))
-                                                   : with_unit(value, b.dim);
-    if (tol != 0) s += fmt::format(" {} {}", tol < 0 ? "-" : "+", with_unit(std::abs(tol), b.dim));
-    return s;
+    if (op.kind != Operand::Kind::Constant) fmt::format_to(out, FMT_COMPILE("{} = "), op.text);
+    fmt::format_to(out, FMT_COMPILE("{:g}{}{}"), si_to_file(value, b.dim), space, unit);
+    if (tol != 0) fmt::format_to(out, FMT_COMPILE(" {} {:g}{}{}"), tol < 0 ? '-' : '+', si_to_file(std::abs(tol), b.dim), space, unit);
   };
-  r.message = fmt::format("{} {} {}: {}", side(b.lhs, lhs, b.lhs_tol_si), relop_symbol(b.op), side(b.rhs, rhs, b.rhs_tol_si),
-                          pass ? "holds" : "violated");
+  side(b.lhs, lhs, b.lhs_tol_si);
+  fmt::format_to(out, FMT_COMPILE(" {} "), relop_symbol(b.op));
+  side(b.rhs, rhs, b.rhs_tol_si);
+  m += pass ? ": holds" : ": violated";
 }
 
 double evaluate(const Expression& e, const std::vector<Operand>& inputs, const State& values,

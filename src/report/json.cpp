@@ -11,7 +11,7 @@ namespace {
 
 void number_or_null(JsonWriter& w, const std::optional<double>& v) {
   if (!v || !std::isfinite(*v)) w.null();
-  else w.number(stable(*v));
+  else w.stable_number(*v);
 }
 
 /// The baseline section: small, so built as a tree.

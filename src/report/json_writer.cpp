@@ -1,5 +1,7 @@
 #include "report/json_writer.h"
 
+#include "core/units.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -94,6 +96,48 @@ void append_json_number(std::string& out, double v) {
     out += text;
     if (text.find('.') == std::string_view::npos) out += ".0";
   }
+}
+
+void append_json_stable_number(std::string& out, double v) {
+  if (!std::isfinite(v) || v == 0) {
+    append_json_number(out, stable(v));
+    return;
+  }
+  // Most report numbers are short (0.851, 2.743): when the shortest text of v has at most 12
+  // significant digits, rounding to 12 leaves v as it is and the text is nlohmann's of v.
+  {
+    char shortest[40];
+    auto stop = fmt::format_to_n(shortest, sizeof shortest, FMT_COMPILE("{}"), v).out;
+    int significant = 0;
+    bool leading = true;
+    for (const char* c = shortest; c != stop && *c != 'e'; ++c) {
+      if (*c < '0' || *c > '9') continue;
+      if (leading && *c == '0') continue;
+      leading = false;
+      ++significant;
+    }
+    if (significant <= 12) {
+      append_json_number(out, v);
+      return;
+    }
+  }
+  // "%.12g" digits are those of the shortest text of stable(v) (12 < 15 significant digits round
+  // trip, and %g drops trailing zeros); only its exponent style differs from nlohmann's, so
+  // numbers %g writes with an exponent take the exact path.
+  char digits[40];
+  auto end = fmt::format_to_n(digits, sizeof digits, FMT_COMPILE("{:.12g}"), v).out;
+  std::string_view text(digits, static_cast<size_t>(end - digits));
+  if (text.find('e') != std::string_view::npos) {
+    append_json_number(out, stable(v));
+    return;
+  }
+  out += text;
+  if (text.find('.') == std::string_view::npos) out += ".0";
+}
+
+void JsonWriter::stable_number(double v) {
+  before_value();
+  append_json_stable_number(buffer_, v);
 }
 
 void JsonWriter::newline_indent() {

@@ -61,11 +61,14 @@ def main():
     for name, (wall, mem) in best.items():
         print(f"{name:>28}: {wall:7.2f} s (best of {a.runs})  {mem:8.1f} MiB peak")
     if a.format != "text":
-        dt = best[report][0] - best["sscs check"][0]
-        dm = best[report][1] - best["sscs check"][1]
-        rt = best[report][0] / best["sscs check"][0]
-        print(f"{a.format} report ({size:.1f} MB) over the text report: +{dt:.2f} s ({100 * (rt - 1):.1f} %), "
-              f"+{dm:.1f} MiB  (target <= 10 % and 10 MB)  {'met' if rt <= 1.10 and dm <= 10 else 'MISSED'}")
+        # Medians as well as bests: single runs on this machine vary by +-0.1 s.
+        median = {k: sorted(w for w, _ in v)[len(v) // 2] for k, v in results.items()}
+        for label, t_text, t_report in (("best", best["sscs check"][0], best[report][0]),
+                                        ("median", median["sscs check"], median[report])):
+            dm = best[report][1] - best["sscs check"][1]
+            rt = t_report / t_text
+            print(f"{a.format} report ({size:.1f} MB) over the text report, {label} of {a.runs}: +{t_report - t_text:.2f} s "
+                  f"({100 * (rt - 1):.1f} %), {dm:+.1f} MiB  (target <= 10 % and 10 MB)  {'met' if rt <= 1.10 and dm <= 10 else 'MISSED'}")
         print(f"ratio time   {best[report][0] / best['bare yaml-cpp'][0]:.3f}, memory "
               f"{best[report][1] / best['bare yaml-cpp'][1]:.3f} of bare yaml-cpp with the {a.format} report")
     t = best["sscs check"][0] / best["bare yaml-cpp"][0]
