@@ -43,7 +43,7 @@ void append_json_string(std::string& out, std::string_view s) {
   });
   if (plain) {
     out.append(s);
-    out += '"';
+    out.push_back('"');
     return;
   }
   for (size_t i = 0; i < s.size();) {
@@ -140,9 +140,20 @@ void JsonWriter::stable_number(double v) {
   append_json_stable_number(buffer_, v);
 }
 
+namespace {
+// ",\n" and the indentation of up to 60 levels, appended in one piece.
+constexpr size_t kMaxIndent = 120;
+const std::string kBreak = ",\n" + std::string(kMaxIndent, ' ');
+}  // namespace
+
 void JsonWriter::newline_indent() {
-  buffer_ += '\n';
-  buffer_.append(2 * stack_.size(), ' ');
+  size_t n = 2 * stack_.size();
+  if (n <= kMaxIndent) {
+    buffer_.append(kBreak.data() + 1, n + 1);
+  } else {
+    buffer_ += '\n';
+    buffer_.append(n, ' ');
+  }
 }
 
 void JsonWriter::before_value() {
@@ -156,10 +167,16 @@ void JsonWriter::before_value() {
 }
 
 void JsonWriter::key(std::string_view k) {
-  if (stack_.back().count++ > 0) buffer_ += ',';
-  newline_indent();
+  size_t n = 2 * stack_.size();
+  bool first = stack_.back().count++ == 0;
+  if (n <= kMaxIndent) {
+    buffer_.append(kBreak.data() + (first ? 1 : 0), n + (first ? 1 : 2));
+  } else {
+    if (!first) buffer_ += ',';
+    newline_indent();
+  }
   append_json_string(buffer_, k);
-  buffer_ += ": ";
+  buffer_.append(": ", 2);
   after_key_ = true;
 }
 
