@@ -131,10 +131,10 @@ std::optional<Quantity> parse_quantity(std::string_view text, std::string* unkno
 
 double stable(double v) {
   if (!std::isfinite(v) || v == 0) return v;
-  // fmt and from_chars round exactly, as printf("%.12g") and strtod do, at a fraction of the cost
+  // to_chars and from_chars round exactly, as printf("%.12g") and strtod do, at a fraction of the cost
   // (reports call this for every number).
   char buf[32];
-  auto end = fmt::format_to_n(buf, sizeof buf, FMT_COMPILE("{:.12g}"), v).out;
+  auto end = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12).ptr;  // printf("%.12g")
   double r = 0;
   std::from_chars(buf, end, r);
   return r == 0 ? 0.0 : r;  // no "-0"

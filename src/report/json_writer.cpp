@@ -3,6 +3,7 @@
 #include "core/units.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <iterator>
 
@@ -81,58 +82,17 @@ void append_json_number(std::string& out, double v) {
     out += "null";
     return;
   }
-  // nlohmann prints the shortest text that reads back as the same double, with ".0" on whole
-  // numbers and a two-digit exponent at least ("1e-09", "1e+16").
-  char digits[32];
-  auto end = fmt::format_to_n(digits, sizeof digits, FMT_COMPILE("{}"), v).out;
-  std::string_view text(digits, static_cast<size_t>(end - digits));
-  size_t e = text.find('e');
-  if (e != std::string_view::npos) {
-    std::string_view exponent = text.substr(e + 1);
-    char sign = exponent.front() == '-' ? '-' : '+';
-    if (exponent.front() == '-' || exponent.front() == '+') exponent.remove_prefix(1);
-    fmt::format_to(std::back_inserter(out), "{}e{}{:0>2}", text.substr(0, e), sign, exponent);
-  } else {
-    out += text;
-    if (text.find('.') == std::string_view::npos) out += ".0";
-  }
+  // nlohmann's own conversion (grisu2, the shortest digits it picks, its layout: "750.0",
+  // "1e-09"), so the bytes are those of dump() by construction; the property test holds it.
+  char text[64];
+  char* end = nlohmann::detail::to_chars(text, text + sizeof text, v);
+  out.append(text, static_cast<size_t>(end - text));
 }
 
 void append_json_stable_number(std::string& out, double v) {
-  if (!std::isfinite(v) || v == 0) {
-    append_json_number(out, stable(v));
-    return;
-  }
-  // Most report numbers are short (0.851, 2.743): when the shortest text of v has at most 12
-  // significant digits, rounding to 12 leaves v as it is and the text is nlohmann's of v.
-  {
-    char shortest[40];
-    auto stop = fmt::format_to_n(shortest, sizeof shortest, FMT_COMPILE("{}"), v).out;
-    int significant = 0;
-    bool leading = true;
-    for (const char* c = shortest; c != stop && *c != 'e'; ++c) {
-      if (*c < '0' || *c > '9') continue;
-      if (leading && *c == '0') continue;
-      leading = false;
-      ++significant;
-    }
-    if (significant <= 12) {
-      append_json_number(out, v);
-      return;
-    }
-  }
-  // "%.12g" digits are those of the shortest text of stable(v) (12 < 15 significant digits round
-  // trip, and %g drops trailing zeros); only its exponent style differs from nlohmann's, so
-  // numbers %g writes with an exponent take the exact path.
-  char digits[40];
-  auto end = fmt::format_to_n(digits, sizeof digits, FMT_COMPILE("{:.12g}"), v).out;
-  std::string_view text(digits, static_cast<size_t>(end - digits));
-  if (text.find('e') != std::string_view::npos) {
-    append_json_number(out, stable(v));
-    return;
-  }
-  out += text;
-  if (text.find('.') == std::string_view::npos) out += ".0";
+  // nlohmann's grisu2 does not always pick the shortest digits (0.0210993645455 prints as
+  // 0.021099364545500002), so no shortcut through "%.12g": the rounded value, converted as dump().
+  append_json_number(out, stable(v));
 }
 
 void JsonWriter::stable_number(double v) {

@@ -28,8 +28,7 @@ class JsonWriter {
   void key(std::string_view k);
   void string(std::string_view s);
   void number(double v);    ///< as nlohmann prints a double (750.0, 0.001, 1e-09); null when not finite
-  /// number(stable(v)) in one formatting instead of two: the 12 significant digits are the
-  /// shortest text of the rounded value (reports print every number this way).
+  /// number(stable(v)): how reports print their numbers (12 significant digits).
   void stable_number(double v);
   void integer(int64_t v);
   void unsigned_integer(uint64_t v);
@@ -84,7 +83,7 @@ class JsonWriter {
 void append_json_string(std::string& out, std::string_view s);
 /// A double as nlohmann prints it.
 void append_json_number(std::string& out, double v);
-/// append_json_number(out, stable(v)), faster.
+/// append_json_number(out, stable(v)).
 void append_json_stable_number(std::string& out, double v);
 
 }  // namespace sscs

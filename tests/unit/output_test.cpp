@@ -161,6 +161,15 @@ TEST(JsonWriterProperty, WritesWhatNlohmannDumps) {
     w.end_object();
     ASSERT_EQ(out.str(), j.dump(2) + "\n") << "case " << i;
   }
+  // Every double as nlohmann writes it: all magnitudes, whole numbers, rounded ones.
+  for (int i = 0; i < 200000; ++i) {
+    double v = std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), std::uniform_int_distribution<int>(-80, 80)(rng));
+    if (i % 4 == 0) v = std::round(v);
+    if (i % 4 == 1) v = stable(v);
+    std::string mine;
+    append_json_number(mine, v);
+    ASSERT_EQ(mine, nlohmann::ordered_json(v).dump()) << v;
+  }
   // The fast path for rounded numbers writes what the exact one does.
   for (int i = 0; i < 200000; ++i) {
     double v = std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), std::uniform_int_distribution<int>(-70, 70)(rng));
