@@ -143,10 +143,10 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   double v = evaluate(*e.expr, e.inputs, values, scratch);
   // An input that is not a number (the min, max or mean of nothing; a size of no geometry) makes
   // the result undefined even where a comparison with NaN would say "false": an error.
-  for (const Operand& in : e.inputs)
-    if (std::isnan(read(in, values))) {
+  for (size_t i = 0; i < e.inputs.size(); ++i)
+    if (std::isnan(scratch[i])) {  // evaluate() read the inputs into scratch
       r.status = Status::Error;
-      r.message = fmt::format("'{}' could not be evaluated: {} is not a number", e.text, in.text);
+      r.message = fmt::format("'{}' could not be evaluated: {} is not a number", e.text, e.inputs[i].text);
       return;
     }
   if (std::isnan(v)) {

@@ -164,17 +164,7 @@ int run_check(const Common& common, const CheckArgs& args) {
     std::cout << std::flush;
     timer.lap("report");
   } else {
-    const std::string tmp = temp_path_for(args.out);
-    std::string err;
-    std::error_code ec_ignored;
-    {
-      std::ofstream file(tmp, std::ios::binary);
-      if (file) write_report(file);
-      file.flush();
-      if (!file) err = fmt::format("cannot write '{}': {}", args.out, std::strerror(errno));
-    }
-    if (err.empty()) err = commit_file(tmp, args.out);
-    else std::filesystem::remove(tmp, ec_ignored);
+    std::string err = write_file_atomic(args.out, write_report);
     timer.lap("report");
     if (!err.empty()) {
       std::cerr << "sscs: error: " << err << "\n";

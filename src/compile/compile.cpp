@@ -488,11 +488,6 @@ std::optional<double> CompileState::number_now(const Scalar& s, Dim dim, std::st
 
 namespace {
 
-/// Evaluates a count or pitch of an array: parameters only.
-std::optional<double> array_number(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
-  return st.number_now(s, dim, what, /*parameters_only=*/true);
-}
-
 constexpr size_t kMaxObjects = 2'000'000;
 
 /// Pass: one Object per written object or array instance, with unique names and known types.
@@ -530,7 +525,7 @@ void expand_objects(CompileState& st) {
     std::array<double, 3> pitch = {0, 0, 0};
     bool ok = true;
     for (size_t d = 0; d < a.count.size() && d < 3; ++d) {
-      auto n = array_number(st, a.count[d], Dim::None, "an array count");
+      auto n = st.number_now(a.count[d], Dim::None, "an array count", /*parameters_only=*/true);
       if (!n) {
         ok = false;
         continue;
@@ -544,7 +539,7 @@ void expand_objects(CompileState& st) {
     }
     for (size_t d = 0; d < 3; ++d) {
       if (!a.pitch[d].present) continue;
-      auto p = array_number(st, a.pitch[d], Dim::Length, "an array pitch");
+      auto p = st.number_now(a.pitch[d], Dim::Length, "an array pitch", /*parameters_only=*/true);
       if (!p) ok = false;
       else pitch[d] = *p;
     }

@@ -114,12 +114,6 @@ int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
   return o;
 }
 
-/// A number a constraint gives (a tolerance, a minimum, eps): a literal or an expression over
-/// parameters and attributes, evaluated now (values are known by the time constraints compile).
-std::optional<double> number_si(CompileState& st, const Scalar& s, Dim dim, std::string_view what) {
-  return st.number_now(s, dim, what);
-}
-
 /// A side of a clearance pair: one object by name (with "did you mean"), or a selector.
 std::vector<int> pair_side(CompileState& st, const SelectorSpec& sel, std::string_view what) {
   bool one_name = sel.items.size() == 1 && !sel.items[0].text.starts_with("type:") &&
@@ -131,7 +125,7 @@ std::vector<int> pair_side(CompileState& st, const SelectorSpec& sel, std::strin
 
 void spatial_eps(CompileState& st, const Scalar& eps, SpatialCheck& sc) {
   if (!eps.present) return;
-  sc.eps_si = number_si(st, eps, Dim::Length, "eps").value_or(sc.eps_si);
+  sc.eps_si = st.number_now(eps, Dim::Length, "eps").value_or(sc.eps_si);
   if (sc.eps_si < 0) st.diag.error(eps.mark, "eps must not be negative");
 }
 
@@ -287,11 +281,11 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
   check.rhs = *rhs;
   check.op = b.op;
   if (b.lhs_tol.present)
-    check.lhs_tol_si = number_si(st, b.lhs_tol, check.dim, "lhs_tol").value_or(0);
+    check.lhs_tol_si = st.number_now(b.lhs_tol, check.dim, "lhs_tol").value_or(0);
   if (b.rhs_tol.present)
-    check.rhs_tol_si = number_si(st, b.rhs_tol, check.dim, "rhs_tol").value_or(0);
+    check.rhs_tol_si = st.number_now(b.rhs_tol, check.dim, "rhs_tol").value_or(0);
   if (b.eps.present) {
-    check.eps_si = number_si(st, b.eps, check.dim, "eps").value_or(1e-9);
+    check.eps_si = st.number_now(b.eps, check.dim, "eps").value_or(1e-9);
     if (check.eps_si < 0) st.diag.error(b.eps.mark, "eps must not be negative");
   }
   add_subjects(c.subjects, {check.lhs, check.rhs});
@@ -408,8 +402,8 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   }
   rc.match_orientation = r.match_orientation;
   rc.offset = literal_pose(r.offset, "reach offset", st.diag);
-  if (r.position_tol.present) rc.position_tol_si = number_si(st, r.position_tol, Dim::Length, "position_tol").value_or(1e-3);
-  if (r.angle_tol.present) rc.angle_tol_si = number_si(st, r.angle_tol, Dim::Angle, "angle_tol").value_or(rc.angle_tol_si);
+  if (r.position_tol.present) rc.position_tol_si = st.number_now(r.position_tol, Dim::Length, "position_tol").value_or(1e-3);
+  if (r.angle_tol.present) rc.angle_tol_si = st.number_now(r.angle_tol, Dim::Angle, "angle_tol").value_or(rc.angle_tol_si);
   for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})
     if (!(v > 0)) st.diag.error(s->mark, fmt::format("{} must be positive, found {}", s == &r.position_tol ? "position_tol" : "angle_tol", s->text));
   return rc;
@@ -478,7 +472,7 @@ void compile_constraints(CompileState& st) {
         sc.objects = pair_side(st, *cl->a, "clearance a");
         sc.others = pair_side(st, *cl->b, "clearance b");
       }
-      if (cl->min.present) sc.min_si = number_si(st, cl->min, Dim::Length, "clearance min").value_or(0);
+      if (cl->min.present) sc.min_si = st.number_now(cl->min, Dim::Length, "clearance min").value_or(0);
       spatial_eps(st, cl->eps, sc);
       c.subjects = sc.objects;
       c.subjects.insert(c.subjects.end(), sc.others.begin(), sc.others.end());
@@ -498,7 +492,7 @@ void compile_constraints(CompileState& st) {
       sc.container = object_ref(st, in->container, "inside container");
       // The container is never checked against itself.
       sc.objects.erase(std::remove(sc.objects.begin(), sc.objects.end(), sc.container), sc.objects.end());
-      if (in->min.present) sc.min_si = number_si(st, in->min, Dim::Length, "inside min").value_or(0);
+      if (in->min.present) sc.min_si = st.number_now(in->min, Dim::Length, "inside min").value_or(0);
       spatial_eps(st, in->eps, sc);
       sc.faces = inside_faces(st, *in);
       c.subjects = sc.objects;

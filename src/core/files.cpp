@@ -42,11 +42,15 @@ std::string commit_dir(const std::string& tmp, const std::string& path) {
 }
 
 std::string write_file_atomic(const std::string& path, const std::string& content) {
+  return write_file_atomic(path, [&](std::ostream& out) { out << content; });
+}
+
+std::string write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
   std::string tmp = temp_path_for(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return fmt::format("cannot write '{}': {}", path, std::strerror(errno));
-    out << content;
+    write(out);
     out.flush();
     if (!out) {
       std::remove(tmp.c_str());

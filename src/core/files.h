@@ -1,6 +1,8 @@
 #pragma once
 /// Writing output files atomically: write under a temporary name beside the target, then rename,
 /// so that a reader (or a CI step) never sees a half-written report, frame or model.
+#include <functional>
+#include <ostream>
 #include <string>
 
 namespace sscs {
@@ -21,5 +23,7 @@ std::string commit_dir(const std::string& tmp, const std::string& path);
 
 /// Writes `content` to `path` atomically. Returns an error message or "".
 std::string write_file_atomic(const std::string& path, const std::string& content);
+/// The same for output written as it is produced (a streamed report): `write` fills the stream.
+std::string write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace sscs

@@ -57,46 +57,11 @@ const Shape& shape_of(const fcl::CollisionObjectd* o) { return *static_cast<cons
 
 bool closed_mesh(const Shape& s) { return s.kind == Shape::Kind::Mesh && s.mesh && s.mesh->closed; }
 
-/// A closed mesh is a solid. FCL checks meshes as surfaces, so what lies wholly inside one, or
-/// crosses it without contacts that carry a depth (meshes report none), would pass as apart or
-/// touching. Returns how deep `inner` lies in the closed mesh `outer`: the largest distance to
-/// the mesh's surface of the points of inner's hull (its vertices; a primitive's tessellation)
-/// that lie inside; 0 when none does or `outer` is no closed mesh.
-double depth_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
-  const Shape& so = shape_of(outer);
-  if (!closed_mesh(so) || !outer->getAABB().overlap(inner->getAABB())) return 0;
-  std::vector<Eigen::Vector3d> v;
-  v.reserve(so.mesh->vertices.size());
-  for (const Eigen::Vector3d& p : so.mesh->vertices) v.push_back(p.cwiseProduct(so.scale));
-  const auto& tris = so.mesh->triangles;
-  Shape si = shape_of(inner);
-  si.X_object_shape.setIdentity();
-  const Eigen::Isometry3d X_outer_inner(outer->getTransform().inverse() * inner->getTransform());
-  double depth = 0;
-  for (const Eigen::Vector3d& p : hull_points(si, X_outer_inner)) {
-    if (!inside_mesh(p, v, tris)) continue;
-    double d = INFINITY;
-    for (const Eigen::Vector3i& t : tris) d = std::min(d, (p - closest_on_triangle(p, v[t.x()], v[t.y()], v[t.z()])).norm());
-    depth = std::max(depth, d);
-  }
-  return depth;
-}
-
-/// Whether one of two shapes that do not intersect lies wholly inside the other, a closed mesh:
-/// one point of the inner shape decides (its centre; a mesh's first vertex).
-bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
-  const Shape& so = shape_of(outer);
-  if (!closed_mesh(so)) return false;
-  const fcl::AABBd &bo = outer->getAABB(), &bi = inner->getAABB();
-  if (!bo.contain(bi)) return false;
-  const Shape& si = shape_of(inner);
-  Eigen::Vector3d p_inner = si.kind == Shape::Kind::Mesh ? Eigen::Vector3d(si.mesh->vertices[0].cwiseProduct(si.scale))
-                                                         : Eigen::Vector3d::Zero();
-  Eigen::Vector3d p = outer->getTransform().inverse() * (inner->getTransform() * p_inner);
-  std::vector<Eigen::Vector3d> v;
-  v.reserve(so.mesh->vertices.size());
-  for (const Eigen::Vector3d& q : so.mesh->vertices) v.push_back(q.cwiseProduct(so.scale));
-  return inside_mesh(p, v, so.mesh->triangles);
+/// The distance from p to a triangle mesh's surface (vertices and p in the mesh's frame).
+double surface_distance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& tris) {
+  double d = INFINITY;
+  for (const Eigen::Vector3i& t : tris) d = std::min(d, (p - closest_on_triangle(p, v[t.x()], v[t.y()], v[t.z()])).norm());
+  return d;
 }
 
 /// A solid shape at a placement, for point queries: whether a point is inside, and how far it is
@@ -105,28 +70,52 @@ struct Solid {
   const Shape& shape;
   Eigen::Isometry3d X_shape_world;
   std::vector<Eigen::Vector3d> vertices;  // meshes: scaled, in the shape's frame
-  Solid(const fcl::CollisionObjectd* o) : shape(shape_of(o)), X_shape_world(Eigen::Isometry3d(o->getTransform()).inverse()) {
+  explicit Solid(const fcl::CollisionObjectd* o) : shape(shape_of(o)), X_shape_world(Eigen::Isometry3d(o->getTransform()).inverse()) {
     if (shape.kind == Shape::Kind::Mesh)
       for (const Eigen::Vector3d& v : shape.mesh->vertices) vertices.push_back(v.cwiseProduct(shape.scale));
   }
-  /// Distance from the surface of a point inside (negative or zero when outside).
+  bool contains(const Eigen::Vector3d& p_world) const {
+    return shape.kind == Shape::Kind::Mesh ? inside_mesh(X_shape_world * p_world, vertices, shape.mesh->triangles)
+                                           : depth_of(p_world) > 0;
+  }
+  /// Distance from the surface of a point inside (zero or negative when outside).
   double depth_of(const Eigen::Vector3d& p_world) const {
     const Eigen::Vector3d p = X_shape_world * p_world;
     switch (shape.kind) {
       case Shape::Kind::Box: return ((shape.box_size / 2) - p.cwiseAbs()).minCoeff();
       case Shape::Kind::Cylinder: return std::min(shape.radius - p.head<2>().norm(), shape.length / 2 - std::abs(p.z()));
       case Shape::Kind::Sphere: return shape.radius - p.norm();
-      case Shape::Kind::Mesh: {
-        if (!inside_mesh(p, vertices, shape.mesh->triangles)) return 0;
-        double d = INFINITY;
-        for (const Eigen::Vector3i& t : shape.mesh->triangles)
-          d = std::min(d, (p - closest_on_triangle(p, vertices[t.x()], vertices[t.y()], vertices[t.z()])).norm());
-        return d;
-      }
+      case Shape::Kind::Mesh:
+        return inside_mesh(p, vertices, shape.mesh->triangles) ? surface_distance(p, vertices, shape.mesh->triangles) : 0;
     }
     return 0;
   }
 };
+
+/// A closed mesh is a solid. FCL checks meshes as surfaces, so what lies wholly inside one, or
+/// crosses it without contacts that carry a depth (meshes report none), would pass as apart or
+/// touching. Returns how deep `inner` lies in the closed mesh `outer`: the largest distance to
+/// the mesh's surface of the points of inner's hull (its vertices; a primitive's tessellation)
+/// that lie inside; 0 when none does or `outer` is no closed mesh.
+double depth_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
+  if (!closed_mesh(shape_of(outer)) || !outer->getAABB().overlap(inner->getAABB())) return 0;
+  const Solid solid(outer);
+  Shape si = shape_of(inner);
+  si.X_object_shape.setIdentity();
+  double depth = 0;
+  for (const Eigen::Vector3d& p : hull_points(si, Eigen::Isometry3d(inner->getTransform()))) depth = std::max(depth, solid.depth_of(p));
+  return depth;
+}
+
+/// Whether one of two shapes that do not intersect lies wholly inside the other, a closed mesh:
+/// one point of the inner shape decides (its centre; a mesh's first vertex).
+bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
+  if (!closed_mesh(shape_of(outer)) || !outer->getAABB().contain(inner->getAABB())) return false;
+  const Shape& si = shape_of(inner);
+  Eigen::Vector3d p_inner = si.kind == Shape::Kind::Mesh ? Eigen::Vector3d(si.mesh->vertices[0].cwiseProduct(si.scale))
+                                                         : Eigen::Vector3d::Zero();
+  return Solid(outer).contains(Eigen::Isometry3d(inner->getTransform()) * p_inner);
+}
 
 /// How deep two solids (closed meshes or primitives) overlap, sampled on a grid over the
 /// intersection of their bounds: the largest, over points inside both, distance to the nearer
@@ -598,8 +587,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       bool any_outside = false;
       for (const Shape& s : g.shapes)
         for (const Eigen::Vector3d& p : hull_points(s, X_c_world * g.X_world_object * s.X_object_shape)) {
-          double d = INFINITY;
-          for (const Eigen::Vector3i& t : tris) d = std::min(d, (p - closest_on_triangle(p, v[t.x()], v[t.y()], v[t.z()])).norm());
+          double d = surface_distance(p, v, tris);
           if (inside_mesh(p, v, tris)) {
             margin = std::min(margin, d);
           } else {

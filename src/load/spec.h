@@ -216,7 +216,6 @@ struct InsideSpec {
   Scalar container;
   Scalar min, eps;
   std::vector<Scalar> faces;  ///< `all` (default), `walls`, or a list of x- x+ y- y+ z- z+
-  SourceMark faces_mark;
 };
 struct ReachSpec {
   Scalar device;

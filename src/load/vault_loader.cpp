@@ -191,11 +191,7 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     in.container = load::scalar(r.require("container"), "inside container", diag);
     in.min = load::scalar(r.take("min"), "inside min", diag);
     in.eps = load::scalar(r.take("eps"), "eps", diag);
-    yaml::Node faces = r.take("faces");
-    if (faces.valid()) {
-      in.faces_mark = faces.mark();
-      in.faces = load::scalar_list(faces, "inside faces", diag);
-    }
+    in.faces = load::scalar_list(r.take("faces"), "inside faces", diag);
     out = std::move(in);
   } else {  // reach
     ReachSpec re;

@@ -51,7 +51,12 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
     bool any_turned = false, any_slid = false;
     for (const RunRecord& r : runs) {
       bool has = r.summary["devices"].contains(d);
-      const auto& totals = has ? r.summary["devices"][d]["joint_travel_total"] : nlohmann::ordered_json();
+      // Runs written before per-kind totals existed have none: find, never operator[] on a const tree.
+      nlohmann::ordered_json totals;
+      if (has) {
+        const auto& dev = r.summary["devices"][d];
+        if (auto it = dev.find("joint_travel_total"); it != dev.end()) totals = *it;
+      }
       path.values.push_back(has ? fmt::format("{:.3f}", r.summary["devices"][d].value("tool_path_length", 0.0)) : "");
       bool t = totals.is_object() && totals.contains("revolute_deg"), s = totals.is_object() && totals.contains("prismatic_m");
       turned.values.push_back(t ? fmt::format("{:.1f}", totals["revolute_deg"].get<double>()) : "");

@@ -182,24 +182,31 @@ TEST_F(Check, SelectorsExpandNamesGlobsAndTypes) {
 namespace sscs::testing {
 namespace {
 
-using SpatialRules = VaultTest;
-
 const char* kBlock = "sscs: 1\ntype: block\nattributes:\n  sx: {type: length, default: 1}\n"
                      "geometry:\n  - box: {size: [sx, 1, 1], xyz: [\"sx/2\", 0.5, 0.5]}\n";
+
+/// Checks a vault (with the `block` type) and keeps its workcell for the assertions.
+class SpatialRules : public VaultTest {
+ public:
+  CheckReport check_vault(const std::string& body, const std::string& library = "") {
+    options.library_dirs = {library.empty() ? type_dir({{"block", kBlock}}) : library};
+    wc = must_compile(body);
+    return check(wc, build_geometry(wc, diag));
+  }
+  Workcell wc;
+};
 
 TEST_F(SpatialRules, AClearanceExactlyAtItsMinimumHoldsWhateverTheRounding) {
   // Property: for gaps written as sums that round in binary (0.1 + 0.2 ...), a clearance whose
   // min is the gap as written passes with margin 0, and one 1 µm larger fails.
-  options.library_dirs = {type_dir({{"block", kBlock}})};
   for (const char* gap : {"0.3", "0.1 + 0.2", "0.7 - 0.4", "3 * 0.1", "1.1 - 0.8", "0.35 - 0.05"}) {
     SCOPED_TRACE(gap);
     diag = Diagnostics{};
-    Workcell wc = must_compile(fmt::format(
+    CheckReport r = check_vault(fmt::format(
         "parameters: {{g: 0.3}}\nobjects:\n  - {{type: block, name: A, sx: 1.1}}\n"
         "  - {{type: block, name: B, location: [\"1.1 + {0}\", 0, 0]}}\n"
         "constraints:\n  - {{name: at, clearance: {{a: A, b: B, min: \"{0}\"}}}}\n"
         "  - {{name: above, clearance: {{a: A, b: B, min: \"{0} + 0.000001\"}}}}\n", gap));
-    CheckReport r = check(wc, build_geometry(wc, diag));
     ASSERT_EQ(r.results.size(), 2u);
     EXPECT_EQ(r.results[0].status, Status::Pass) << r.results[0].message;
     EXPECT_EQ(*r.results[0].margin, 0.0);
@@ -208,9 +215,8 @@ TEST_F(SpatialRules, AClearanceExactlyAtItsMinimumHoldsWhateverTheRounding) {
 }
 
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
-  options.library_dirs = {type_dir({{"block", kBlock}})};
   // A 1 m block on the floor of a 10 x 6 x 4 room, 0.4 m from its x- wall and 2.5 m from y-.
-  Workcell wc = must_compile(
+  CheckReport r = check_vault(
       "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
       "  - {type: block, name: B, parent: R, location: [0.4, 2.5, 0]}\n"
       "constraints:\n"
@@ -219,7 +225,6 @@ TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
       "  - {name: walls too close, inside: {objects: B, container: R, faces: walls, min: 0.5 m}}\n"
       "  - {name: y faces, inside: {objects: B, container: R, faces: [y-, y+], min: 2 m}}\n"
       "  - {name: floor counts, inside: {objects: B, container: R, min: 0.1}}\n");
-  CheckReport r = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(r.results.size(), 5u);
   auto margin_of = [&](int k) { return r.results[k].margin.value_or(NAN); };
   EXPECT_EQ(r.results[0].status, Status::Pass);
@@ -233,11 +238,10 @@ TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
   EXPECT_NEAR(margin_of(3), 0.5, 1e-12);
   EXPECT_EQ(r.results[4].status, Status::Fail);  // 0 from the floor, min 0.1
   // Sticking out through a face that is not counted still fails, as sticking out.
-  Workcell out = must_compile(
+  CheckReport ro = check_vault(
       "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
       "  - {type: block, name: B, parent: R, location: [2, 2, 3.5]}\n"
       "constraints:\n  - {name: walls, inside: {objects: B, container: R, faces: walls}}\n");
-  CheckReport ro = check(out, build_geometry(out, diag));
   ASSERT_EQ(ro.results.size(), 1u);
   EXPECT_EQ(ro.results[0].status, Status::Fail);
   EXPECT_NEAR(*ro.results[0].margin, -0.5, 1e-12);
@@ -245,8 +249,7 @@ TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
 }
 
 TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
-  options.library_dirs = {type_dir({{"block", kBlock}})};
-  Workcell wc = must_compile(
+  CheckReport r = check_vault(
       "parameters: {gap: 0.5 m}\nobjects:\n"
       "  - type: block\n    array: {name: \"Rack_{i}\", count: [3], pitch: [2, 0, 0], skip: [[2]]}\n"
       "  - {type: block, name: Wall_1, location: [0, 1.4, 0], sx: 6}\n"
@@ -254,7 +257,6 @@ TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
       "constraints:\n  - {name: racks off walls, clearance: {a: \"Rack_*\", b: \"Wall_*\", min: \"gap - 0.1\"}}\n");
   EXPECT_EQ(wc.find_object("Rack_2"), -1);  // skipped
   ASSERT_GE(wc.find_object("Rack_3"), 0);
-  CheckReport r = check(wc, build_geometry(wc, diag));
   // Rack_1 and Rack_3 are 0.4 m from Wall_1 (margin 0) and 0.8 m from Wall_2: all pass.
   ASSERT_EQ(r.results.size(), 1u);
   EXPECT_EQ(r.results[0].status, Status::Pass) << r.results[0].message;
@@ -262,8 +264,7 @@ TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
 }
 
 TEST_F(SpatialRules, ATolerranceEqualToTheGapHoldsAndSelectorPairsSkipTheRoom) {
-  options.library_dirs = {type_dir({{"block", kBlock}})};
-  Workcell wc = must_compile(
+  CheckReport r = check_vault(
       "parameters: {e: 1 mm}\nobjects:\n  - {type: room, name: Hall, length: 10, width: 6, height: 4}\n"
       "  - {type: drum, name: D1, parent: Hall, location: [2, 2, 0]}\n"
       "  - {type: block, name: A, parent: Hall, location: [5, 1, 0]}\n"
@@ -273,7 +274,6 @@ TEST_F(SpatialRules, ATolerranceEqualToTheGapHoldsAndSelectorPairsSkipTheRoom) {
       "  - {name: le at eps, bound: {lhs: D1.diameter, op: LE, rhs: 0.571, eps: 1 mm}}\n"
       "  - {name: clearance at eps, clearance: {a: A, b: B, min: 0.429 m, eps: 1 mm}}\n"
       "  - {name: drums off everything, clearance: {a: \"D*\", b: \"*\", min: 0.1}}\n");
-  CheckReport r = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(r.results.size(), 4u);
   for (const CheckResult& x : r.results) EXPECT_EQ(x.status, Status::Pass) << wc.constraints[x.constraint].name << ": " << x.message;
   EXPECT_EQ(*r.results[2].margin, 0.0);
@@ -282,16 +282,16 @@ TEST_F(SpatialRules, ATolerranceEqualToTheGapHoldsAndSelectorPairsSkipTheRoom) {
 TEST_F(SpatialRules, AnOpenMeshIsNoContainerAndTheMinOfNothingIsNoVerdict) {
   auto types = std::vector<std::pair<std::string, std::string>>{
       {"shell", "sscs: 1\ntype: shell\ngeometry:\n  - mesh: {file: open.obj}\n"}};
-  options.library_dirs = {type_dir(types)};
+  const std::string library = type_dir(types);
   // A unit cube without its top: a surface.
-  std::ofstream(std::filesystem::path(options.library_dirs[0]) / "open.obj")
+  std::ofstream(std::filesystem::path(library) / "open.obj")
       << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
          "f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
-  Workcell wc = must_compile(
+  CheckReport r = check_vault(
       "objects:\n  - {type: shell, name: S}\n  - {type: drum, name: D, location: [0.5, 0.5, 0.05], diameter: 0.2, height: 0.2}\n"
       "constraints:\n  - {name: in, inside: {objects: D, container: S}}\n"
-      "  - {name: empty min, expr: \"min(Zz_*.height) >= 0\", allow_empty: true}\n");
-  CheckReport r = check(wc, build_geometry(wc, diag));
+      "  - {name: empty min, expr: \"min(Zz_*.height) >= 0\", allow_empty: true}\n",
+      library);
   ASSERT_EQ(r.results.size(), 2u);
   EXPECT_EQ(r.results[0].status, Status::Error);
   EXPECT_NE(r.results[0].message.find("is open (a surface, no inside)"), std::string::npos) << r.results[0].message;
