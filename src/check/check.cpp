@@ -109,33 +109,54 @@ double evaluate(const Expression& e, const std::vector<Operand>& inputs, const S
   return e.evaluate(scratch.data());
 }
 
-double margin_of(const ExprCheck::MarginNode& n, const State& values, std::vector<double>& scratch,
-                 double* lhs, double* rhs) {
+/// A comparison's margin and verdict. Sides equal up to rounding are equal: a margin within a few
+/// ulps of the largest value either side read (`0.1 + 0.2 <= 0.3` holds, `0.1 + 0.2 < 0.3` does not).
+struct ExprVerdict {
+  double margin;
+  bool pass;
+};
+
+double largest_magnitude(const std::vector<double>& values, double start) {
+  for (double v : values) start = std::max(start, std::abs(v));
+  return start;
+}
+
+ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::vector<double>& scratch,
+                      double* lhs, double* rhs) {
   switch (n.op) {
     case MarginTree::Op::And:
     case MarginTree::Op::Or: {
-      double m = n.op == MarginTree::Op::And ? INFINITY : -INFINITY;
+      const bool all = n.op == MarginTree::Op::And;
+      ExprVerdict v{all ? INFINITY : -INFINITY, all};
       for (const auto& c : n.children) {
-        double cm = margin_of(c, values, scratch, nullptr, nullptr);
-        m = n.op == MarginTree::Op::And ? std::min(m, cm) : std::max(m, cm);
+        ExprVerdict cv = margin_of(c, values, scratch, nullptr, nullptr);
+        v.margin = all ? std::min(v.margin, cv.margin) : std::max(v.margin, cv.margin);
+        v.pass = all ? v.pass && cv.pass : v.pass || cv.pass;
       }
-      return m;
+      return v;
     }
     default: break;
   }
   double L = evaluate(*n.lhs.expr, n.lhs.inputs, values, scratch);
+  double scale = largest_magnitude(scratch, std::abs(L));
   double R = evaluate(*n.rhs.expr, n.rhs.inputs, values, scratch);
+  scale = largest_magnitude(scratch, std::max(scale, std::abs(R)));
   if (lhs) *lhs = L;
   if (rhs) *rhs = R;
+  double m = NAN;
   switch (n.op) {
     case MarginTree::Op::Lt:
-    case MarginTree::Op::Le: return R - L;
+    case MarginTree::Op::Le: m = R - L; break;
     case MarginTree::Op::Gt:
-    case MarginTree::Op::Ge: return L - R;
-    case MarginTree::Op::Eq: return -std::abs(L - R);
-    case MarginTree::Op::Ne: return std::abs(L - R);
-    default: return NAN;
+    case MarginTree::Op::Ge: m = L - R; break;
+    case MarginTree::Op::Eq: m = -std::abs(L - R); break;
+    case MarginTree::Op::Ne: m = std::abs(L - R); break;
+    default: return {NAN, false};
   }
+  if (std::abs(m) <= rounding_slack(scale) * static_cast<double>(std::max<size_t>(1, n.lhs.inputs.size() + n.rhs.inputs.size())))
+    m = 0;
+  const bool strict = n.op == MarginTree::Op::Lt || n.op == MarginTree::Op::Gt || n.op == MarginTree::Op::Ne;
+  return {m, strict ? m > 0 : m >= 0};
 }
 
 void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
@@ -158,7 +179,11 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   r.status = pass ? Status::Pass : Status::Fail;
   if (e.margin) {
     double lhs = NAN, rhs = NAN;
-    double m = margin_of(*e.margin, values, scratch, &lhs, &rhs);
+    ExprVerdict verdict = margin_of(*e.margin, values, scratch, &lhs, &rhs);
+    // The verdict with rounding slack: muparser's own comparison has none.
+    pass = verdict.pass;
+    r.status = pass ? Status::Pass : Status::Fail;
+    double m = verdict.margin;
     if (std::isfinite(m)) r.margin = m == 0 ? 0.0 : m;  // never -0
     if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or) {
       r.lhs = lhs;

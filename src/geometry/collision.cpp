@@ -70,41 +70,236 @@ struct Solid {
   const Shape& shape;
   Eigen::Isometry3d X_shape_world;
   std::vector<Eigen::Vector3d> vertices;  // meshes: scaled, in the shape's frame
+  Eigen::AlignedBox3d bounds;              // meshes: of the vertices
   explicit Solid(const fcl::CollisionObjectd* o) : shape(shape_of(o)), X_shape_world(Eigen::Isometry3d(o->getTransform()).inverse()) {
     if (shape.kind == Shape::Kind::Mesh)
-      for (const Eigen::Vector3d& v : shape.mesh->vertices) vertices.push_back(v.cwiseProduct(shape.scale));
+      for (const Eigen::Vector3d& v : shape.mesh->vertices) bounds.extend(vertices.emplace_back(v.cwiseProduct(shape.scale)));
   }
   bool contains(const Eigen::Vector3d& p_world) const {
     return shape.kind == Shape::Kind::Mesh ? inside_mesh(X_shape_world * p_world, vertices, shape.mesh->triangles)
                                            : depth_of(p_world) > 0;
   }
-  /// Distance from the surface of a point inside (zero or negative when outside).
-  double depth_of(const Eigen::Vector3d& p_world) const {
+  /// A mesh's distance from p to its surface; -1 for primitives.
+  double mesh_gap(const Eigen::Vector3d& p_world) const {
+    return shape.kind == Shape::Kind::Mesh ? surface_distance(X_shape_world * p_world, vertices, shape.mesh->triangles) : -1;
+  }
+  /// Distance from the surface of a point inside (zero or negative when outside). A depth of at
+  /// most `floor` may be answered as 0: for meshes the distance comes first and the inside test,
+  /// the costlier, only when the point is deeper than that.
+  double depth_of(const Eigen::Vector3d& p_world, double floor = 0) const {
     const Eigen::Vector3d p = X_shape_world * p_world;
     switch (shape.kind) {
       case Shape::Kind::Box: return ((shape.box_size / 2) - p.cwiseAbs()).minCoeff();
       case Shape::Kind::Cylinder: return std::min(shape.radius - p.head<2>().norm(), shape.length / 2 - std::abs(p.z()));
       case Shape::Kind::Sphere: return shape.radius - p.norm();
-      case Shape::Kind::Mesh:
-        return inside_mesh(p, vertices, shape.mesh->triangles) ? surface_distance(p, vertices, shape.mesh->triangles) : 0;
+      case Shape::Kind::Mesh: {
+        if (!bounds.contains(p)) return 0;
+        double d = surface_distance(p, vertices, shape.mesh->triangles);
+        return d > floor && inside_mesh(p, vertices, shape.mesh->triangles) ? d : 0;
+      }
     }
     return 0;
   }
 };
 
-/// A closed mesh is a solid. FCL checks meshes as surfaces, so what lies wholly inside one, or
-/// crosses it without contacts that carry a depth (meshes report none), would pass as apart or
-/// touching. Returns how deep `inner` lies in the closed mesh `outer`: the largest distance to
-/// the mesh's surface of the points of inner's hull (its vertices; a primitive's tessellation)
-/// that lie inside; 0 when none does or `outer` is no closed mesh.
-double depth_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::CollisionObjectd* inner) {
-  if (!closed_mesh(shape_of(outer)) || !outer->getAABB().overlap(inner->getAABB())) return 0;
-  const Solid solid(outer);
-  Shape si = shape_of(inner);
-  si.X_object_shape.setIdentity();
+/// A placed shape's surface as world triangles: a mesh's own, a primitive's tessellation.
+struct Surface {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<Eigen::Vector3i> t;
+  explicit Surface(const fcl::CollisionObjectd* o) {
+    const Shape& s = shape_of(o);
+    const Eigen::Isometry3d X(o->getTransform());
+    if (s.kind == Shape::Kind::Mesh) {
+      for (const Eigen::Vector3d& p : s.mesh->vertices) v.push_back(X * p.cwiseProduct(s.scale));
+      t = s.mesh->triangles;
+    } else {
+      Shape local = s;
+      local.X_object_shape.setIdentity();
+      TriangleMesh m = tessellate(local);
+      for (const Eigen::Vector3d& p : m.vertices) v.push_back(X * p);
+      t = std::move(m.triangles);
+    }
+  }
+  Eigen::Vector3d corner(int tri, int k) const { return v[t[tri][k]]; }
+  Eigen::Vector3d normal(int tri) const { return (corner(tri, 1) - corner(tri, 0)).cross(corner(tri, 2) - corner(tri, 0)); }
+  Eigen::AlignedBox3d box(int tri) const {
+    Eigen::AlignedBox3d b(corner(tri, 0));
+    return b.extend(corner(tri, 1)).extend(corner(tri, 2));
+  }
+  /// Whether p (in the triangle's plane) lies in triangle `tri`, within `slack` of its edges.
+  bool covers(int tri, const Eigen::Vector3d& p, double slack) const {
+    const Eigen::Vector3d n = normal(tri).normalized();
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d a = corner(tri, k), b = corner(tri, (k + 1) % 3);
+      if (n.cross(b - a).normalized().dot(p - a) < -slack) return false;
+    }
+    return true;
+  }
+};
+
+/// Where segment pq crosses triangle abc, if it does (not when they are parallel).
+std::optional<Eigen::Vector3d> segment_crossing(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                                                const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double dp = n.dot(p - a), dq = n.dot(q - a);
+  if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || dp == dq) return std::nullopt;
+  const Eigen::Vector3d x = p + (q - p) * (dp / (dp - dq));
+  // Inside abc: on the inner side of its three edges (up to rounding).
+  const double slack = 1e-12 * n.norm();
+  for (const auto& [u, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+    if (n.dot((w - u).cross(x - u)) < -slack * (w - u).norm()) return std::nullopt;
+  return x;
+}
+
+/// The deepest point of one solid's surface inside another solid, found from seeds: a point of
+/// the surface, the triangle it lies on, and for a point where the two surfaces cross, the
+/// direction along the triangle that leads into the other solid.
+struct SurfaceDepth {
+  const Surface& surface;
+  const Solid& other;
+  double best = 0;
+  int inside = 0;  // seeds inside the other
+  struct Seed {
+    Eigen::Vector3d p;
+    int tri;
+    double depth;
+  };
+  std::vector<Seed> seeds;
+
+  /// The depth of p in the other solid; 0 when it is not deeper than `floor`.
+  double depth_at(const Eigen::Vector3d& p, double floor = kTouchTolerance) const {
+    return std::max(0.0, other.depth_of(p, floor));
+  }
+
+  void seed(const Eigen::Vector3d& p, int tri) {
+    double d = depth_at(p);
+    best = std::max(best, d);
+    seeds.push_back({p, tri, d});
+    inside += d > 0;
+  }
+
+  /// From a point where the surfaces cross, along `dir` in the triangle: steps growing from a
+  /// micrometre to the triangle's size (the overlap may be a sliver or a slab).
+  void along(const Eigen::Vector3d& p, int tri, const Eigen::Vector3d& dir) {
+    // Enough points inside to start the search for the deepest from: a deep overlap crosses at
+    // thousands of triangle pairs.
+    if (inside >= 32) return;
+    const double size = surface.box(tri).diagonal().norm();
+    double last = -1;
+    for (double step = 1e-6; step <= size; step *= 2) {
+      Eigen::Vector3d q = p + step * dir;
+      if (!surface.covers(tri, q, 0)) break;
+      // Within a thousandth of the step from a mesh's surface: running along it, they touch here.
+      const double gap = other.mesh_gap(q);
+      if (gap >= 0 && gap < 1e-3 * step) break;
+      double d = gap < 0 ? depth_at(q) : gap > kTouchTolerance && other.contains(q) ? gap : 0;
+      if (d > 0) {
+        seeds.push_back({q, tri, d});
+        ++inside;
+      }
+      best = std::max(best, d);
+      // Past the deepest point on this line; or still not inside 1 mm from a crossing: the
+      // surfaces only touch here (where they cross, even at 1 degree, the depth grows from the
+      // first steps).
+      if (d < last || (d == 0 && step >= 1e-3)) break;
+      last = d;
+    }
+  }
+
+  /// Pattern search on the triangle from the deepest seeds: the deepest point near each.
+  void polish(size_t count) {
+    std::sort(seeds.begin(), seeds.end(), [](const Seed& a, const Seed& b) { return a.depth > b.depth; });
+    for (size_t k = 0; k < std::min(count, seeds.size()) && seeds[k].depth > 0; ++k) {
+      Seed s = seeds[k];
+      Eigen::Vector3d dirs[3];
+      for (int e = 0; e < 3; ++e) dirs[e] = (surface.corner(s.tri, (e + 1) % 3) - surface.corner(s.tri, e)).normalized();
+      for (double h = surface.box(s.tri).diagonal().norm() / 4; h > 1e-7;) {
+        bool moved = false;
+        for (int e = 0; e < 6 && !moved; ++e) {
+          Eigen::Vector3d q = s.p + (e < 3 ? h : -h) * dirs[e % 3];
+          if (!surface.covers(s.tri, q, 0)) continue;
+          double d = depth_at(q, s.depth);
+          if (d > s.depth) {
+            s = {q, s.tri, d};
+            moved = true;
+          }
+        }
+        if (!moved) h /= 2;
+      }
+      best = std::max(best, s.depth);
+    }
+  }
+};
+
+/// How deep two solids (closed meshes or primitives) overlap: the deepest point of either
+/// surface inside the other solid, its distance to that solid's surface; 0 when they only touch.
+/// FCL checks meshes as surfaces and its depths for meshes are per triangle pair, so the depth
+/// is measured here. Candidates: every vertex of one inside the other, and where the two
+/// surfaces cross, points leading from the crossing into the other solid (a face pushed into a
+/// solid has its vertices outside: pallets side by side too close, a drum half into a rack).
+/// An open mesh is a surface: only its points inside the other count (`a_solid`, `b_solid`).
+double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, bool a_solid, bool b_solid) {
+  const Surface sa(a), sb(b);
+  const Solid solid_a(a), solid_b(b);
+  SurfaceDepth in_b{sa, solid_b, 0, 0, {}}, in_a{sb, solid_a, 0, 0, {}};
+  const fcl::AABBd &ba = a->getAABB(), &bb = b->getAABB();
+  auto near = [](const fcl::AABBd& box, const Eigen::Vector3d& p) {
+    return (p.array() >= box.min_.array() - kTouchTolerance).all() && (p.array() <= box.max_.array() + kTouchTolerance).all();
+  };
+  auto near_box = [](const fcl::AABBd& box, const Eigen::AlignedBox3d& t) {
+    return (t.min().array() <= box.max_.array() + kTouchTolerance).all() && (t.max().array() >= box.min_.array() - kTouchTolerance).all();
+  };
+  // Triangles of each surface within the other's bounds, with their vertices as seeds.
+  auto candidates = [&](const Surface& s, const fcl::AABBd& other_box, SurfaceDepth& depth) {
+    std::vector<int> out;
+    for (int k = 0; k < static_cast<int>(s.t.size()); ++k) {
+      if (!near_box(other_box, s.box(k))) continue;
+      out.push_back(k);
+      for (int c = 0; c < 3; ++c)
+        if (near(other_box, s.corner(k, c))) depth.seed(s.corner(k, c), k);
+      depth.seed((s.corner(k, 0) + s.corner(k, 1) + s.corner(k, 2)) / 3, k);
+    }
+    return out;
+  };
+  const std::vector<int> ta = candidates(sa, bb, in_b), tb = candidates(sb, ba, in_a);
+  // Where the surfaces cross: each pair of triangles whose bounds meet.
+  std::vector<Eigen::AlignedBox3d> boxes_b;
+  for (int j : tb) boxes_b.push_back(sb.box(j));
+  for (int i : ta) {
+    const Eigen::AlignedBox3d box_i = sa.box(i);
+    const Eigen::Vector3d na = sa.normal(i).normalized();
+    for (size_t jj = 0; jj < tb.size(); ++jj) {
+      if (!box_i.intersects(boxes_b[jj])) continue;
+      const int j = tb[jj];
+      const Eigen::Vector3d nb = sb.normal(j).normalized();
+      if (na.cross(nb).norm() < 1e-9) continue;  // parallel faces: touching or covered by the seeds
+      std::vector<Eigen::Vector3d> points;
+      for (int e = 0; e < 3; ++e) {
+        if (auto x = segment_crossing(sa.corner(i, e), sa.corner(i, (e + 1) % 3), sb.corner(j, 0), sb.corner(j, 1), sb.corner(j, 2)))
+          points.push_back(*x);
+        if (auto x = segment_crossing(sb.corner(j, e), sb.corner(j, (e + 1) % 3), sa.corner(i, 0), sa.corner(i, 1), sa.corner(i, 2)))
+          points.push_back(*x);
+      }
+      if (points.empty()) continue;
+      Eigen::Vector3d mid = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& p : points) mid += p;
+      mid /= static_cast<double>(points.size());
+      // Into the other solid along each triangle: against the other's outward normal, in the plane.
+      const Eigen::Vector3d into_b = -(nb - nb.dot(na) * na).normalized(), into_a = -(na - na.dot(nb) * nb).normalized();
+      in_b.along(mid, i, into_b);
+      in_a.along(mid, j, into_a);
+    }
+  }
   double depth = 0;
-  for (const Eigen::Vector3d& p : hull_points(si, Eigen::Isometry3d(inner->getTransform()))) depth = std::max(depth, solid.depth_of(p));
-  return depth;
+  if (b_solid) {
+    in_b.polish(4);
+    depth = in_b.best;
+  }
+  if (a_solid) {
+    in_a.polish(4);
+    depth = std::max(depth, in_a.best);
+  }
+  return depth > kTouchTolerance ? depth : 0;
 }
 
 /// Whether one of two shapes that do not intersect lies wholly inside the other, a closed mesh:
@@ -117,39 +312,18 @@ bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::Col
   return Solid(outer).contains(Eigen::Isometry3d(inner->getTransform()) * p_inner);
 }
 
-/// How deep two solids (closed meshes or primitives) overlap, sampled on a grid over the
-/// intersection of their bounds: the largest, over points inside both, distance to the nearer
-/// of the two surfaces (the radius of the largest ball the grid finds inside both). It catches
-/// what the vertices miss: meshes crossing with coincident faces (pallets in a row too close,
-/// whose boards share their planes). 0 when they only touch.
-double sampled_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
-  const fcl::AABBd &ba = a->getAABB(), &bb = b->getAABB();
-  Eigen::Vector3d lo = ba.min_.cwiseMax(bb.min_), hi = ba.max_.cwiseMin(bb.max_);
-  if ((hi - lo).minCoeff() <= kTouchTolerance) return 0;
-  Solid sa(a), sb(b);
-  constexpr int kSteps = 12;
-  double depth = 0;
-  for (int i = 0; i < kSteps; ++i)
-    for (int j = 0; j < kSteps; ++j)
-      for (int k = 0; k < kSteps; ++k) {
-        Eigen::Vector3d p = lo + (hi - lo).cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) / kSteps);
-        double da = sa.depth_of(p);
-        if (da <= depth) continue;
-        depth = std::max(depth, std::min(da, sb.depth_of(p)));
-      }
-  return depth;
-}
-
 /// The depth of a collision FCL found between two shapes, with closed meshes as solids.
 double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, const fcl::CollisionResultd& res) {
+  const Shape &A = shape_of(a), &B = shape_of(b);
+  const bool a_solid = A.kind != Shape::Kind::Mesh || closed_mesh(A);
+  const bool b_solid = B.kind != Shape::Kind::Mesh || closed_mesh(B);
   double depth = 0;
-  for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
-  const bool a_solid = shape_of(a).kind != Shape::Kind::Mesh || closed_mesh(shape_of(a));
-  const bool b_solid = shape_of(b).kind != Shape::Kind::Mesh || closed_mesh(shape_of(b));
-  if (depth <= kTouchTolerance && (closed_mesh(shape_of(a)) || closed_mesh(shape_of(b)))) {
-    depth = std::max({depth, depth_in_closed_mesh(a, b), depth_in_closed_mesh(b, a)});
-    if (depth <= kTouchTolerance && a_solid && b_solid) depth = std::max(depth, sampled_overlap_depth(a, b));
+  if (closed_mesh(A) || closed_mesh(B)) {
+    if (a_solid && b_solid) return solid_overlap_depth(a, b, true, true);
+    // A surface against a solid: FCL's depth of the crossing, or how deep the surface lies inside.
+    depth = solid_overlap_depth(a, b, a_solid, b_solid);
   }
+  for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
   // A contact without depth (two open surfaces) still is a collision: count it as touching.
   return std::max(depth, 0.0);
 }
@@ -478,25 +652,18 @@ Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-/// Whether p is inside a closed triangle mesh: the parity of crossings of a ray (Moller-Trumbore).
+/// Whether p is inside a closed triangle mesh: its winding number, the sum of the solid angles
+/// its triangles subtend (Van Oosterom and Strackee), is 1 inside and 0 outside. Unlike a ray's
+/// crossings it has no unlucky directions, and pieces that touch or overlap (a pallet's boards
+/// and blocks) count as their union.
 bool inside_mesh(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& tris) {
-  // An irrational-looking direction avoids rays through edges and vertices of regular meshes.
-  const Eigen::Vector3d dir = Eigen::Vector3d(0.5773, 0.5774, 0.5775).normalized();
-  int crossings = 0;
+  double solid_angle = 0;
   for (const Eigen::Vector3i& t : tris) {
-    Eigen::Vector3d e1 = v[t.y()] - v[t.x()], e2 = v[t.z()] - v[t.x()];
-    Eigen::Vector3d h = dir.cross(e2);
-    double det = e1.dot(h);
-    if (std::abs(det) < 1e-14) continue;
-    Eigen::Vector3d s = p - v[t.x()];
-    double u = s.dot(h) / det;
-    if (u < 0 || u > 1) continue;
-    Eigen::Vector3d q = s.cross(e1);
-    double w = dir.dot(q) / det;
-    if (w < 0 || u + w > 1) continue;
-    if (e2.dot(q) / det > 0) ++crossings;
+    const Eigen::Vector3d a = v[t.x()] - p, b = v[t.y()] - p, c = v[t.z()] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    solid_angle += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
   }
-  return crossings % 2 == 1;
+  return std::abs(solid_angle) > 2 * M_PI;  // a winding number above one half (either orientation)
 }
 
 /// Points of a shape that decide containment: box corners and mesh vertices (exact for convex

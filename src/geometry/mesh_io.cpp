@@ -5,6 +5,8 @@
 #include <assimp/scene.h>
 
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <functional>
@@ -12,6 +14,23 @@
 #include <fmt/format.h>
 
 namespace sscs {
+
+namespace {
+
+/// assimp reads coordinates in single precision: 1.2 in a file arrives as 1.2000000477, which
+/// would make a pallet 48 nm longer than written and a clearance of exactly its minimum fail.
+/// A float holds about 7 significant digits, so rounding to 7 gives back the decimal the file
+/// wrote (and changes nothing a float could tell apart).
+double as_written(float x) {
+  if (!std::isfinite(x) || x == 0) return x;
+  char text[32];
+  auto [end, ec] = std::to_chars(text, text + sizeof text, static_cast<double>(x), std::chars_format::scientific, 6);
+  double value = x;
+  if (ec == std::errc()) std::from_chars(text, end, value);
+  return value;
+}
+
+}  // namespace
 
 std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, SourceMark where, Diagnostics& diag) {
   auto it = meshes_.find(path);
@@ -33,7 +52,7 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
         const aiMesh* am = scene->mMeshes[m];
         auto base = static_cast<int>(mesh->vertices.size());
         for (unsigned v = 0; v < am->mNumVertices; ++v)
-          mesh->vertices.emplace_back(am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z);
+          mesh->vertices.emplace_back(as_written(am->mVertices[v].x), as_written(am->mVertices[v].y), as_written(am->mVertices[v].z));
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
           const aiFace& face = am->mFaces[f];
           if (face.mNumIndices == 3)

@@ -214,6 +214,26 @@ TEST_F(SpatialRules, AClearanceExactlyAtItsMinimumHoldsWhateverTheRounding) {
   }
 }
 
+TEST_F(SpatialRules, ExprComparisonsHoldUpToRounding) {
+  // 0.1 + 0.2 is 0.30000000000000004 in binary: sides equal up to rounding are equal, in
+  // comparisons and in the margin, as in `bound`; a strict comparison of equals fails.
+  CheckReport r = check_vault(
+      "objects:\n  - {type: block, name: A, sx: 0.1}\n  - {type: block, name: B, sx: 0.2}\n"
+      "  - {type: block, name: C, sx: 0.3}\n"
+      "constraints:\n  - {name: le, expr: \"A.sx + B.sx <= C.sx\"}\n  - {name: eq, expr: \"A.sx + B.sx == C.sx\"}\n"
+      "  - {name: ge, expr: \"C.sx >= A.sx + B.sx && C.sx - B.sx >= A.sx\"}\n"
+      "  - {name: lt, expr: \"A.sx + B.sx < C.sx\"}\n  - {name: ne, expr: \"A.sx + B.sx != C.sx\"}\n"
+      "  - {name: above, expr: \"A.sx + B.sx <= C.sx - 0.000000001\"}\n");
+  ASSERT_EQ(r.results.size(), 6u);
+  const Status expected[] = {Status::Pass, Status::Pass, Status::Pass, Status::Fail, Status::Fail, Status::Fail};
+  for (size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(r.results[k].status, expected[k]) << r.results[k].message;
+    if (k < 5) {
+      EXPECT_EQ(*r.results[k].margin, 0.0) << r.results[k].message;
+    }
+  }
+}
+
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
   // A 1 m block on the floor of a 10 x 6 x 4 room, 0.4 m from its x- wall and 2.5 m from y-.
   CheckReport r = check_vault(
