@@ -197,6 +197,38 @@ TEST_F(MeshOverlap, DrumsAndPalletsAgreeWithTheirPieces) {
   EXPECT_GT(touches, 5);  // drums standing on the deck
 }
 
+TEST_F(MeshOverlap, BoxesAndPalletsAgreeWithTheBoardsAndBlocks) {
+  // A box primitive (a beam, a crate, a fork) at random sizes, heights and headings near a pallet.
+  options.library_dirs = {type_dir({{"crate", "sscs: 1\ntype: crate\nattributes:\n"
+                                              "  sx: {type: length, default: 1}\n  sy: {type: length, default: 1}\n"
+                                              "  sz: {type: length, default: 1}\n"
+                                              "geometry:\n  - box: {size: [sx, sy, sz], xyz: [\"sx/2\", \"sy/2\", \"sz/2\"]}\n"}})};
+  std::mt19937_64 rng(std::random_device{}());
+  const uint64_t seed = rng();
+  rng.seed(seed);
+  std::uniform_real_distribution<double> pos(-0.6, 1.4), size(0.02, 0.6), yaw(0, 360), height(-0.1, 0.2);
+  const std::vector<Convex> pallet = pallet_pieces();
+  int overlaps = 0, touches = 0;
+  for (int i = 0; i < 100; ++i) {
+    double sx = size(rng), sy = size(rng), sz = size(rng), x = pos(rng), y = pos(rng) * 0.7, z = height(rng), w = yaw(rng);
+    if (i % 2 == 0) {  // on a 1 mm grid at right angles: faces flush with boards and blocks
+      auto snap = [](double v) { return std::round(v * 1000) / 1000; };
+      sx = snap(sx), sy = snap(sy), sz = snap(sz), x = snap(x), y = snap(y), z = i % 4 == 0 ? 0.144 : snap(z);
+      w = 90 * std::floor(w / 90);
+    }
+    std::string objects = fmt::format("  - {{type: pallet, name: P}}\n"
+                                      "  - {{type: crate, name: C, sx: {}, sy: {}, sz: {}, location: [{}, {}, {}], "
+                                      "orientation: [0, 0, {}]}}\n",
+                                      sx, sy, sz, x, y, z, w);
+    Convex box;
+    for (int c = 0; c < 8; ++c) box.v.emplace_back(c & 1 ? sx : 0, c & 2 ? sy : 0, c & 4 ? sz : 0);
+    box.normals = box.edges = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+    auto [distance, reference] = measure(objects, pallet, {box});
+    expect_agree(distance, reference, fmt::format("seed {} placement {}: {}", seed, i, objects), overlaps, touches, true);
+  }
+  EXPECT_GT(overlaps, 25);
+}
+
 TEST_F(MeshOverlap, CasesFoundByHandHold) {
   const std::vector<Convex> pallet = pallet_pieces(), drum = drum_pieces();
   int overlaps = 0, touches = 0;
