@@ -131,6 +131,12 @@ std::optional<Quantity> parse_quantity(std::string_view text, std::string* unkno
 
 double stable(double v) {
   if (!std::isfinite(v) || v == 0) return v;
+  // Most report values are short decimals (0.8029, 204): a double that is the nearest to a
+  // decimal of at most 12 significant digits is its own 12-digit rounding.
+  if (std::abs(v) < 1e6) {
+    double n = std::nearbyint(v * 1e6);
+    if (n / 1e6 == v) return v;
+  }
   // to_chars and from_chars round exactly, as printf("%.12g") and strtod do, at a fraction of the cost
   // (reports call this for every number).
   char buf[32];

@@ -50,6 +50,13 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
   if (vr.baseline) w.field("baseline", baseline_json(*vr.baseline));
   w.key("results");
   w.begin_array();
+  // Every result repeats its file's path: escaped once per file.
+  std::vector<std::string> paths;
+  auto path = [&](uint32_t file) -> const std::string& {
+    if (file >= paths.size()) paths.resize(file + 1);
+    if (paths[file].empty()) append_json_string(paths[file], sources.path(file));
+    return paths[file];
+  };
   for (size_t i = 0; i < vr.report.results.size(); ++i) {
     const CheckResult& r = vr.report.results[i];
     const Constraint& c = wc.constraints[r.constraint];
@@ -72,7 +79,8 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
     w.field("message", r.message);
     w.key("location");
     w.begin_object();
-    w.field("file", sources.path(c.mark.file));
+    w.key("file");
+    w.literal(path(c.mark.file));
     w.field("line", c.mark.line);
     w.field("column", c.mark.column);
     w.end_object();

@@ -164,6 +164,11 @@ void JsonWriter::string(std::string_view s) {
   append_json_string(buffer_, s);
 }
 
+void JsonWriter::literal(std::string_view json) {
+  before_value();
+  buffer_.append(json);
+}
+
 void JsonWriter::number(double v) {
   before_value();
   append_json_number(buffer_, v);

@@ -27,6 +27,9 @@ class JsonWriter {
   /// The key of the next value in an object.
   void key(std::string_view k);
   void string(std::string_view s);
+  /// A string already written as a JSON literal (append_json_string): a value repeated in every
+  /// result, escaped once.
+  void literal(std::string_view json);
   void number(double v);    ///< as nlohmann prints a double (750.0, 0.001, 1e-09); null when not finite
   /// number(stable(v)): how reports print their numbers (12 significant digits).
   void stable_number(double v);
