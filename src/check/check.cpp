@@ -114,6 +114,7 @@ double evaluate(const Expression& e, const std::vector<Operand>& inputs, const S
 struct ExprVerdict {
   double margin;
   bool pass;
+  bool defined = true;  ///< false when a side of a comparison is infinite or not a number
 };
 
 double largest_magnitude(const std::vector<double>& values, double start) {
@@ -132,6 +133,7 @@ ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::
         ExprVerdict cv = margin_of(c, values, scratch, nullptr, nullptr);
         v.margin = all ? std::min(v.margin, cv.margin) : std::max(v.margin, cv.margin);
         v.pass = all ? v.pass && cv.pass : v.pass || cv.pass;
+        v.defined = v.defined && cv.defined;
       }
       return v;
     }
@@ -143,6 +145,7 @@ ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::
   scale = largest_magnitude(scratch, std::max(scale, std::abs(R)));
   if (lhs) *lhs = L;
   if (rhs) *rhs = R;
+  if (!std::isfinite(L) || !std::isfinite(R)) return {NAN, false, false};  // `x / 0 > 1`, `0/0 == 0/0`
   double m = NAN;
   switch (n.op) {
     case MarginTree::Op::Lt:
@@ -170,9 +173,9 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
       r.message = fmt::format("'{}' could not be evaluated: {} is not a number", e.text, e.inputs[i].text);
       return;
     }
-  if (std::isnan(v)) {
+  if (!std::isfinite(v)) {
     r.status = Status::Error;
-    r.message = fmt::format("'{}' could not be evaluated (not a number)", e.text);
+    r.message = fmt::format("'{}' could not be evaluated ({})", e.text, std::isnan(v) ? "not a number" : "infinite");
     return;
   }
   bool pass = v != 0;
@@ -180,6 +183,15 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   if (e.margin) {
     double lhs = NAN, rhs = NAN;
     ExprVerdict verdict = margin_of(*e.margin, values, scratch, &lhs, &rhs);
+    if (!verdict.defined) {  // a comparison of a value that is no number has no verdict
+      r.status = Status::Error;
+      std::vector<std::string> parts;
+      for (size_t i = 0; i < e.inputs.size(); ++i)
+        if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
+      r.message = fmt::format("'{}' could not be evaluated: a side of a comparison is infinite or not a number{}", e.text,
+                              parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
+      return;
+    }
     // The verdict with rounding slack: muparser's own comparison has none.
     pass = verdict.pass;
     r.status = pass ? Status::Pass : Status::Fail;

@@ -1,6 +1,7 @@
 // The compile driver and its passes: names -> types -> parameters -> arrays -> objects ->
 // values in dependency order -> constraints -> freeze.
 #include "compile/compile.h"
+#include "core/files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -369,6 +370,10 @@ void assign(CompileState& st, uint32_t slot, const Scalar& s, const AttributeDef
   }
   ParsedValue v = parse_value(s, dim, what, st.diag);
   if (v.kind == ParsedValue::Kind::Number) {
+    if (!std::isfinite(v.si + add)) {  // 1e306 km: finite as written, not in metres
+      st.diag.error(s.mark, fmt::format("'{}' for {} is beyond the range of numbers once converted to SI units", s.text, what));
+      return;
+    }
     st.wc.values[slot] = v.si + add;
     return;
   }
@@ -649,9 +654,8 @@ void resolve_object_links(CompileState& st) {
     }
     if (o.geomodel.present && !o.geomodel.null) {
       obj.geomodel = resolve_path(st.spec.path, o.geomodel.text);
-      std::error_code ec;
-      if (!fs::is_regular_file(obj.geomodel, ec))
-        st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' does not exist", obj.geomodel));
+      if (std::string why = not_a_file(obj.geomodel); !why.empty())
+        st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' {}", obj.geomodel, why));
     }
     const Scalar& color = o.color.present ? o.color : st.wc.types[obj.type].spec->color;
     if (color.present && !color.null) {
@@ -731,12 +735,26 @@ void compile_values(CompileState& st) {
   st.evaluate_pending();
 }
 
-/// Pass: every value is a valid instance of its type (integers, min/max).
+/// A length beyond kMaxLengthSi (a location 1e155 m away, a drum 1e9 m high): an error naming the limit.
+void check_length(CompileState& st, uint32_t slot, SourceMark mark, std::string_view what, std::string_view object) {
+  double v = st.wc.values[slot];
+  if (std::abs(v) <= kMaxLengthSi) return;
+  st.diag.error(mark, fmt::format("{} of '{}' is {:g} m, beyond the {:g} m (1000 km) sscs places and sizes things within",
+                                  what, object, v, kMaxLengthSi));
+  st.slot_failed[slot] = true;
+}
+
+/// Pass: every value is a valid instance of its type (integers, min/max), and lengths and
+/// locations lie within kMaxLengthSi.
 void check_values(CompileState& st) {
   for (size_t i = 0; i < st.wc.objects.size() && !st.diag.full(); ++i) {
     const Object& obj = st.wc.objects[i];
     const ObjectType& type = st.wc.types[obj.type];
     const ObjectSpec& o = *st.object_spec[i];
+    for (int d = 0; d < 3; ++d) {
+      static const char* kLoc[] = {"location.x", "location.y", "location.z"};
+      check_length(st, obj.first_slot + kLocationSlot + d, o.location[d].present ? o.location[d].mark : o.mark, kLoc[d], obj.name);
+    }
     for (size_t a = 0; a < type.attributes.size(); ++a) {
       const AttributeDef& def = type.attributes[a];
       uint32_t slot = obj.first_slot + kFirstAttributeSlot + a;
@@ -760,6 +778,7 @@ void check_values(CompileState& st) {
           continue;
         }
       }
+      if (def.dim == Dim::Length) check_length(st, slot, mark, fmt::format("'{}'", def.name), obj.name);
       const char* unit = file_unit(def.dim);
       if (def.min_si && v < *def.min_si - 1e-12)
         st.diag.error(mark, fmt::format("'{}' of '{}' is {:g}{}{}, below the min {:g}{}{} of type '{}'", def.name, obj.name,

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "compile/compile.h"
+#include "core/files.h"
 #include "compile/values.h"
 #include "core/expr.h"
 #include "core/names.h"
@@ -147,9 +148,9 @@ void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType&
             check_shape_value(shape.radius, Dim::Length, type, "sphere radius", diag);
           } else {
             for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
-            std::error_code ec;
-            if (shape.file.present && !fs::is_regular_file(resolve_mesh_path(type_file, shape.file.text), ec))
-              diag.error(shape.file.mark, fmt::format("mesh file '{}' does not exist", shape.file.text));
+            if (shape.file.present)
+              if (std::string why = not_a_file(resolve_mesh_path(type_file, shape.file.text)); !why.empty())
+                diag.error(shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why));
           }
         },
         g.shape);

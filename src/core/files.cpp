@@ -12,6 +12,20 @@
 
 namespace sscs {
 
+std::string not_a_file(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  switch (st.type()) {
+    case std::filesystem::file_type::regular: return "";
+    case std::filesystem::file_type::directory: return "is a folder, not a file";
+    case std::filesystem::file_type::fifo: return "is a FIFO (named pipe), not a file";
+    case std::filesystem::file_type::block:
+    case std::filesystem::file_type::character: return "is a device, not a file";
+    case std::filesystem::file_type::socket: return "is a socket, not a file";
+    default: return "does not exist";
+  }
+}
+
 namespace fs = std::filesystem;
 
 std::string temp_path_for(const std::string& path) {

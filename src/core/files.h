@@ -7,6 +7,11 @@
 
 namespace sscs {
 
+/// Why `path` is no file to read: "" when it is a regular file (or a link to one), else "does not
+/// exist", "is a folder, not a file", "is a FIFO (named pipe), not a file", "is a device, not a
+/// file" or "is a socket, not a file" (reading a FIFO would wait for ever).
+std::string not_a_file(const std::string& path);
+
 /// A temporary path in the target's folder that keeps the target's extension (exporters pick
 /// formats by it): "dir/.name.tmp<pid>.ext".
 std::string temp_path_for(const std::string& path);

@@ -27,6 +27,10 @@ const char* file_unit(Dim dim);
 /// Factor from the file unit to SI: 1 for all but angles (deg -> rad) and fractions.
 double file_unit_to_si(Dim dim);
 
+/// The largest length (a location, a size) sscs accepts, in metres: 1000 km. Geometry far
+/// beyond it loses the precision collision queries need (and FCL fails near 1e155).
+constexpr double kMaxLengthSi = 1e6;
+
 /// A value converted to SI with the dimension its unit gave it.
 struct Quantity {
   double si = 0;

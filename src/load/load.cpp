@@ -9,6 +9,9 @@
 #include "core/names.h"
 #include "core/units.h"
 #include "load/load.h"
+
+#include "core/files.h"
+#include "core/limits.h"
 #include "load/reader.h"
 
 namespace fs = std::filesystem;
@@ -20,12 +23,24 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
   if (p.is_absolute()) return p.string();
   fs::path beside = fs::path(type_file).parent_path() / p;
   std::error_code ec;
-  if (fs::is_regular_file(beside, ec)) return beside.lexically_normal().string();
+  if (fs::exists(beside, ec)) return beside.lexically_normal().string();
   return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
 }
 
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
+  if (std::string why = not_a_file(path); !why.empty()) {  // a FIFO would be read for ever
+    diag.error(where, fmt::format("cannot read '{}': it {}", path, why));
+    return 0;
+  }
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(path, ec);
+  const uintmax_t limit = limit_bytes("SSCS_MAX_FILE_MB", kMaxInputFileMb);
+  if (!ec && size > limit) {
+    diag.error(where, fmt::format("cannot read '{}': it is {:.0f} MB, above the {:.0f} MB limit of an input file "
+                                  "(raise it with SSCS_MAX_FILE_MB)", path, size / 1e6, limit / 1e6));
+    return 0;
+  }
   errno = 0;
   std::optional<std::string> text = read_file_bytes(path);
   if (!text) {

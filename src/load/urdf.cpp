@@ -11,6 +11,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "core/names.h"
+#include "core/files.h"
 #include "load/load.h"
 
 namespace fs = std::filesystem;
@@ -96,8 +97,8 @@ class Converter {
     }
     fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
     if (p.is_relative()) p = fs::path(urdf_path_).parent_path() / p;
-    if (!fs::is_regular_file(p, ec)) {
-      error(fmt::format("mesh '{}' does not exist ({})", uri, p.lexically_normal().string()));
+    if (std::string why = not_a_file(p.string()); !why.empty()) {
+      error(fmt::format("mesh '{}' {} ({})", uri, why, p.lexically_normal().string()));
       return std::nullopt;
     }
     return fs::absolute(p).lexically_normal().string();
@@ -216,9 +217,8 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
                Diagnostics& diag) {
   const Scalar& at = device.urdf;
   const std::string urdf_path = resolve_mesh_path(type_file, at.text);
-  std::error_code ec;
-  if (!fs::is_regular_file(urdf_path, ec)) {
-    diag.error(at.mark, fmt::format("URDF file '{}' does not exist ({})", at.text, urdf_path));
+  if (std::string why = not_a_file(urdf_path); !why.empty()) {
+    diag.error(at.mark, fmt::format("URDF file '{}' {} ({})", at.text, why, urdf_path));
     return;
   }
   urdf::ModelInterfaceSharedPtr model;

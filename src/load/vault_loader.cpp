@@ -149,7 +149,10 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
   }
   if (kind == "expr") {
     ExprSpec e{load::scalar(body, "expr", diag)};
-    if (!body.is_scalar()) return std::nullopt;
+    if (e.expr.null) {  // `expr:` with nothing after it: an error, never a constraint dropped
+      if (body.is_null()) load::expected(diag, body, "an expression", "expr");
+      return std::nullopt;
+    }
     return e;
   }
   MapReader r(body, fmt::format("{} constraint", kind), diag);

@@ -128,9 +128,8 @@ template <class Spec, class Load>
 const Spec* Study::parsed(std::map<std::string, Spec>& cache, const std::string& path, SourceMark where,
                           std::string_view what, Load load) {
   if (auto it = cache.find(path); it != cache.end()) return &it->second;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    diag_.error(where, fmt::format("{} file '{}' does not exist", what, path));
+  if (std::string why = not_a_file(path); !why.empty()) {
+    diag_.error(where, fmt::format("{} file '{}' {}", what, path, why));
     return nullptr;
   }
   auto spec = load(path, sources_, diag_);

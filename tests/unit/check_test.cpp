@@ -234,6 +234,18 @@ TEST_F(SpatialRules, ExprComparisonsHoldUpToRounding) {
   }
 }
 
+TEST_F(SpatialRules, NonFiniteExpressionsAreErrorsNeverVerdicts) {
+  // Division by zero and 0/0: no comparison of them passes or fails; each is an error result.
+  CheckReport r = check_vault(
+      "objects:\n  - {type: block, name: A, sx: 2}\n"
+      "constraints:\n  - {name: inf, expr: \"A.sx / 0 > 1\"}\n  - {name: nan, expr: \"0/0 == 0/0\"}\n"
+      "  - {name: in_and, expr: \"A.sx > 1 && A.sx / 0 < 2\"}\n  - {name: bare, expr: \"A.sx / 0\"}\n"
+      "  - {name: fine, expr: \"A.sx / 2 == 1\"}\n");
+  ASSERT_EQ(r.results.size(), 5u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
+  EXPECT_EQ(r.results[4].status, Status::Pass);
+}
+
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
   // A 1 m block on the floor of a 10 x 6 x 4 room, 0.4 m from its x- wall and 2.5 m from y-.
   CheckReport r = check_vault(

@@ -172,7 +172,7 @@ TEST_F(MeshOverlap, PalletsOnTheFloorAgreeWithTheirBoardsAndBlocks) {
     auto [distance, reference] = measure(objects, pallet, pallet);
     expect_agree(distance, reference, fmt::format("seed {} placement {}: {}", seed, i, objects), overlaps, touches, true);
   }
-  EXPECT_GT(overlaps, 25);
+  EXPECT_GT(overlaps, 20);  // about 35 expected
 }
 
 TEST_F(MeshOverlap, DrumsAndPalletsAgreeWithTheirPieces) {
@@ -193,7 +193,7 @@ TEST_F(MeshOverlap, DrumsAndPalletsAgreeWithTheirPieces) {
     auto [distance, reference] = measure(objects, pallet, drum);
     expect_agree(distance, reference, fmt::format("seed {} placement {}: {}", seed, i, objects), overlaps, touches, false);
   }
-  EXPECT_GT(overlaps, 15);
+  EXPECT_GT(overlaps, 8);  // about 20 expected
   EXPECT_GT(touches, 5);  // drums standing on the deck
 }
 
@@ -226,7 +226,7 @@ TEST_F(MeshOverlap, BoxesAndPalletsAgreeWithTheBoardsAndBlocks) {
     auto [distance, reference] = measure(objects, pallet, {box});
     expect_agree(distance, reference, fmt::format("seed {} placement {}: {}", seed, i, objects), overlaps, touches, true);
   }
-  EXPECT_GT(overlaps, 25);
+  EXPECT_GT(overlaps, 15);
 }
 
 TEST_F(MeshOverlap, CasesFoundByHandHold) {

@@ -1,0 +1,20 @@
+#pragma once
+/// The limits sscs holds hostile or broken input to (docs/reliability.md lists them all). Each
+/// error that names a limit says how to raise it: an environment variable read here.
+#include <cstdint>
+
+namespace sscs {
+
+/// Largest input file (a vault, type, scenario, sweep or URDF file), MB. SSCS_MAX_FILE_MB.
+constexpr double kMaxInputFileMb = 256;
+/// Largest mesh file, MB. SSCS_MAX_MESH_MB.
+constexpr double kMaxMeshFileMb = 256;
+/// Most triangles in one mesh. SSCS_MAX_MESH_TRIANGLES.
+constexpr double kMaxMeshTriangles = 5e6;
+
+/// The limit `env` sets (a number; its default otherwise or when it is no positive number).
+double limit(const char* env, double fallback);
+/// limit() of a size in MB, in bytes.
+uintmax_t limit_bytes(const char* env, double fallback_mb);
+
+}  // namespace sscs
