@@ -72,12 +72,14 @@ void check_bound(const BoundCheck& b, const State& values, CheckResult& r) {
   bool pass = false;
   // A difference of exactly eps (as written) holds whatever binary rounding made of it.
   const double slack = rounding_slack(std::max({std::abs(L), std::abs(R), b.eps_si}));
+  // Sides equal up to rounding are equal: `0.1 + 0.2 > 0.3` fails with margin 0, as in `expr`.
+  auto snap = [&](double m) { return std::abs(m) <= slack ? 0.0 : m; };
   switch (b.op) {
-    case RelOp::LT: margin = R - L; pass = margin > 0; break;
-    case RelOp::LE: margin = R - L; pass = margin >= -b.eps_si - slack; break;
-    case RelOp::GT: margin = L - R; pass = margin > 0; break;
-    case RelOp::GE: margin = L - R; pass = margin >= -b.eps_si - slack; break;
-    case RelOp::EQ: margin = b.eps_si - std::abs(L - R); pass = margin >= -slack; break;
+    case RelOp::LT: margin = snap(R - L); pass = margin > 0; break;
+    case RelOp::LE: margin = snap(R - L); pass = margin >= -b.eps_si - slack; break;
+    case RelOp::GT: margin = snap(L - R); pass = margin > 0; break;
+    case RelOp::GE: margin = snap(L - R); pass = margin >= -b.eps_si - slack; break;
+    case RelOp::EQ: margin = snap(b.eps_si - std::abs(L - R)); pass = margin >= -slack; break;
   }
   r.dim = b.dim;
   r.lhs = si_to_file(lhs, b.dim);
@@ -136,6 +138,10 @@ ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::
         v.defined = v.defined && cv.defined;
       }
       return v;
+    }
+    case MarginTree::Op::Not: {  // `!(A)`: A's verdict turned over, its margin negated
+      ExprVerdict cv = margin_of(n.children[0], values, scratch, nullptr, nullptr);
+      return {-cv.margin, !cv.pass, cv.defined};
     }
     default: break;
   }
@@ -197,7 +203,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
     r.status = pass ? Status::Pass : Status::Fail;
     double m = verdict.margin;
     if (std::isfinite(m)) r.margin = m == 0 ? 0.0 : m;  // never -0
-    if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or) {
+    if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or && e.margin->op != MarginTree::Op::Not) {
       r.lhs = lhs;
       r.rhs = rhs;
     }

@@ -244,7 +244,7 @@ std::optional<ExprCheck::Side> compile_side(CompileState& st, const std::string&
 std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const MarginTree& tree, const ExprSource& src) {
   ExprCheck::MarginNode node;
   node.op = tree.op;
-  if (tree.op == MarginTree::Op::Or || tree.op == MarginTree::Op::And) {
+  if (tree.op == MarginTree::Op::Or || tree.op == MarginTree::Op::And || tree.op == MarginTree::Op::Not) {
     for (const MarginTree& c : tree.children) {
       auto child = compile_margin(st, c, src);
       if (!child) return std::nullopt;

@@ -155,6 +155,22 @@ std::optional<MarginTree> split_for_margin(std::string_view text) {
     }
     return t;
   }
+  // `!(A)`: the negation of one parenthesised group (`!a == b` is `(!a) == b`: no margin).
+  if (text.size() > 2 && text.front() == '!' && text[1] != '=') {
+    std::string_view rest = trim(text.substr(1));
+    if (rest.empty() || rest.front() != '(' || rest.back() != ')') return std::nullopt;
+    int depth = 0;
+    for (size_t i = 0; i + 1 < rest.size(); ++i) {
+      if (rest[i] == '(') ++depth;
+      else if (rest[i] == ')') --depth;
+      if (depth == 0) return std::nullopt;  // "!(a) < (b)": the group ends before the text does
+    }
+    auto child = split_for_margin(rest);
+    if (!child) return std::nullopt;
+    MarginTree t{MarginTree::Op::Not, "", "", {}};
+    t.children.push_back(std::move(*child));
+    return t;
+  }
   Hit h = find_top(text, {"<=", ">=", "==", "!=", "<", ">"});
   if (h.pos == std::string_view::npos) return std::nullopt;
   std::string_view lhs = trim(text.substr(0, h.pos));

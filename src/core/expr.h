@@ -42,12 +42,12 @@ class Expression {
 
 /// Splits a boolean expression at its top-level `||`, `&&` or comparison, so that a check can
 /// report a margin: for `L < R` the margin is R - L; for `A && B` the smaller, for `A || B` the
-/// larger. Returns nullopt where no margin is defined (a ternary, a bare value, a `!`).
+/// larger, for `!(A)` minus A's. Returns nullopt where no margin is defined (a ternary, a bare value).
 struct MarginTree {
-  enum class Op { Or, And, Lt, Le, Gt, Ge, Eq, Ne } op;
+  enum class Op { Or, And, Not, Lt, Le, Gt, Ge, Eq, Ne } op;
   std::string lhs;  ///< for comparisons: the two sides' text
   std::string rhs;
-  std::vector<MarginTree> children;  ///< for Or/And
+  std::vector<MarginTree> children;  ///< for Or/And; Not: one
 };
 std::optional<MarginTree> split_for_margin(std::string_view text);
 

@@ -213,13 +213,17 @@ struct SurfaceDepth {
       Seed s = seeds[k];
       Eigen::Vector3d dirs[3];
       for (int e = 0; e < 3; ++e) dirs[e] = (surface.corner(s.tri, (e + 1) % 3) - surface.corner(s.tri, e)).normalized();
-      for (double h = surface.box(s.tri).diagonal().norm() / 4; h > 1e-7;) {
+      // A move must gain more than rounding: on a plateau (a face parallel to the triangle, far
+      // from the origin) noise alone would walk the point in 0.1 um steps for ever.
+      int moves = 0;
+      for (double h = surface.box(s.tri).diagonal().norm() / 4; h > 1e-7 && moves < 500;) {
         bool moved = false;
         for (int e = 0; e < 6 && !moved; ++e) {
           Eigen::Vector3d q = s.p + (e < 3 ? h : -h) * dirs[e % 3];
           if (!surface.covers(s.tri, q, 0)) continue;
           double d = depth_at(q, s.depth);
-          if (d > s.depth) {
+          if (d > s.depth + 1e-3 * h) {
+            ++moves;
             s = {q, s.tri, d};
             moved = true;
           }
@@ -230,6 +234,34 @@ struct SurfaceDepth {
     }
   }
 };
+
+/// Solids whose surfaces coincide (a pallet placed twice, an array of pitch 0, a box exactly
+/// on a block) have no point of one surface inside the other: their overlap is inside both. From
+/// the centres of (up to 64, spread) triangles of `surface` that lie on or in `other`, steps
+/// inward along the triangle's normal; returns the deepest point inside both found: its
+/// distance to the nearer of the two surfaces (0 when they only touch).
+double common_depth(const Surface& surface, const Solid& own, const Solid& other, const std::vector<int>& tris) {
+  double best = 0;
+  const size_t stride = std::max<size_t>(1, tris.size() / 64);
+  for (size_t k = 0; k < tris.size(); k += stride) {
+    const int t = tris[k];
+    const Eigen::Vector3d c = (surface.corner(t, 0) + surface.corner(t, 1) + surface.corner(t, 2)) / 3;
+    const double gap = other.mesh_gap(c);  // -1: a primitive
+    const bool on_or_in = gap >= 0 ? gap <= kTouchTolerance || other.contains(c) : other.depth_of(c) > -kTouchTolerance;
+    if (!on_or_in) continue;  // outside the other: nothing common here
+    const Eigen::Vector3d inward = -surface.normal(t).normalized();
+    const double size = surface.box(t).diagonal().norm() + 1;
+    double last = -1;
+    for (double step = 1e-6; step <= size; step *= 2) {
+      const Eigen::Vector3d p = c + step * inward;
+      const double d = std::min(std::max(0.0, own.depth_of(p)), std::max(0.0, other.depth_of(p)));
+      best = std::max(best, d);
+      if (d < last || (d == 0 && step >= 1e-3)) break;
+      last = d;
+    }
+  }
+  return best;
+}
 
 /// How deep two solids (closed meshes or primitives) overlap: the deepest point of either
 /// surface inside the other solid, its distance to that solid's surface; 0 when they only touch.
@@ -291,9 +323,10 @@ double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionO
     }
   }
   double depth = 0;
+  if (a_solid && b_solid) depth = std::max(common_depth(sa, solid_a, solid_b, ta), common_depth(sb, solid_b, solid_a, tb));
   if (b_solid) {
     in_b.polish(4);
-    depth = in_b.best;
+    depth = std::max(depth, in_b.best);
   }
   if (a_solid) {
     in_a.polish(4);

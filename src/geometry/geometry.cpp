@@ -354,9 +354,10 @@ void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object, const st
     part_frames.emplace_back("tool", X_world_object * g.X_object_part[d.tool_part] * d.X_part_tool);
   }
   // A device's part and tool frames follow its parts; the type's own frames follow the object.
-  for (auto& [name, X] : g.frames_world) {
+  for (auto& frame : g.frames_world) {
+    const std::string& name = frame.first;  // a structured binding cannot be captured before C++20 (clang)
     auto part = std::find_if(part_frames.begin(), part_frames.end(), [&](const auto& f) { return f.first == name; });
-    X = part != part_frames.end() ? part->second : move * X;
+    frame.second = part != part_frames.end() ? part->second : move * frame.second;
   }
   g.X_world_object = X_world_object;
   g.bbox_world.setEmpty();

@@ -13,9 +13,6 @@ using load::MapReader;
 
 namespace {
 
-// Keys every object has (the super-class attributes); any other key is an attribute of its type.
-const char* const kObjectKeys[] = {"type", "name", "location", "orientation", "geomodel", "parent", "color", "array"};
-
 ParameterSpec read_parameter(yaml::Node key, yaml::Node value, Diagnostics& diag) {
   ParameterSpec p;
   p.name = load::name(key, "a parameter", diag);

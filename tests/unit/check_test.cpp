@@ -194,6 +194,16 @@ class SpatialRules : public VaultTest {
     return check(wc, build_geometry(wc, diag));
   }
   Workcell wc;
+  /// Each result's status as expected, and every margin but the one at `nonzero` exactly 0.
+  void expect_verdicts(const CheckReport& r, const std::vector<Status>& expected, size_t nonzero) {
+    ASSERT_EQ(r.results.size(), expected.size());
+    for (size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(r.results[k].status, expected[k]) << r.results[k].message;
+      if (k != nonzero) {
+        EXPECT_EQ(*r.results[k].margin, 0.0) << r.results[k].message;
+      }
+    }
+  }
 };
 
 TEST_F(SpatialRules, AClearanceExactlyAtItsMinimumHoldsWhateverTheRounding) {
@@ -223,15 +233,23 @@ TEST_F(SpatialRules, ExprComparisonsHoldUpToRounding) {
       "constraints:\n  - {name: le, expr: \"A.sx + B.sx <= C.sx\"}\n  - {name: eq, expr: \"A.sx + B.sx == C.sx\"}\n"
       "  - {name: ge, expr: \"C.sx >= A.sx + B.sx && C.sx - B.sx >= A.sx\"}\n"
       "  - {name: lt, expr: \"A.sx + B.sx < C.sx\"}\n  - {name: ne, expr: \"A.sx + B.sx != C.sx\"}\n"
-      "  - {name: above, expr: \"A.sx + B.sx <= C.sx - 0.000000001\"}\n");
-  ASSERT_EQ(r.results.size(), 6u);
-  const Status expected[] = {Status::Pass, Status::Pass, Status::Pass, Status::Fail, Status::Fail, Status::Fail};
-  for (size_t k = 0; k < 6; ++k) {
-    EXPECT_EQ(r.results[k].status, expected[k]) << r.results[k].message;
-    if (k < 5) {
-      EXPECT_EQ(*r.results[k].margin, 0.0) << r.results[k].message;
-    }
-  }
+      "  - {name: above, expr: \"A.sx + B.sx <= C.sx - 0.000000001\"}\n"
+      // `!` turns the verdict with rounding over, not muparser's exact one.
+      "  - {name: not_eq, expr: \"!(A.sx + B.sx == C.sx)\"}\n  - {name: not_lt, expr: \"!(C.sx < A.sx + B.sx)\"}\n");
+  expect_verdicts(r, {Status::Pass, Status::Pass, Status::Pass, Status::Fail, Status::Fail, Status::Fail, Status::Fail,
+                      Status::Pass},
+                  5);
+}
+
+TEST_F(SpatialRules, StrictBoundsOfValuesEqualUpToRoundingFail) {
+  // 0.1 + 0.2 and 0.3 are equal as written: GT and LT fail, EQ, LE and GE hold, margins 0.
+  CheckReport r = check_vault(
+      "objects:\n  - {type: block, name: A, location: [\"0.1 + 0.2\", 0, 0]}\n  - {type: block, name: C, location: [0.3, 0, 0]}\n"
+      "constraints:\n  - {name: gt, bound: [A.location.x, GT, C.location.x]}\n"
+      "  - {name: lt, bound: [C.location.x, LT, A.location.x]}\n  - {name: eq, bound: [A.location.x, EQ, C.location.x]}\n"
+      "  - {name: le, bound: [A.location.x, LE, C.location.x]}\n  - {name: ge, bound: [C.location.x, GE, A.location.x]}\n"
+      "  - {name: tol, bound: {lhs: 0.1, lhs_tol: 0.2, op: GT, rhs: C.location.x}}\n");
+  expect_verdicts(r, {Status::Fail, Status::Fail, Status::Pass, Status::Pass, Status::Pass, Status::Fail}, 2);
 }
 
 TEST_F(SpatialRules, NonFiniteExpressionsAreErrorsNeverVerdicts) {
@@ -240,10 +258,11 @@ TEST_F(SpatialRules, NonFiniteExpressionsAreErrorsNeverVerdicts) {
       "objects:\n  - {type: block, name: A, sx: 2}\n"
       "constraints:\n  - {name: inf, expr: \"A.sx / 0 > 1\"}\n  - {name: nan, expr: \"0/0 == 0/0\"}\n"
       "  - {name: in_and, expr: \"A.sx > 1 && A.sx / 0 < 2\"}\n  - {name: bare, expr: \"A.sx / 0\"}\n"
+      "  - {name: negated, expr: \"!(sqrt(-1) > 1)\"}\n  - {name: overflow, expr: \"1e308 * 10 > 1\"}\n"
       "  - {name: fine, expr: \"A.sx / 2 == 1\"}\n");
-  ASSERT_EQ(r.results.size(), 5u);
-  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
-  EXPECT_EQ(r.results[4].status, Status::Pass);
+  ASSERT_EQ(r.results.size(), 7u);
+  for (size_t k = 0; k < 6; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
+  EXPECT_EQ(r.results[6].status, Status::Pass);
 }
 
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {

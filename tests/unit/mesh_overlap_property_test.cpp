@@ -229,13 +229,39 @@ TEST_F(MeshOverlap, BoxesAndPalletsAgreeWithTheBoardsAndBlocks) {
   EXPECT_GT(overlaps, 15);
 }
 
+TEST_F(MeshOverlap, CoincidentSolidsOverlap) {
+  // No point of one surface lies inside the other when the surfaces coincide (a pallet placed
+  // twice, an array of pitch 0, a symmetric pallet turned 180 degrees onto itself): the overlap
+  // is found inside both. Far from the origin too (rounding once made the search walk for ever).
+  const std::vector<Convex> pallet = pallet_pieces(), drum = drum_pieces();
+  const char* pallets[] = {
+      "  - {type: pallet, name: A}\n  - {type: pallet, name: B}\n",
+      "  - {type: pallet, name: A}\n  - {type: pallet, name: B, location: [1.2, 0.8, 0], orientation: [0, 0, 180]}\n",
+      "  - {type: pallet, name: A, location: [25, 0, 0]}\n  - {type: pallet, name: B, location: [25.00001, 0, 0]}\n",
+  };
+  for (const char* objects : pallets) {
+    auto [distance, reference] = measure(objects, pallet, pallet);
+    EXPECT_LT(distance, -0.01) << objects;
+    EXPECT_LE(-distance, reference + 1e-6) << objects;
+  }
+  const char* drums[] = {
+      "  - {type: drum_hooped, name: A}\n  - {type: drum_hooped, name: B}\n",
+      "  - {type: drum_hooped, name: A, location: [25, 0, 0]}\n  - {type: drum_hooped, name: B, location: [25.1, 0, 0]}\n",
+      "  - {type: drum_hooped, name: A, location: [0, 0, 0.851], orientation: [180, 0, 0]}\n  - {type: drum_hooped, name: B}\n",
+  };
+  for (const char* objects : drums) {
+    auto [distance, reference] = measure(objects, drum, drum);
+    EXPECT_LT(distance, -0.01) << objects;
+  }
+}
+
 TEST_F(MeshOverlap, CasesFoundByHandHold) {
   const std::vector<Convex> pallet = pallet_pieces(), drum = drum_pieces();
   int overlaps = 0, touches = 0;
-  const char* pallet_pairs[] = {
+  const std::string pallet_pairs[] = {
       // Overlapping, passed as apart: boards crossing with coincident top and bottom planes.
-      "  - {type: pallet, name: A, orientation: [0, 0, 90]}\n"
-      "  - {type: pallet, name: B, location: [0.1, -0.4, 0], orientation: [0, 0, 90]}\n",
+      std::string("  - {type: pallet, name: A, orientation: [0, 0, 90]}\n") +
+          "  - {type: pallet, name: B, location: [0.1, -0.4, 0], orientation: [0, 0, 90]}\n",
       // Interleaved and touching, failed as overlapping by 0.32 m.
       "  - {type: pallet, name: A}\n  - {type: pallet, name: B, location: [1.649, 0.32, 0], orientation: [0, 0, 180]}\n",
       // Stacked 0.1 mm too low: overlapping by 0.1 mm, not 0.1 m.
@@ -243,7 +269,7 @@ TEST_F(MeshOverlap, CasesFoundByHandHold) {
       // Stacked: touching.
       "  - {type: pallet, name: A}\n  - {type: pallet, name: B, location: [0, 0, 0.144]}\n",
   };
-  for (const char* objects : pallet_pairs) {
+  for (const std::string& objects : pallet_pairs) {
     auto [distance, reference] = measure(objects, pallet, pallet);
     expect_agree(distance, reference, objects, overlaps, touches, true);
     if (std::string(objects).find("0.1439") != std::string::npos) {
