@@ -4,16 +4,13 @@
 
 namespace sscs {
 
-namespace {
-/// The line with control bytes and bytes that are not UTF-8 shown as '?', so quoting binary
-/// input cannot garble the terminal. Column positions stay (one byte, one '?').
-std::string printable(std::string_view line) {
+std::string printable(std::string_view line, bool keep_newlines) {
   std::string out(line);
   auto* s = reinterpret_cast<unsigned char*>(out.data());
   for (size_t i = 0; i < out.size();) {
     unsigned char c = s[i];
     size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-    bool ok = len != 0 && i + len <= out.size() && (c >= 0x20 || c == '\t');
+    bool ok = len != 0 && i + len <= out.size() && c != 0x7F && (c >= 0x20 || c == '\t' || (keep_newlines && c == '\n'));
     for (size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
     if (!ok) {
       s[i++] = '?';
@@ -23,7 +20,16 @@ std::string printable(std::string_view line) {
   }
   return out;
 }
-}  // namespace
+
+std::string within_window(std::string_view text, size_t max) {
+  if (text.size() <= max) return std::string(text);
+  size_t head = max / 2, tail = max / 4;
+  while (head > 0 && (static_cast<unsigned char>(text[head]) & 0xC0) == 0x80) --head;  // whole UTF-8 characters
+  size_t from = text.size() - tail;
+  while (from < text.size() && (static_cast<unsigned char>(text[from]) & 0xC0) == 0x80) ++from;
+  return fmt::format("{} … ({} bytes not shown) … {}", text.substr(0, head), from - head, text.substr(from));
+}
+
 
 void Diagnostics::error(SourceMark mark, std::string message) {
   ++count_;
@@ -39,7 +45,7 @@ std::string Diagnostics::format(const Sources& sources, bool color) const {
   for (const Diagnostic& d : errors_) {
     if (d.mark.valid()) {
       out += fmt::format("{}{}:{}:{}:{} {}error:{} {}\n", bold, sources.path(d.mark.file), d.mark.line,
-                         d.mark.column, reset, red, reset, d.message);
+                         d.mark.column, reset, red, reset, printable(within_window(d.message), true));
       std::string_view line = sources.line(d.mark);
       if (!line.empty() && line.size() < 300) {
         out += fmt::format("  {}\n", printable(line));
@@ -49,7 +55,7 @@ std::string Diagnostics::format(const Sources& sources, bool color) const {
         out += fmt::format("  {}{}^{}\n", caret, green, reset);
       }
     } else {
-      out += fmt::format("{}sscs:{} {}error:{} {}\n", bold, reset, red, reset, d.message);
+      out += fmt::format("{}sscs:{} {}error:{} {}\n", bold, reset, red, reset, printable(within_window(d.message), true));
     }
   }
   if (count_ > errors_.size())

@@ -7,6 +7,14 @@
 
 namespace sscs {
 
+/// Text from input as it may be shown on a terminal, in a log or in XML: control bytes (escape
+/// sequences, NUL, DEL; newlines unless kept) and bytes that are not UTF-8 become '?'. Column
+/// positions stay (one byte, one '?').
+std::string printable(std::string_view text, bool keep_newlines = false);
+/// Text of at most about `max` bytes: a long expression quoted in an error shows its start and
+/// end around "… (N bytes not shown) …".
+std::string within_window(std::string_view text, size_t max = 2000);
+
 struct Diagnostic {
   SourceMark mark;
   std::string message;

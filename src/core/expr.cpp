@@ -4,16 +4,77 @@
 
 #include <cmath>
 #include <deque>
+#include <initializer_list>
 #include <numbers>
 
 namespace sscs {
 
 namespace {
-double op_not(double x) { return x == 0 ? 1.0 : 0.0; }
-double fn_floor(double x) { return std::floor(x); }
-double fn_ceil(double x) { return std::ceil(x); }
-double fn_deg(double x) { return x * 180.0 / std::numbers::pi; }
-double fn_rad(double x) { return x * std::numbers::pi / 180.0; }
+// Functions see every value they are given: one that is not finite, or a result that is not
+// (sqrt(-1), log(0), exp(1000)), marks the evaluation, which then yields NaN whatever the
+// function made of it (muparser's min(x, NaN) is x, sign(NaN) is 0). A value that is no number
+// is never a verdict (issue 18).
+thread_local bool g_non_finite = false;
+double checked(double result, std::initializer_list<double> args) {
+  for (double a : args)
+    if (!std::isfinite(a)) g_non_finite = true;
+  if (!std::isfinite(result)) g_non_finite = true;
+  return result;
+}
+template <double (*F)(double)>
+double unary(double x) {
+  return checked(F(x), {x});
+}
+double multi(const double* args, int n, double (*fold)(double, double), bool mean) {
+  double r = args[0];
+  bool bad = !std::isfinite(args[0]);
+  for (int i = 1; i < n; ++i) {
+    bad = bad || !std::isfinite(args[i]);
+    r = fold(r, args[i]);
+  }
+  if (mean) r /= n;
+  if (bad) g_non_finite = true;
+  return checked(r, {});
+}
+double fn_min(const double* a, int n) { return multi(a, n, [](double x, double y) { return std::min(x, y); }, false); }
+double fn_max(const double* a, int n) { return multi(a, n, [](double x, double y) { return std::max(x, y); }, false); }
+double fn_sum(const double* a, int n) { return multi(a, n, [](double x, double y) { return x + y; }, false); }
+double fn_avg(const double* a, int n) { return multi(a, n, [](double x, double y) { return x + y; }, true); }
+double sign_of(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0; }
+double op_not(double x) { return checked(x == 0 ? 1.0 : 0.0, {x}); }
+double fn_floor(double x) { return checked(std::floor(x), {x}); }
+double fn_ceil(double x) { return checked(std::ceil(x), {x}); }
+double fn_deg(double x) { return checked(x * 180.0 / std::numbers::pi, {x}); }
+double fn_rad(double x) { return checked(x * std::numbers::pi / 180.0, {x}); }
+double fn_atan2(double y, double x) { return checked(std::atan2(y, x), {y, x}); }
+// The binary operators, muparser's built-in ones redefined so that they too mark a value that
+// is not finite ((0/0 > 1) == 0 would otherwise compare 0 with 0).
+double op_add(double a, double b) { return checked(a + b, {a, b}); }
+double op_sub(double a, double b) { return checked(a - b, {a, b}); }
+double op_mul(double a, double b) { return checked(a * b, {a, b}); }
+double op_div(double a, double b) { return checked(a / b, {a, b}); }
+double op_pow(double a, double b) { return checked(std::pow(a, b), {a, b}); }
+double op_lt(double a, double b) { return checked(a < b, {a, b}); }
+double op_gt(double a, double b) { return checked(a > b, {a, b}); }
+double op_le(double a, double b) { return checked(a <= b, {a, b}); }
+double op_ge(double a, double b) { return checked(a >= b, {a, b}); }
+double op_eq(double a, double b) { return checked(a == b, {a, b}); }
+double op_ne(double a, double b) { return checked(a != b, {a, b}); }
+double op_and(double a, double b) { return checked(a != 0 && b != 0, {a, b}); }
+double op_or(double a, double b) { return checked(a != 0 || b != 0, {a, b}); }
+double std_sqrt(double x) { return std::sqrt(x); }
+double std_log(double x) { return std::log(x); }
+double std_log2(double x) { return std::log2(x); }
+double std_log10(double x) { return std::log10(x); }
+double std_exp(double x) { return std::exp(x); }
+double std_asin(double x) { return std::asin(x); }
+double std_acos(double x) { return std::acos(x); }
+double std_abs(double x) { return std::abs(x); }
+double std_rint(double x) { return std::rint(x); }
+double std_sin(double x) { return std::sin(x); }
+double std_cos(double x) { return std::cos(x); }
+double std_tan(double x) { return std::tan(x); }
+double std_atan(double x) { return std::atan(x); }
 
 double* new_slot(const char*, void* user) {
   auto* slots = static_cast<std::deque<double>*>(user);
@@ -39,11 +100,46 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
   mu::Parser& p = e.impl_->parser;
   try {
     p.DefineNameChars("0123456789_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ.");
+    p.EnableBuiltInOprt(false);
+    p.DefineOprt("+", op_add, mu::prADD_SUB, mu::oaLEFT, false);
+    p.DefineOprt("-", op_sub, mu::prADD_SUB, mu::oaLEFT, false);
+    p.DefineOprt("*", op_mul, mu::prMUL_DIV, mu::oaLEFT, false);
+    p.DefineOprt("/", op_div, mu::prMUL_DIV, mu::oaLEFT, false);
+    p.DefineOprt("^", op_pow, mu::prPOW, mu::oaRIGHT, false);
+    p.DefineOprt("<", op_lt, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt(">", op_gt, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt("<=", op_le, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt(">=", op_ge, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt("==", op_eq, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt("!=", op_ne, mu::prCMP, mu::oaLEFT, false);
+    p.DefineOprt("&&", op_and, mu::prLAND, mu::oaLEFT, false);
+    p.DefineOprt("||", op_or, mu::prLOR, mu::oaLEFT, false);
     p.DefineInfixOprt("!", op_not);
-    p.DefineFun("floor", fn_floor);
-    p.DefineFun("ceil", fn_ceil);
-    p.DefineFun("deg", fn_deg);
-    p.DefineFun("rad", fn_rad);
+    // Not folded at parse time: sqrt(-1) must mark its evaluation like sqrt(x) of x = -1.
+    p.DefineFun("sqrt", unary<std_sqrt>, false);
+    p.DefineFun("log", unary<std_log>, false);
+    p.DefineFun("ln", unary<std_log>, false);
+    p.DefineFun("log2", unary<std_log2>, false);
+    p.DefineFun("log10", unary<std_log10>, false);
+    p.DefineFun("exp", unary<std_exp>, false);
+    p.DefineFun("asin", unary<std_asin>, false);
+    p.DefineFun("acos", unary<std_acos>, false);
+    p.DefineFun("sin", unary<std_sin>, false);
+    p.DefineFun("cos", unary<std_cos>, false);
+    p.DefineFun("tan", unary<std_tan>, false);
+    p.DefineFun("atan", unary<std_atan>, false);
+    p.DefineFun("abs", unary<std_abs>, false);
+    p.DefineFun("rint", unary<std_rint>, false);
+    p.DefineFun("sign", unary<sign_of>, false);
+    p.DefineFun("atan2", fn_atan2, false);
+    p.DefineFun("min", fn_min, false);
+    p.DefineFun("max", fn_max, false);
+    p.DefineFun("sum", fn_sum, false);
+    p.DefineFun("avg", fn_avg, false);
+    p.DefineFun("floor", fn_floor, false);
+    p.DefineFun("ceil", fn_ceil, false);
+    p.DefineFun("deg", fn_deg, false);
+    p.DefineFun("rad", fn_rad, false);
     p.DefineConst("pi", std::numbers::pi);
     p.SetVarFactory(new_slot, &e.impl_->slots);
     p.SetExpr(e.text_);
@@ -67,7 +163,9 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
 double Expression::evaluate(const double* values) const {
   for (size_t i = 0; i < impl_->bound.size(); ++i) *impl_->bound[i] = values[i];
   try {
-    return impl_->parser.Eval();
+    g_non_finite = false;
+    double v = impl_->parser.Eval();
+    return g_non_finite && std::isfinite(v) ? std::nan("") : v;  // keep inf where it is the result
   } catch (const mu::Parser::exception_type&) {
     return std::nan("");
   }

@@ -2,13 +2,17 @@
 
 #include <fmt/format.h>
 
+#include "core/diagnostics.h"
 #include "report/report.h"
 
 namespace sscs {
 
 namespace {
 
-std::string xml_escape(std::string_view s) {
+/// Text as XML character data or an attribute value: control characters (which XML 1.0 cannot
+/// carry even as references) and bytes that are not UTF-8 become '?', markup is escaped.
+std::string xml_escape(std::string_view text) {
+  const std::string s = printable(text, true);
   std::string out;
   out.reserve(s.size());
   for (char c : s) {

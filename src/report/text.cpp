@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include "core/diagnostics.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -27,18 +28,19 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
       std::string subjects = subject_names(wc, r);
       std::string change;
       if (vr.baseline) change = vr.baseline->changes[i] == Change::New ? " [new failure]" : " [still failing]";
-      out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}{}\n", bold, sources.path(c.mark.file), c.mark.line,
-                         c.mark.column, reset, warning && r.status != Status::Error ? yellow : red, word, reset, c.name,
-                         c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin, change);
+      // Names and messages come from input: no escape sequence of theirs reaches a terminal or a CI log.
+      out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}{}\n", bold, printable(sources.path(c.mark.file)), c.mark.line,
+                         c.mark.column, reset, warning && r.status != Status::Error ? yellow : red, word, reset, printable(c.name),
+                         c.kind, subjects.empty() ? "" : " ", printable(subjects), printable(within_window(r.message)), margin, change);
     }
     if (vr.baseline && !options.quiet) out += baseline_lines(*vr.baseline);
-    if (vr.baseline) out += fmt::format("{}baseline {}: {}\n", reports.size() > 1 ? wc.name + ": " : "", vr.baseline->file,
+    if (vr.baseline) out += fmt::format("{}baseline {}: {}\n", reports.size() > 1 ? printable(wc.name) + ": " : "", printable(vr.baseline->file),
                                         baseline_summary(*vr.baseline));
     passed += vr.report.passed;
     failed += vr.report.failed;
     warnings += vr.report.warnings;
     if (reports.size() > 1)
-      out += fmt::format("{}: {} passed, {} failed, {} warnings\n", wc.name, vr.report.passed, vr.report.failed,
+      out += fmt::format("{}: {} passed, {} failed, {} warnings\n", printable(wc.name), vr.report.passed, vr.report.failed,
                          vr.report.warnings);
   }
   out += fmt::format("{} passed, {} failed, {} warnings{}\n", passed, failed, warnings,

@@ -259,10 +259,14 @@ TEST_F(SpatialRules, NonFiniteExpressionsAreErrorsNeverVerdicts) {
       "constraints:\n  - {name: inf, expr: \"A.sx / 0 > 1\"}\n  - {name: nan, expr: \"0/0 == 0/0\"}\n"
       "  - {name: in_and, expr: \"A.sx > 1 && A.sx / 0 < 2\"}\n  - {name: bare, expr: \"A.sx / 0\"}\n"
       "  - {name: negated, expr: \"!(sqrt(-1) > 1)\"}\n  - {name: overflow, expr: \"1e308 * 10 > 1\"}\n"
-      "  - {name: fine, expr: \"A.sx / 2 == 1\"}\n");
-  ASSERT_EQ(r.results.size(), 7u);
-  for (size_t k = 0; k < 6; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
-  EXPECT_EQ(r.results[6].status, Status::Pass);
+      // Inside functions, ternaries and comparisons used as values (muparser's min(x, NaN) is x).
+      "  - {name: in_min, expr: \"min(A.sx, 0/0) <= 2\"}\n  - {name: in_max, expr: \"max(A.sx, 0/0) > 1\"}\n"
+      "  - {name: ternary, expr: \"(sqrt(A.sx - 3) > 1) ? 0 : 1\"}\n  - {name: as_value, expr: \"(0/0 > 1) == 0\"}\n"
+      "  - {name: sign, expr: \"sign(0/0) == 0\"}\n  - {name: logic, expr: \"(A.sx / 0) && 1\"}\n"
+      "  - {name: fine, expr: \"A.sx / 2 == 1 && max(A.sx, 1) == 2 && (A.sx > 1 ? 1 : 0)\"}\n");
+  ASSERT_EQ(r.results.size(), 13u);
+  for (size_t k = 0; k < 12; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
+  EXPECT_EQ(r.results[12].status, Status::Pass) << r.results[12].message;
 }
 
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "core/diagnostics.h"
 #include "core/names.h"
 
 namespace sscs {
@@ -43,3 +44,21 @@ TEST(Names, Glob) {
 
 }  // namespace
 }  // namespace sscs
+
+namespace sscs::testing {
+namespace {
+
+TEST(Printable, ControlCharactersAndLongTextNeverReachATerminalWhole) {
+  EXPECT_EQ(printable("V\x1b[2J\x07"), "V?[2J?");
+  EXPECT_EQ(printable("a\nb\tc\x7f"), "a?b\tc?");
+  EXPECT_EQ(printable("a\nb", true), "a\nb");
+  EXPECT_EQ(printable("caf\xc3\xa9 \xff"), "caf\xc3\xa9 ?");  // UTF-8 kept, a stray byte replaced
+  const std::string expr(1'000'000, 'x');
+  std::string shown = within_window(expr);
+  EXPECT_LT(shown.size(), 2100u);
+  EXPECT_NE(shown.find("(998500 bytes not shown)"), std::string::npos) << shown.substr(990, 60);
+  EXPECT_EQ(within_window("short"), "short");
+}
+
+}  // namespace
+}  // namespace sscs::testing
