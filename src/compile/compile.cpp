@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <limits>
 
@@ -753,7 +754,16 @@ void check_values(CompileState& st) {
     const ObjectSpec& o = *st.object_spec[i];
     for (int d = 0; d < 3; ++d) {
       static const char* kLoc[] = {"location.x", "location.y", "location.z"};
+      static const char* kRot[] = {"orientation.roll", "orientation.pitch", "orientation.yaw"};
       check_length(st, obj.first_slot + kLocationSlot + d, o.location[d].present ? o.location[d].mark : o.mark, kLoc[d], obj.name);
+      // An angle of 1e300 degrees is a rotation no double can reduce to a turn: a limit, like lengths.
+      const uint32_t slot = obj.first_slot + kOrientationSlot + d;
+      if (std::abs(st.wc.values[slot]) > kMaxAngleDeg * std::numbers::pi / 180) {
+        st.diag.error(o.orientation[d].present ? o.orientation[d].mark : o.mark,
+                      fmt::format("{} of '{}' is {:g} deg, beyond the ±{:g} deg sscs turns things by", kRot[d], obj.name,
+                                  st.wc.values[slot] * 180 / std::numbers::pi, kMaxAngleDeg));
+        st.slot_failed[slot] = true;
+      }
     }
     for (size_t a = 0; a < type.attributes.size(); ++a) {
       const AttributeDef& def = type.attributes[a];

@@ -30,6 +30,9 @@ double file_unit_to_si(Dim dim);
 /// The largest length (a location, a size) sscs accepts, in metres: 1000 km. Geometry far
 /// beyond it loses the precision collision queries need (and FCL fails near 1e155).
 constexpr double kMaxLengthSi = 1e6;
+/// The largest angle (an orientation) sscs accepts, in degrees: beyond it a double cannot reduce
+/// the angle to a turn precisely (1e300 degrees came out as 93.4).
+constexpr double kMaxAngleDeg = 1e6;
 
 /// A value converted to SI with the dimension its unit gave it.
 struct Quantity {

@@ -1,5 +1,7 @@
 #include "geometry/geometry.h"
 
+#include "core/units.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -316,6 +318,12 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
+    // Each location is within the limit; their sum along a chain of parents must be too.
+    Eigen::Vector3d far = g.X_world_object.translation().cwiseAbs();
+    if (!g.bbox_world.isEmpty()) far = g.bbox_world.max().cwiseAbs().cwiseMax(g.bbox_world.min().cwiseAbs());
+    if (!far.allFinite() || far.maxCoeff() > kMaxLengthSi)
+      diag.error(o.mark, fmt::format("'{}' reaches {:g} m from the origin (its parents' locations added), beyond the "
+                                     "{:g} m (1000 km) sscs places things within", o.name, far.maxCoeff(), kMaxLengthSi));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
     std::vector<int> chain;
     for (int k = o.type; k >= 0; k = wc.types[k].base) chain.insert(chain.begin(), k);
