@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include <console_bridge/console.h>
+#include <set>
+
 #include <fmt/format.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -195,6 +197,10 @@ class Converter {
     }
     if (j.limits && out.type != JointType::Fixed) {
       if (j.type != urdf::Joint::CONTINUOUS) {
+        if (!(j.limits->lower <= j.limits->upper)) {  // the file's fault, not an instance's joint value
+          error(fmt::format("joint '{}' has its lower limit {} above its upper limit {}", j.name, j.limits->lower, j.limits->upper));
+          return std::nullopt;
+        }
         out.min = number(j.limits->lower, unit);
         out.max = number(j.limits->upper, unit);
       }
@@ -235,8 +241,18 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
   Converter convert(at, urdf_path, package_paths, diag);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};
+  std::set<const urdf::Link*> seen = {model->getRoot().get()};
   for (size_t i = 0; i < order.size(); ++i)
-    for (const auto& child : order[i]->child_links) order.push_back(child);
+    for (const auto& child : order[i]->child_links) {
+      // A joint whose parent is its child (or a loop of joints) made this walk grow for ever.
+      if (!seen.insert(child.get()).second) {
+        diag.error(at.mark, fmt::format("URDF file '{}': link '{}' is reached twice from the root (joint '{}' closes a "
+                                        "loop, or a joint's parent is its child): a device is a tree",
+                                        at.text, child->name, child->parent_joint ? child->parent_joint->name : "?"));
+        return;
+      }
+      order.push_back(child);
+    }
   for (const auto& link : order) {
     PartSpec p = convert.part(*link);
     if (auto j = link->parent_joint) {

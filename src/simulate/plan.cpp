@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <map>
 
 #include <fmt/format.h>
@@ -62,6 +63,13 @@ class Planner {
     count(spec.fps, "fps", s.fps);
     count(spec.width, "width", s.width);
     count(spec.height, "height", s.height);
+    // Frames are rendered offscreen: the same bounds as `render --size` (100000 x 100000 ended
+    // in bad_alloc).
+    for (const auto& [v, value, what] : {std::tuple{&spec.width, s.width, "record.frames.width"},
+                                         std::tuple{&spec.height, s.height, "record.frames.height"}})
+      if (v->present && (value < 16 || value > 8192))
+        diag_.error(v->mark, fmt::format("{} must be between 16 and 8192 pixels, found {}", what, v->text));
+    if (spec.fps.present && s.fps > 1000) diag_.error(spec.fps.mark, fmt::format("record.frames.fps must be at most 1000, found {}", spec.fps.text));
     if (s.timestep > 0.1) diag_.error(spec.timestep.mark, fmt::format("sim.timestep {} is too coarse for contact physics (at most 100 ms)", spec.timestep.text));
   }
 
