@@ -740,6 +740,9 @@ int report_sweep(const SweepOutcome& o, const char* verb) {
     case SweepOutcome::End::Failed:
       std::cerr << "sscs: error: " << o.message << "\n";
       return kInternalError;
+    case SweepOutcome::End::OutputError:  // as every command reports a write that failed
+      std::cerr << "sscs: error: " << o.message << "\n";
+      return kInputError;
     case SweepOutcome::End::Done:
       break;
   }
@@ -900,6 +903,9 @@ int run_cli(int argc, char** argv) {
     }
     if (render_cmd->parsed()) return run_render(common, render_args);
     if (replay_cmd->parsed()) return run_replay(common, replay_args);
+    return kInputError;
+  } catch (const OutputError& e) {  // a full disk, an unwritable folder: the same in every command
+    std::cerr << "sscs: error: " << e.what() << "\n";
     return kInputError;
   } catch (const PluginError& e) {
     std::cerr << "sscs: error: " << e.what() << "\n";

@@ -55,6 +55,20 @@ std::string commit_dir(const std::string& tmp, const std::string& path) {
   return ec ? fmt::format("cannot move the output into '{}': {}", path, ec.message()) : "";
 }
 
+std::string write_file(const std::string& path, std::string_view content) {
+  errno = 0;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return fmt::format("cannot write '{}': {}", path, std::strerror(errno));
+  bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size();
+  ok = std::fflush(f) == 0 && ok;
+  int err = errno;
+  ok = std::fclose(f) == 0 && ok;
+  if (!ok) err = err ? err : errno;
+  if (ok) return "";
+  std::remove(path.c_str());
+  return fmt::format("cannot write '{}': {}", path, err ? std::strerror(err) : "short write");
+}
+
 std::string write_file_atomic(const std::string& path, const std::string& content) {
   return write_file_atomic(path, [&](std::ostream& out) { out << content; });
 }

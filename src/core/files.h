@@ -3,9 +3,22 @@
 /// so that a reader (or a CI step) never sees a half-written report, frame or model.
 #include <functional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace sscs {
+
+/// An output that could not be written (a full disk, a folder that cannot be made): the message
+/// names the path and the system's reason. Commands report it as an error (exit 2), never as an
+/// internal one, and leave nothing that looks complete.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Writes `content` to `path`, checking every byte reached the file (flushed and closed: a full
+/// disk shows at the flush). For files inside a folder committed whole. Returns an error or "".
+std::string write_file(const std::string& path, std::string_view content);
 
 /// Why `path` is no file to read: "" when it is a regular file (or a link to one), else "does not
 /// exist", "is a folder, not a file", "is a FIFO (named pipe), not a file", "is a device, not a

@@ -111,9 +111,7 @@ void FrameRecorder::work() {
       auto t0 = Clock::now();
       std::string png = encode_png(job.image);
       std::string path = fmt::format("{}/frame_{:06d}.png", dir_, job.n);
-      std::ofstream f(path, std::ios::binary);
-      f << png;
-      if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", path));
+      if (std::string err = write_file(path, png); !err.empty()) throw OutputError(err);
       std::lock_guard lock(mutex_);
       stats_.encode_s += since(t0);
     } catch (...) {
@@ -135,9 +133,7 @@ FrameStats FrameRecorder::finish(const std::string& contact_sheet_path) {
   if (error_) std::rethrow_exception(error_);
   std::string csv = "frame,t,file\n";
   for (auto [n, t] : index_) csv += fmt::format("{},{:.4f},frame_{:06d}.png\n", n, t, n);
-  std::ofstream f(dir_ + "/index.csv", std::ios::binary);
-  f << csv;
-  if (!f) throw std::runtime_error(fmt::format("cannot write '{}/index.csv'", dir_));
+  if (std::string err = write_file(dir_ + "/index.csv", csv); !err.empty()) throw OutputError(err);
   stats_.frames = static_cast<int>(index_.size());
   stats_.draw_s = renderer_.draw_seconds();
   stats_.readback_s = renderer_.readback_seconds();
@@ -148,14 +144,13 @@ FrameStats FrameRecorder::finish(const std::string& contact_sheet_path) {
       std::remove(video_tmp_.c_str());
       throw std::runtime_error(fmt::format("ffmpeg failed to encode '{}' (exit status {})", video_path_, status));
     }
-    if (std::string err = commit_file(video_tmp_, video_path_); !err.empty()) throw std::runtime_error(err);
+    if (std::string err = commit_file(video_tmp_, video_path_); !err.empty()) throw OutputError(err);
   }
   if (!thumbs_.empty()) {
     std::vector<Thumbnail> thumbs;
     for (auto& [i, t] : thumbs_) thumbs.push_back(std::move(t));
-    std::ofstream sheet(contact_sheet_path, std::ios::binary);
-    sheet << encode_png(contact_sheet(thumbs, font_));
-    if (!sheet) throw std::runtime_error(fmt::format("cannot write '{}'", contact_sheet_path));
+    if (std::string err = write_file(contact_sheet_path, encode_png(contact_sheet(thumbs, font_))); !err.empty())
+      throw OutputError(err);
   }
   return stats_;
 }

@@ -654,7 +654,7 @@ std::string prepare_work_dir(const RunOptions& options) {
   }
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(fmt::format("cannot create '{}': {}", dir.string(), ec.message()));
+  if (ec) throw OutputError(fmt::format("cannot create '{}': {}", dir.string(), ec.message()));
   return dir.string();
 }
 

@@ -100,6 +100,7 @@ class Study {
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
   void run_variant(const Variant& v, const std::string& tmp);
+  std::string commit_variant(const Variant& v);
   [[noreturn]] void worker(int tasks, int done);
   std::string dir(const Variant& v) const { return out_ + "/" + set_.folder(v); }
   /// Where a variant's folder is written before it is renamed into place.
@@ -386,8 +387,29 @@ void Study::run_variant(const Variant& v, const std::string& tmp) {
     row = base_row(v);
     row.message = fmt::format("internal error: {}", e.what());
   }
-  std::ofstream(tmp + "/result.json") << result_json(row, header_);
+  // A full disk: nothing written counts; the parent finds no complete result and stops the sweep.
+  if (std::string err = write_file(tmp + "/result.json", result_json(row, header_)); !err.empty())
+    std::fprintf(stderr, "%s\n", err.c_str());
   std::fflush(nullptr);
+}
+
+/// Commits a variant's folder only when its result.json is whole (a full disk leaves it empty or
+/// cut short): else removes it and says why. "" when committed.
+std::string Study::commit_variant(const Variant& v) {
+  const std::string tmp = tmp_dir(v);
+  std::string error;
+  std::error_code ec;
+  if (!read_result(tmp + "/result.json", header_, &error)) {
+    std::string said = last_line(tmp + "/log.txt");
+    fs::remove_all(tmp, ec);
+    return fmt::format("variant {} ('{}') was not written whole, so it is not kept (is the disk full?): {}", v.index,
+                       set_.folder(v), said.empty() ? error : said);
+  }
+  if (std::string err = commit_dir(tmp, dir(v)); !err.empty()) {
+    fs::remove_all(tmp, ec);
+    return err;
+  }
+  return "";
 }
 
 /// A worker process: forked once, it takes variant indices from `tasks` and answers each on
@@ -447,7 +469,7 @@ SweepOutcome Study::run() {
     if (entry.path().filename().string().starts_with(".") && entry.path().filename().string().find(".tmp-") != std::string::npos)
       fs::remove_all(entry.path(), ec);
   if (std::string err = write_file_atomic(manifest_path, manifest_json(manifest_)); !err.empty()) {
-    out.end = SweepOutcome::End::Failed;
+    out.end = SweepOutcome::End::OutputError;
     out.message = err;
     return out;
   }
@@ -474,6 +496,7 @@ SweepOutcome Study::run() {
   ProgressBar progress(options_.progress, todo.size());
   size_t next = 0, done = 0;
   std::string failure;
+  bool output_failure = false;  // a variant or its result could not be written
   auto start_worker = [&](Worker& w) {
     int to[2], from[2];
     if (pipe2(to, O_CLOEXEC) != 0 || pipe2(from, O_CLOEXEC) != 0) {
@@ -536,8 +559,14 @@ SweepOutcome Study::run() {
                   : WIFSIGNALED(status) ? fmt::format("crashed: signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
                                         : fmt::format("the variant's process exited with status {}", WEXITSTATUS(status));
     if (std::string said = last_line(tmp + "/log.txt"); !said.empty()) row.message += ": " + said;
-    std::ofstream(tmp + "/result.json") << result_json(row, header_);
-    if (std::string err = commit_dir(tmp, dir(*v)); !err.empty()) failure = err;
+    if (std::string err = write_file(tmp + "/result.json", result_json(row, header_)); !err.empty()) {
+      fs::remove_all(tmp, ec);
+      failure = err;
+      output_failure = true;
+    } else if (std::string err = commit_variant(*v); !err.empty()) {
+      failure = err;
+      output_failure = true;
+    }
     progress.update(++done);
   };
   for (Worker& w : workers) {
@@ -570,7 +599,10 @@ SweepOutcome Study::run() {
       if ((fds[i].revents & POLLIN) && read(w.done, &index, sizeof index) == sizeof index && index == w.variant->index) {
         const Variant* v = w.variant;
         w.variant = nullptr;
-        if (std::string err = commit_dir(tmp_dir(*v), dir(*v)); !err.empty()) failure = err;
+        if (std::string err = commit_variant(*v); !err.empty()) {
+          failure = err;
+          output_failure = true;
+        }
         progress.update(++done);
         give(w);
         continue;
@@ -605,7 +637,7 @@ SweepOutcome Study::run() {
   }
   progress.finish(done);
   if (!failure.empty()) {
-    out.end = SweepOutcome::End::Failed;
+    out.end = output_failure ? SweepOutcome::End::OutputError : SweepOutcome::End::Failed;
     out.message = failure;
     return out;
   }
@@ -630,7 +662,7 @@ SweepOutcome Study::run() {
   }
   for (const auto& [name, content] : {std::pair{"results.csv", results_csv(header_, rows)}, {"results.json", results_json(header_, rows)}})
     if (std::string err = write_file_atomic(out.out + "/" + name, content); !err.empty()) {
-      out.end = SweepOutcome::End::Failed;
+      out.end = SweepOutcome::End::OutputError;
       out.message = err;
       return out;
     }
@@ -705,7 +737,7 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
     fs::copy(fs::path(entry.first) / entry.second.folder, fs::path(tmp) / entry.second.folder, fs::copy_options::recursive, ec);
     if (ec) {
       fs::remove_all(tmp, ec);
-      out.end = SweepOutcome::End::Failed;
+      out.end = SweepOutcome::End::OutputError;
       out.message = fmt::format("cannot copy variant {} into '{}': {}", index, out_dir, ec.message());
       return out;
     }
@@ -721,7 +753,7 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
   if (err.empty()) err = commit_dir(tmp, out_dir);
   if (!err.empty()) {
     fs::remove_all(tmp, ec);
-    out.end = SweepOutcome::End::Failed;
+    out.end = SweepOutcome::End::OutputError;
     out.message = err;
     return out;
   }

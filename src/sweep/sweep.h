@@ -26,7 +26,8 @@ struct SweepOptions {
 };
 
 struct SweepOutcome {
-  enum class End { Done, InputError, Interrupted, Failed } end = End::Done;
+  /// OutputError: a result could not be written (a full disk): nothing incomplete is kept.
+  enum class End { Done, InputError, Interrupted, Failed, OutputError } end = End::Done;
   size_t variants = 0;   ///< in the sweep (all shards)
   size_t mine = 0;       ///< in this shard
   size_t resumed = 0;    ///< complete already, skipped
