@@ -710,6 +710,7 @@ struct SweepArgs {
   bool force = false;
   bool resume = true;
   double variant_timeout = 0;
+  double variant_memory = 0;
   std::vector<std::string> merge_dirs;
 };
 
@@ -768,6 +769,11 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
   options.jobs = args.jobs;
   options.force = args.force;
   options.variant_timeout = args.variant_timeout;
+  if (args.variant_memory < 0) {
+    std::cerr << "sscs: error: --variant-memory must be at least 0 GB\n";
+    return kInputError;
+  }
+  options.variant_memory_gb = args.variant_memory;
   options.interrupted = &g_interrupted;
   if (!common.quiet) options.progress = isatty(fileno(stderr)) ? ProgressBar::Mode::Live : ProgressBar::Mode::Lines;
   Sources sources;
@@ -872,6 +878,7 @@ int run_cli(int argc, char** argv) {
     sweep_cmd->add_flag("--resume,!--no-resume", sweep_args.resume, "skip variants already complete in --out (the default)");
     sweep_cmd->add_flag("--force", sweep_args.force, "redo every variant (clears --out)");
     sweep_cmd->add_option("--variant-timeout", sweep_args.variant_timeout, "seconds a variant may take before it is stopped and recorded as error (default: no limit)");
+    sweep_cmd->add_option("--variant-memory", sweep_args.variant_memory, "GB of memory a variant may take before it is recorded as error (default: the machine's memory shared by the jobs, at least 1)");
     common.add_to(sweep_cmd);
     std::string merge_out;
     CLI::App* merge_cmd = sweep_cmd->add_subcommand("merge", "join shard folders into one table, as one run would have written it");

@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -101,6 +102,7 @@ class Study {
   VariantRow base_row(const Variant& v) const;
   void run_variant(const Variant& v, const std::string& tmp);
   std::string commit_variant(const Variant& v);
+  rlim_t memory_limit_ = 0;  ///< RLIMIT_AS of each worker, bytes
   [[noreturn]] void worker(int tasks, int done);
   std::string dir(const Variant& v) const { return out_ + "/" + set_.folder(v); }
   /// Where a variant's folder is written before it is renamed into place.
@@ -383,6 +385,9 @@ void Study::run_variant(const Variant& v, const std::string& tmp) {
   VariantRow row;
   try {
     row = evaluate(v, tmp);
+  } catch (const std::bad_alloc&) {
+    row = base_row(v);
+    row.message = fmt::format("ran out of memory: a variant may take {:.1f} GB (--variant-memory)", memory_limit_ / 1e9);
   } catch (const std::exception& e) {
     row = base_row(v);
     row.message = fmt::format("internal error: {}", e.what());
@@ -416,6 +421,10 @@ std::string Study::commit_variant(const Variant& v) {
 /// `done` when its folder is written; it ends when `tasks` closes. A variant that kills it
 /// (a crash, a timeout) costs only that variant: the parent records it and starts another.
 void Study::worker(int tasks, int done) {
+  // A variant that would take the machine's memory fails alone: its allocation fails, it is
+  // recorded as an error naming the limit, and the other workers go on.
+  rlimit limit{memory_limit_, memory_limit_};
+  if (memory_limit_ > 0) setrlimit(RLIMIT_AS, &limit);
   signal(SIGINT, SIG_IGN);  // the parent decides what an interrupt stops
   signal(SIGTERM, SIG_DFL);
   signal(SIGPIPE, SIG_DFL);
@@ -484,6 +493,12 @@ SweepOutcome Study::run() {
   out.mine = mine.size();
 
   unsigned jobs = options_.jobs ? options_.jobs : std::max(1u, std::thread::hardware_concurrency());
+  if (options_.variant_memory_gb > 0) {
+    memory_limit_ = static_cast<rlim_t>(options_.variant_memory_gb * 1e9);
+  } else {  // the machine's memory shared by the workers, at least 1 GB each
+    const double physical = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    memory_limit_ = static_cast<rlim_t>(std::max(1e9, physical / jobs));
+  }
   jobs = static_cast<unsigned>(std::min<size_t>(jobs, std::max<size_t>(todo.size(), 1)));
   struct Worker {
     pid_t pid = -1;

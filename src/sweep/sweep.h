@@ -20,6 +20,7 @@ struct SweepOptions {
   unsigned shard = 0, shards = 1;  ///< run variants whose index % shards == shard
   bool force = false;              ///< redo variants already complete in `out`
   double variant_timeout = 0;      ///< s; 0: none
+  double variant_memory_gb = 0;    ///< address space a variant's worker may take; 0: the machine's memory / jobs
   CompileOptions compile;          ///< --library, --plugins, --set (before each variant's values)
   ProgressBar::Mode progress = ProgressBar::Mode::None;
   const volatile std::sig_atomic_t* interrupted = nullptr;
