@@ -164,6 +164,16 @@ int run_check(const Common& common, const CheckArgs& args) {
     std::cout << std::flush;
     timer.lap("report");
   } else {
+    // A report written over a file it was made from (`--out vault.yaml`) would destroy the input.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target = fs::weakly_canonical(args.out, ec);
+    for (uint32_t f = 1; f < sources.size(); ++f)
+      if (fs::exists(sources.path(f), ec) && fs::weakly_canonical(sources.path(f), ec) == target) {
+        std::cerr << fmt::format("sscs: error: --out '{}' is an input of this check ({}); write the report elsewhere\n", args.out,
+                                 sources.path(f));
+        return kInputError;
+      }
     std::string err = write_file_atomic(args.out, write_report);
     timer.lap("report");
     if (!err.empty()) {
