@@ -168,6 +168,14 @@ ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::
   return {m, strict ? m > 0 : m >= 0};
 }
 
+/// " (A.x = 1, B.y = 2)": the values an expression read, for its message ("" when only constants).
+std::string input_values(const ExprCheck& e, const State& values) {
+  std::vector<std::string> parts;
+  for (const Operand& in : e.inputs)
+    if (in.kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", in.text, read(in, values)));
+  return parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", "));
+}
+
 void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
   std::vector<double> scratch;
   double v = evaluate(*e.expr, e.inputs, values, scratch);
@@ -191,11 +199,8 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
     ExprVerdict verdict = margin_of(*e.margin, values, scratch, &lhs, &rhs);
     if (!verdict.defined) {  // a comparison of a value that is no number has no verdict
       r.status = Status::Error;
-      std::vector<std::string> parts;
-      for (size_t i = 0; i < e.inputs.size(); ++i)
-        if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
       r.message = fmt::format("'{}' could not be evaluated: a side of a comparison is infinite or not a number{}", e.text,
-                              parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
+                              input_values(e, values));
       return;
     }
     // The verdict with rounding slack: muparser's own comparison has none.
@@ -209,11 +214,7 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
     }
   }
   if (pass && !values.describe_passes) return;
-  std::vector<std::string> parts;
-  for (size_t i = 0; i < e.inputs.size(); ++i)
-    if (e.inputs[i].kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", e.inputs[i].text, read(e.inputs[i], values)));
-  r.message = fmt::format("{}: {}{}", e.text, pass ? "holds" : "violated",
-                          parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", ")));
+  r.message = fmt::format("{}: {}{}", e.text, pass ? "holds" : "violated", input_values(e, values));
 }
 
 constexpr double kTouch = kTouchTolerance;  // touching within this is not overlap

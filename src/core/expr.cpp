@@ -21,10 +21,6 @@ double checked(double result, std::initializer_list<double> args) {
   if (!std::isfinite(result)) g_non_finite = true;
   return result;
 }
-template <double (*F)(double)>
-double unary(double x) {
-  return checked(F(x), {x});
-}
 double multi(const double* args, int n, double (*fold)(double, double), bool mean) {
   double r = args[0];
   bool bad = !std::isfinite(args[0]);
@@ -40,41 +36,48 @@ double fn_min(const double* a, int n) { return multi(a, n, [](double x, double y
 double fn_max(const double* a, int n) { return multi(a, n, [](double x, double y) { return std::max(x, y); }, false); }
 double fn_sum(const double* a, int n) { return multi(a, n, [](double x, double y) { return x + y; }, false); }
 double fn_avg(const double* a, int n) { return multi(a, n, [](double x, double y) { return x + y; }, true); }
-double sign_of(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0; }
 double op_not(double x) { return checked(x == 0 ? 1.0 : 0.0, {x}); }
-double fn_floor(double x) { return checked(std::floor(x), {x}); }
-double fn_ceil(double x) { return checked(std::ceil(x), {x}); }
-double fn_deg(double x) { return checked(x * 180.0 / std::numbers::pi, {x}); }
-double fn_rad(double x) { return checked(x * std::numbers::pi / 180.0, {x}); }
 double fn_atan2(double y, double x) { return checked(std::atan2(y, x), {y, x}); }
-// The binary operators, muparser's built-in ones redefined so that they too mark a value that
-// is not finite ((0/0 > 1) == 0 would otherwise compare 0 with 0).
-double op_add(double a, double b) { return checked(a + b, {a, b}); }
-double op_sub(double a, double b) { return checked(a - b, {a, b}); }
-double op_mul(double a, double b) { return checked(a * b, {a, b}); }
-double op_div(double a, double b) { return checked(a / b, {a, b}); }
-double op_pow(double a, double b) { return checked(std::pow(a, b), {a, b}); }
-double op_lt(double a, double b) { return checked(a < b, {a, b}); }
-double op_gt(double a, double b) { return checked(a > b, {a, b}); }
-double op_le(double a, double b) { return checked(a <= b, {a, b}); }
-double op_ge(double a, double b) { return checked(a >= b, {a, b}); }
-double op_eq(double a, double b) { return checked(a == b, {a, b}); }
-double op_ne(double a, double b) { return checked(a != b, {a, b}); }
-double op_and(double a, double b) { return checked(a != 0 && b != 0, {a, b}); }
-double op_or(double a, double b) { return checked(a != 0 || b != 0, {a, b}); }
-double std_sqrt(double x) { return std::sqrt(x); }
-double std_log(double x) { return std::log(x); }
-double std_log2(double x) { return std::log2(x); }
-double std_log10(double x) { return std::log10(x); }
-double std_exp(double x) { return std::exp(x); }
-double std_asin(double x) { return std::asin(x); }
-double std_acos(double x) { return std::acos(x); }
-double std_abs(double x) { return std::abs(x); }
-double std_rint(double x) { return std::rint(x); }
-double std_sin(double x) { return std::sin(x); }
-double std_cos(double x) { return std::cos(x); }
-double std_tan(double x) { return std::tan(x); }
-double std_atan(double x) { return std::atan(x); }
+// muparser's built-in operators and functions, redefined so that they too mark a value that is
+// not finite ((0/0 > 1) == 0 would otherwise compare 0 with 0; min(x, NaN) is x).
+struct BinaryOp {
+  const char* name;
+  double (*f)(double, double);
+  int precedence;
+  mu::EOprtAssociativity associativity;
+};
+const BinaryOp kBinaryOps[] = {
+    {"+", [](double a, double b) { return checked(a + b, {a, b}); }, mu::prADD_SUB, mu::oaLEFT},
+    {"-", [](double a, double b) { return checked(a - b, {a, b}); }, mu::prADD_SUB, mu::oaLEFT},
+    {"*", [](double a, double b) { return checked(a * b, {a, b}); }, mu::prMUL_DIV, mu::oaLEFT},
+    {"/", [](double a, double b) { return checked(a / b, {a, b}); }, mu::prMUL_DIV, mu::oaLEFT},
+    {"^", [](double a, double b) { return checked(std::pow(a, b), {a, b}); }, mu::prPOW, mu::oaRIGHT},
+    {"<", [](double a, double b) { return checked(a < b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {">", [](double a, double b) { return checked(a > b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"<=", [](double a, double b) { return checked(a <= b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {">=", [](double a, double b) { return checked(a >= b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"==", [](double a, double b) { return checked(a == b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"!=", [](double a, double b) { return checked(a != b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"&&", [](double a, double b) { return checked(a != 0 && b != 0, {a, b}); }, mu::prLAND, mu::oaLEFT},
+    {"||", [](double a, double b) { return checked(a != 0 || b != 0, {a, b}); }, mu::prLOR, mu::oaLEFT},
+};
+struct UnaryFunction {
+  const char* name;
+  double (*f)(double);
+};
+const UnaryFunction kUnaryFunctions[] = {
+    {"sqrt", [](double x) { return checked(std::sqrt(x), {x}); }},   {"log", [](double x) { return checked(std::log(x), {x}); }},
+    {"ln", [](double x) { return checked(std::log(x), {x}); }},      {"log2", [](double x) { return checked(std::log2(x), {x}); }},
+    {"log10", [](double x) { return checked(std::log10(x), {x}); }}, {"exp", [](double x) { return checked(std::exp(x), {x}); }},
+    {"asin", [](double x) { return checked(std::asin(x), {x}); }},   {"acos", [](double x) { return checked(std::acos(x), {x}); }},
+    {"sin", [](double x) { return checked(std::sin(x), {x}); }},     {"cos", [](double x) { return checked(std::cos(x), {x}); }},
+    {"tan", [](double x) { return checked(std::tan(x), {x}); }},     {"atan", [](double x) { return checked(std::atan(x), {x}); }},
+    {"abs", [](double x) { return checked(std::abs(x), {x}); }},     {"rint", [](double x) { return checked(std::rint(x), {x}); }},
+    {"sign", [](double x) { return checked(x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0, {x}); }},
+    {"floor", [](double x) { return checked(std::floor(x), {x}); }}, {"ceil", [](double x) { return checked(std::ceil(x), {x}); }},
+    {"deg", [](double x) { return checked(x * 180.0 / std::numbers::pi, {x}); }},
+    {"rad", [](double x) { return checked(x * std::numbers::pi / 180.0, {x}); }},
+};
 
 double* new_slot(const char*, void* user) {
   auto* slots = static_cast<std::deque<double>*>(user);
@@ -101,45 +104,15 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
   try {
     p.DefineNameChars("0123456789_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ.");
     p.EnableBuiltInOprt(false);
-    p.DefineOprt("+", op_add, mu::prADD_SUB, mu::oaLEFT, false);
-    p.DefineOprt("-", op_sub, mu::prADD_SUB, mu::oaLEFT, false);
-    p.DefineOprt("*", op_mul, mu::prMUL_DIV, mu::oaLEFT, false);
-    p.DefineOprt("/", op_div, mu::prMUL_DIV, mu::oaLEFT, false);
-    p.DefineOprt("^", op_pow, mu::prPOW, mu::oaRIGHT, false);
-    p.DefineOprt("<", op_lt, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt(">", op_gt, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt("<=", op_le, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt(">=", op_ge, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt("==", op_eq, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt("!=", op_ne, mu::prCMP, mu::oaLEFT, false);
-    p.DefineOprt("&&", op_and, mu::prLAND, mu::oaLEFT, false);
-    p.DefineOprt("||", op_or, mu::prLOR, mu::oaLEFT, false);
+    for (const BinaryOp& op : kBinaryOps) p.DefineOprt(op.name, op.f, op.precedence, op.associativity, false);
     p.DefineInfixOprt("!", op_not);
     // Not folded at parse time: sqrt(-1) must mark its evaluation like sqrt(x) of x = -1.
-    p.DefineFun("sqrt", unary<std_sqrt>, false);
-    p.DefineFun("log", unary<std_log>, false);
-    p.DefineFun("ln", unary<std_log>, false);
-    p.DefineFun("log2", unary<std_log2>, false);
-    p.DefineFun("log10", unary<std_log10>, false);
-    p.DefineFun("exp", unary<std_exp>, false);
-    p.DefineFun("asin", unary<std_asin>, false);
-    p.DefineFun("acos", unary<std_acos>, false);
-    p.DefineFun("sin", unary<std_sin>, false);
-    p.DefineFun("cos", unary<std_cos>, false);
-    p.DefineFun("tan", unary<std_tan>, false);
-    p.DefineFun("atan", unary<std_atan>, false);
-    p.DefineFun("abs", unary<std_abs>, false);
-    p.DefineFun("rint", unary<std_rint>, false);
-    p.DefineFun("sign", unary<sign_of>, false);
+    for (const UnaryFunction& fn : kUnaryFunctions) p.DefineFun(fn.name, fn.f, false);
     p.DefineFun("atan2", fn_atan2, false);
     p.DefineFun("min", fn_min, false);
     p.DefineFun("max", fn_max, false);
     p.DefineFun("sum", fn_sum, false);
     p.DefineFun("avg", fn_avg, false);
-    p.DefineFun("floor", fn_floor, false);
-    p.DefineFun("ceil", fn_ceil, false);
-    p.DefineFun("deg", fn_deg, false);
-    p.DefineFun("rad", fn_rad, false);
     p.DefineConst("pi", std::numbers::pi);
     p.SetVarFactory(new_slot, &e.impl_->slots);
     p.SetExpr(e.text_);
