@@ -11,6 +11,10 @@ constexpr double kMaxInputFileMb = 256;
 constexpr double kMaxMeshFileMb = 256;
 /// Most triangles in one mesh. SSCS_MAX_MESH_TRIANGLES.
 constexpr double kMaxMeshTriangles = 5e6;
+/// Memory the mesh reader (assimp, in a child process) may use, MB. SSCS_MAX_MESH_READ_MB.
+constexpr double kMaxMeshReadMb = 4096;
+/// CPU seconds the mesh reader may use on one file.
+constexpr unsigned kMaxMeshReadSeconds = 60;
 
 /// The limit `env` sets (a number; its default otherwise or when it is no positive number).
 double limit(const char* env, double fallback);

@@ -1,5 +1,6 @@
 #include "geometry/mesh_io.h"
 
+#include "core/diagnostics.h"
 #include "core/files.h"
 #include "core/limits.h"
 #include "core/units.h"
@@ -17,6 +18,14 @@
 #include <filesystem>
 #include <map>
 #include <functional>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <cerrno>
+#include <cstdio>
 
 #include <fmt/format.h>
 
@@ -43,12 +52,23 @@ double as_written(float x) {
 std::string unfit_mesh_file(const std::string& path) {
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(path, ec);
-  const uintmax_t limit = limit_bytes("SSCS_MAX_MESH_MB", kMaxMeshFileMb);
-  if (!ec && size > limit)
+  const uintmax_t max_bytes = limit_bytes("SSCS_MAX_MESH_MB", kMaxMeshFileMb);
+  if (!ec && size > max_bytes)
     return fmt::format("it is {:.0f} MB, above the {:.0f} MB limit of a mesh file (raise it with SSCS_MAX_MESH_MB)",
-                       size / 1e6, limit / 1e6);
+                       size / 1e6, max_bytes / 1e6);
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".stl" && size >= 84) {
+    // A binary STL says how many triangles it holds (84 + 50 bytes each): refused before reading.
+    std::ifstream in(path, std::ios::binary);
+    unsigned char h[84] = {};
+    in.read(reinterpret_cast<char*>(h), sizeof h);
+    const uint32_t n = uint32_t(h[80]) | uint32_t(h[81]) << 8 | uint32_t(h[82]) << 16 | uint32_t(h[83]) << 24;
+    const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
+    if (size == 84 + 50 * uintmax_t(n) && n > max_triangles)
+      return fmt::format("it has {} triangles, above the limit of {:.0f} (raise it with SSCS_MAX_MESH_TRIANGLES, or "
+                         "simplify the mesh)", n, max_triangles);
+  }
   if (ext == ".glb") {
     // Header: magic "glTF", version 2, total length; then a JSON chunk (length, "JSON").
     std::ifstream in(path, std::ios::binary);
@@ -63,6 +83,167 @@ std::string unfit_mesh_file(const std::string& path) {
   return "";
 }
 
+/// What assimp made of a file: vertices as written, triangles (polygons fanned), or why not.
+struct RawMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  std::string error;  ///< non-empty: the file could not be read
+};
+
+/// Reads `path` with assimp in this process. Polygons are fanned into triangles here: assimp's
+/// own triangulation aborts the process on some malformed files (an OFF face with a stray byte).
+RawMesh read_with_assimp(const std::string& path) {
+  RawMesh out;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path, aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode) {
+    out.error = importer.GetErrorString();
+    if (out.error.empty()) out.error = "assimp read no scene";
+    return out;
+  }
+  size_t triangles = 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    for (unsigned f = 0; f < scene->mMeshes[m]->mNumFaces; ++f)
+      triangles += std::max(2u, scene->mMeshes[m]->mFaces[f].mNumIndices) - 2;
+  const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
+  if (static_cast<double>(triangles) > max_triangles) {
+    out.error = fmt::format("it has {} triangles, above the limit of {:.0f} (raise it with SSCS_MAX_MESH_TRIANGLES, "
+                            "or simplify the mesh)", triangles, max_triangles);
+    return out;
+  }
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    auto base = static_cast<int>(out.vertices.size());
+    for (unsigned v = 0; v < am->mNumVertices; ++v)
+      out.vertices.emplace_back(as_written(am->mVertices[v].x), as_written(am->mVertices[v].y), as_written(am->mVertices[v].z));
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      auto index_ok = [&](unsigned k) { return face.mIndices[k] < am->mNumVertices; };
+      for (unsigned k = 2; k < face.mNumIndices; ++k)
+        if (index_ok(0) && index_ok(k - 1) && index_ok(k))
+          out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[k - 1]),
+                                     base + static_cast<int>(face.mIndices[k]));
+    }
+  }
+  return out;
+}
+
+/// Writes and reads a RawMesh through a pipe (the child's answer to the parent).
+bool write_all(int fd, const void* data, size_t size) {
+  auto p = static_cast<const char*>(data);
+  while (size > 0) {
+    ssize_t n = ::write(fd, p, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    size -= static_cast<size_t>(n);
+  }
+  return true;
+}
+
+void send(int fd, const RawMesh& mesh) {
+  uint64_t counts[3] = {mesh.error.size(), mesh.vertices.size(), mesh.triangles.size()};
+  write_all(fd, counts, sizeof counts) && write_all(fd, mesh.error.data(), mesh.error.size()) &&
+      write_all(fd, mesh.vertices.data(), mesh.vertices.size() * sizeof(Eigen::Vector3d)) &&
+      write_all(fd, mesh.triangles.data(), mesh.triangles.size() * sizeof(Eigen::Vector3i));
+}
+
+/// Reads the child's answer from `fd`; false if it ended early (the child died).
+bool receive(int fd, RawMesh& mesh) {
+  std::string bytes;
+  char buf[1 << 16];
+  for (;;) {
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.append(buf, static_cast<size_t>(n));
+  }
+  uint64_t counts[3];
+  if (bytes.size() < sizeof counts) return false;
+  std::memcpy(counts, bytes.data(), sizeof counts);
+  const uint64_t need = sizeof counts + counts[0] + counts[1] * sizeof(Eigen::Vector3d) + counts[2] * sizeof(Eigen::Vector3i);
+  if (bytes.size() != need) return false;
+  const char* p = bytes.data() + sizeof counts;
+  mesh.error.assign(p, counts[0]);
+  p += counts[0];
+  mesh.vertices.resize(counts[1]);
+  std::memcpy(static_cast<void*>(mesh.vertices.data()), p, counts[1] * sizeof(Eigen::Vector3d));
+  p += counts[1] * sizeof(Eigen::Vector3d);
+  mesh.triangles.resize(counts[2]);
+  std::memcpy(static_cast<void*>(mesh.triangles.data()), p, counts[2] * sizeof(Eigen::Vector3i));
+  return true;
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+/// Reads `path` with assimp in a child process, so that a file which crashes, hangs or exhausts
+/// the parser (assimp asserts and aborts on some malformed files) is an input error, not the
+/// end of sscs. The child may use SSCS_MAX_MESH_READ_MB of memory (default 4096) and 60 s of CPU.
+RawMesh read_isolated(const std::string& path) {
+  int fds[2];
+  if (::pipe(fds) != 0) return read_with_assimp(path);
+  std::fflush(nullptr);
+  pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return read_with_assimp(path);
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    // An aborting importer's message goes nowhere: the parent says what happened.
+    if (int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, STDERR_FILENO);
+    if (!kAddressSanitizer) {  // ASan reserves terabytes of address space
+      rlim_t bytes = static_cast<rlim_t>(limit_bytes("SSCS_MAX_MESH_READ_MB", kMaxMeshReadMb));
+      rlimit as{bytes, bytes};
+      ::setrlimit(RLIMIT_AS, &as);
+    }
+    rlimit cpu{kMaxMeshReadSeconds, kMaxMeshReadSeconds + 1};
+    ::setrlimit(RLIMIT_CPU, &cpu);
+    RawMesh mesh;
+    try {
+      mesh = read_with_assimp(path);
+    } catch (const std::bad_alloc&) {
+      mesh = RawMesh{};
+      mesh.error = "reading it needs more memory than the limit (raise it with SSCS_MAX_MESH_READ_MB)";
+    } catch (const std::exception& e) {
+      mesh = RawMesh{};
+      mesh.error = e.what();
+    }
+    if (mesh.error == std::bad_alloc().what())  // assimp catches it and reports its what()
+      mesh.error = "reading it needs more memory than the limit (raise it with SSCS_MAX_MESH_READ_MB)";
+    send(fds[1], mesh);
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  RawMesh mesh;
+  bool whole = receive(fds[0], mesh);
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (whole && WIFEXITED(status) && WEXITSTATUS(status) == 0) return mesh;
+  mesh = RawMesh{};
+  if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
+    mesh.error = fmt::format("the mesh reader (assimp) took more than {} s of CPU on it", kMaxMeshReadSeconds);
+  else if (WIFSIGNALED(status))
+    mesh.error = fmt::format("the mesh reader (assimp) crashed on it ({}): the file is malformed", strsignal(WTERMSIG(status)));
+  else
+    mesh.error = "the mesh reader (assimp) ended without an answer: the file is malformed or needs more memory than "
+                 "the limit (raise it with SSCS_MAX_MESH_READ_MB)";
+  return mesh;
+}
+
 }  // namespace
 
 std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, SourceMark where, Diagnostics& diag) {
@@ -73,48 +254,25 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
     diag.error(where, fmt::format("mesh file '{}' {}", path, why));
   } else if (std::string why = unfit_mesh_file(path); !why.empty()) {
     diag.error(where, fmt::format("cannot read mesh '{}': {}", path, why));
+  } else if (RawMesh raw = read_isolated(path); !raw.error.empty()) {
+    diag.error(where, fmt::format("cannot read mesh '{}': {}", path, printable(raw.error)));
   } else {
-    Assimp::Importer importer;
-    const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                       aiProcess_PreTransformVertices);
-    if (!scene || !scene->mRootNode) {
-      diag.error(where, fmt::format("cannot read mesh '{}': {}", path, importer.GetErrorString()));
+    auto mesh = std::make_shared<TriangleMesh>();
+    mesh->path = path;
+    mesh->vertices = std::move(raw.vertices);
+    mesh->triangles = std::move(raw.triangles);
+    mesh->closed = is_closed(mesh->vertices, mesh->triangles);
+    auto bad = std::find_if(mesh->vertices.begin(), mesh->vertices.end(), [](const Eigen::Vector3d& v) {
+      return !v.allFinite() || v.cwiseAbs().maxCoeff() > kMaxLengthSi;
+    });
+    if (mesh->triangles.empty()) {
+      diag.error(where, fmt::format("mesh '{}' has no triangles", path));
+    } else if (bad != mesh->vertices.end()) {
+      diag.error(where, fmt::format("mesh '{}' has a vertex that is {} (vertex {}: {} {} {})", path,
+                                    bad->allFinite() ? fmt::format("beyond {:g} units from its origin", kMaxLengthSi) : "not a number",
+                                    bad - mesh->vertices.begin() + 1, bad->x(), bad->y(), bad->z()));
     } else {
-      auto mesh = std::make_shared<TriangleMesh>();
-      mesh->path = path;
-      size_t triangles = 0;
-      for (unsigned m = 0; m < scene->mNumMeshes; ++m) triangles += scene->mMeshes[m]->mNumFaces;
-      const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
-      if (static_cast<double>(triangles) > max_triangles) {
-        diag.error(where, fmt::format("mesh '{}' has {} triangles, above the limit of {:.0f} (raise it with "
-                                      "SSCS_MAX_MESH_TRIANGLES, or simplify the mesh)", path, triangles, max_triangles));
-        meshes_[path] = nullptr;
-        return nullptr;
-      }
-      for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* am = scene->mMeshes[m];
-        auto base = static_cast<int>(mesh->vertices.size());
-        for (unsigned v = 0; v < am->mNumVertices; ++v)
-          mesh->vertices.emplace_back(as_written(am->mVertices[v].x), as_written(am->mVertices[v].y), as_written(am->mVertices[v].z));
-        for (unsigned f = 0; f < am->mNumFaces; ++f) {
-          const aiFace& face = am->mFaces[f];
-          if (face.mNumIndices == 3)
-            mesh->triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
-        }
-      }
-      mesh->closed = is_closed(mesh->vertices, mesh->triangles);
-      auto bad = std::find_if(mesh->vertices.begin(), mesh->vertices.end(), [](const Eigen::Vector3d& v) {
-        return !v.allFinite() || v.cwiseAbs().maxCoeff() > kMaxLengthSi;
-      });
-      if (mesh->triangles.empty()) {
-        diag.error(where, fmt::format("mesh '{}' has no triangles", path));
-      } else if (bad != mesh->vertices.end()) {
-        diag.error(where, fmt::format("mesh '{}' has a vertex that is {} (vertex {}: {} {} {})", path,
-                                      bad->allFinite() ? fmt::format("beyond {:g} units from its origin", kMaxLengthSi) : "not a number",
-                                      bad - mesh->vertices.begin() + 1, bad->x(), bad->y(), bad->z()));
-      } else {
-        result = std::move(mesh);
-      }
+      result = std::move(mesh);
     }
   }
   meshes_[path] = result;

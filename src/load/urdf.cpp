@@ -234,6 +234,15 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
     model = urdf::parseURDFFile(urdf_path);
     log = capture.text();
   }
+  // urdfdom's links hold their children by shared_ptr, so a joint whose parent is its child
+  // keeps the model alive for ever; drop those pointers when done.
+  struct Release {
+    urdf::ModelInterfaceSharedPtr& model;
+    ~Release() {
+      if (model)
+        for (auto& [name, link] : model->links_) link->child_links.clear();
+    }
+  } release{model};
   if (!model || !model->getRoot()) {
     diag.error(at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log));
     return;

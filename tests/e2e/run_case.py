@@ -95,7 +95,10 @@ def bad(sscs, root, expect):
         args = [a.replace("{build}", build_dir(sscs)).replace("{tmp}", os.path.join(tmp, "out"))
                 for a in shlex.split(fields.get("args", f"check tests/data/bad/{name}.yaml"))]
         out_file = os.path.join(tmp, "report.json")
-        proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate", "sweep") and "merge" not in args else args)
+        # env: NAME=VALUE ... (a limit lowered for the case)
+        env = dict(kv.split("=", 1) for kv in shlex.split(fields.get("env", "")))
+        proc = run(sscs, root, args + ["--out", out_file] if args[0] in ("check", "simulate", "sweep") and "merge" not in args else args,
+                   env=env)
         if proc.returncode != int(fields["exit"]):
             fail(f"exit status {proc.returncode}, expected {fields['exit']}", proc)
         for fragment in fields["stderr"]:

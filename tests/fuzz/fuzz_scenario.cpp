@@ -1,0 +1,21 @@
+// Fuzzes a scenario file through load, compile of its vault, planning and cameras (everything
+// `sscs simulate` does before physics). Its vault is scenarios/drum-transfer/cell.yaml, copied
+// beside it as `cell.yaml`, so seeds from that folder reach the planner.
+#include "cli/prepared_scenario.h"
+#include "fuzz_support.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace sscs;
+  static const bool vault_in_place = [] {
+    std::filesystem::copy_file(std::filesystem::path(SSCS_SOURCE_DIR) / "scenarios/drum-transfer/cell.yaml",
+                               fuzz::scratch() / "cell.yaml", std::filesystem::copy_options::overwrite_existing);
+    return true;
+  }();
+  (void)vault_in_place;
+  std::string path = fuzz::write_scratch("scenario.yaml", data, size);
+  CompileOptions options;
+  options.library = fuzz::standard_library();
+  PreparedScenario prepared;
+  prepared.prepare(path, options);
+  return 0;
+}
