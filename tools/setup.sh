@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libosmesa6-dev libgl-dev libpng-dev libfreetype-dev fonts-dejavu-core libcli11-dev nlohmann-json3-dev libmuparser-dev
   libbenchmark-dev liburdfdom-dev
   liborocos-kdl-dev  # the IK benchmark's peer solver only; sscs does not link it
+  clang libclang-rt-14-dev  # the sanitizer and libFuzzer build of tools/test.sh (stage 2)
 )
 
 missing=()

@@ -13,8 +13,23 @@ constexpr double kMaxMeshFileMb = 256;
 constexpr double kMaxMeshTriangles = 5e6;
 /// Memory the mesh reader (assimp, in a child process) may use, MB. SSCS_MAX_MESH_READ_MB.
 constexpr double kMaxMeshReadMb = 4096;
-/// CPU seconds the mesh reader may use on one file.
-constexpr unsigned kMaxMeshReadSeconds = 60;
+/// CPU seconds the mesh reader may use on one file: this many, plus half a second per MB of the
+/// file (a 200-byte PLY can keep assimp busy for minutes). SSCS_MAX_MESH_READ_SECONDS replaces it.
+constexpr double kMaxMeshReadSeconds = 10;
+
+/// Whether RLIMIT_AS can bound a process's memory: not under AddressSanitizer, which reserves
+/// terabytes of address space (the sanitizer build runs without memory limits).
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kAddressSpaceLimits = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kAddressSpaceLimits = false;
+#else
+inline constexpr bool kAddressSpaceLimits = true;
+#endif
+#else
+inline constexpr bool kAddressSpaceLimits = true;
+#endif
 
 /// The limit `env` sets (a number; its default otherwise or when it is no positive number).
 double limit(const char* env, double fallback);

@@ -167,29 +167,22 @@ bool receive(int fd, RawMesh& mesh) {
   mesh.error.assign(p, counts[0]);
   p += counts[0];
   mesh.vertices.resize(counts[1]);
-  std::memcpy(static_cast<void*>(mesh.vertices.data()), p, counts[1] * sizeof(Eigen::Vector3d));
+  if (counts[1] > 0) std::memcpy(static_cast<void*>(mesh.vertices.data()), p, counts[1] * sizeof(Eigen::Vector3d));
   p += counts[1] * sizeof(Eigen::Vector3d);
   mesh.triangles.resize(counts[2]);
-  std::memcpy(static_cast<void*>(mesh.triangles.data()), p, counts[2] * sizeof(Eigen::Vector3i));
+  if (counts[2] > 0) std::memcpy(static_cast<void*>(mesh.triangles.data()), p, counts[2] * sizeof(Eigen::Vector3i));
   return true;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
 /// Reads `path` with assimp in a child process, so that a file which crashes, hangs or exhausts
 /// the parser (assimp asserts and aborts on some malformed files) is an input error, not the
-/// end of sscs. The child may use SSCS_MAX_MESH_READ_MB of memory (default 4096) and 60 s of CPU.
+/// end of sscs. The child may use SSCS_MAX_MESH_READ_MB of memory (default 4096) and a few
+/// seconds of CPU (kMaxMeshReadSeconds).
 RawMesh read_isolated(const std::string& path) {
+  std::error_code ec;
+  const double mb = static_cast<double>(std::filesystem::file_size(path, ec)) / 1e6;
+  const auto seconds = static_cast<rlim_t>(
+      std::ceil(limit("SSCS_MAX_MESH_READ_SECONDS", kMaxMeshReadSeconds + (ec ? 0.0 : 0.5 * mb))));
   int fds[2];
   if (::pipe(fds) != 0) return read_with_assimp(path);
   std::fflush(nullptr);
@@ -203,12 +196,12 @@ RawMesh read_isolated(const std::string& path) {
     ::close(fds[0]);
     // An aborting importer's message goes nowhere: the parent says what happened.
     if (int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, STDERR_FILENO);
-    if (!kAddressSanitizer) {  // ASan reserves terabytes of address space
+    if (kAddressSpaceLimits) {
       rlim_t bytes = static_cast<rlim_t>(limit_bytes("SSCS_MAX_MESH_READ_MB", kMaxMeshReadMb));
       rlimit as{bytes, bytes};
       ::setrlimit(RLIMIT_AS, &as);
     }
-    rlimit cpu{kMaxMeshReadSeconds, kMaxMeshReadSeconds + 1};
+    rlimit cpu{seconds, seconds + 1};
     ::setrlimit(RLIMIT_CPU, &cpu);
     RawMesh mesh;
     try {
@@ -235,7 +228,8 @@ RawMesh read_isolated(const std::string& path) {
   if (whole && WIFEXITED(status) && WEXITSTATUS(status) == 0) return mesh;
   mesh = RawMesh{};
   if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
-    mesh.error = fmt::format("the mesh reader (assimp) took more than {} s of CPU on it", kMaxMeshReadSeconds);
+    mesh.error = fmt::format("the mesh reader (assimp) took more than {} s of CPU on it (raise the limit with "
+                             "SSCS_MAX_MESH_READ_SECONDS)", seconds);
   else if (WIFSIGNALED(status))
     mesh.error = fmt::format("the mesh reader (assimp) crashed on it ({}): the file is malformed", strsignal(WTERMSIG(status)));
   else

@@ -1,5 +1,7 @@
 #include "sweep/sweep.h"
 
+#include "core/limits.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -424,7 +426,7 @@ void Study::worker(int tasks, int done) {
   // A variant that would take the machine's memory fails alone: its allocation fails, it is
   // recorded as an error naming the limit, and the other workers go on.
   rlimit limit{memory_limit_, memory_limit_};
-  if (memory_limit_ > 0) setrlimit(RLIMIT_AS, &limit);
+  if (memory_limit_ > 0 && kAddressSpaceLimits) setrlimit(RLIMIT_AS, &limit);
   signal(SIGINT, SIG_IGN);  // the parent decides what an interrupt stops
   signal(SIGTERM, SIG_DFL);
   signal(SIGPIPE, SIG_DFL);

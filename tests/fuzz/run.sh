@@ -13,6 +13,10 @@ mkdir -p "$work/corpus/$target" "$work/crashes" "$work/seeds"
 rm -rf "$work/seeds/$target"
 "$python" "$here/seeds.py" "$target" "$work/seeds/$target" --dict "$work/sscs.dict"
 cd "$work"
+# Leaks of system libraries are suppressed (as in tools/test.sh); a slow mesh stops at 5 s.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/../sanitize/lsan.supp:print_suppressions=0}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-max_allocation_size_mb=4096}
+export SSCS_MAX_MESH_READ_SECONDS=${SSCS_MAX_MESH_READ_SECONDS:-5}
 log="$work/$target.log"
 status=0
 "$binary" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2560 -malloc_limit_mb=2560 \
