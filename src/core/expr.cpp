@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <deque>
+#include <algorithm>
 #include <initializer_list>
+#include <limits>
 #include <numbers>
 
 namespace sscs {
@@ -15,11 +17,23 @@ namespace {
 // function made of it (muparser's min(x, NaN) is x, sign(NaN) is 0). A value that is no number
 // is never a verdict (issue 18).
 thread_local bool g_non_finite = false;
+thread_local bool g_not_a_number = false;  // one of them was NaN (else only infinities)
+// The largest magnitude this evaluation has met (its inputs, and every operand): the scale of the
+// rounding a value computed from them may carry.
+thread_local double g_scale = 0;
 double checked(double result, std::initializer_list<double> args) {
-  for (double a : args)
+  for (double a : args) {
     if (!std::isfinite(a)) g_non_finite = true;
+    else g_scale = std::max(g_scale, std::abs(a));
+    if (std::isnan(a)) g_not_a_number = true;
+  }
   if (!std::isfinite(result)) g_non_finite = true;
+  if (std::isnan(result)) g_not_a_number = true;
   return result;
+}
+/// Rounding two values compared may carry: a few ulps of the largest magnitude met so far.
+double slack(double a, double b) {
+  return 16 * std::numeric_limits<double>::epsilon() * std::max({std::abs(a), std::abs(b), g_scale});
 }
 double multi(const double* args, int n, double (*fold)(double, double), bool mean) {
   double r = args[0];
@@ -29,7 +43,10 @@ double multi(const double* args, int n, double (*fold)(double, double), bool mea
     r = fold(r, args[i]);
   }
   if (mean) r /= n;
-  if (bad) g_non_finite = true;
+  if (bad) {
+    g_non_finite = true;
+    for (int i = 0; i < n; ++i) g_not_a_number = g_not_a_number || std::isnan(args[i]);
+  }
   return checked(r, {});
 }
 double fn_min(const double* a, int n) { return multi(a, n, [](double x, double y) { return std::min(x, y); }, false); }
@@ -52,12 +69,14 @@ const BinaryOp kBinaryOps[] = {
     {"*", [](double a, double b) { return checked(a * b, {a, b}); }, mu::prMUL_DIV, mu::oaLEFT},
     {"/", [](double a, double b) { return checked(a / b, {a, b}); }, mu::prMUL_DIV, mu::oaLEFT},
     {"^", [](double a, double b) { return checked(std::pow(a, b), {a, b}); }, mu::prPOW, mu::oaRIGHT},
-    {"<", [](double a, double b) { return checked(a < b, {a, b}); }, mu::prCMP, mu::oaLEFT},
-    {">", [](double a, double b) { return checked(a > b, {a, b}); }, mu::prCMP, mu::oaLEFT},
-    {"<=", [](double a, double b) { return checked(a <= b, {a, b}); }, mu::prCMP, mu::oaLEFT},
-    {">=", [](double a, double b) { return checked(a >= b, {a, b}); }, mu::prCMP, mu::oaLEFT},
-    {"==", [](double a, double b) { return checked(a == b, {a, b}); }, mu::prCMP, mu::oaLEFT},
-    {"!=", [](double a, double b) { return checked(a != b, {a, b}); }, mu::prCMP, mu::oaLEFT},
+    // Comparisons anywhere in an expression (a ternary's condition, `(a == b) + 1`) hold up to
+    // rounding, as a check's top-level comparison does: values equal up to rounding are equal.
+    {"<", [](double a, double b) { return checked(b - a > slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {">", [](double a, double b) { return checked(a - b > slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"<=", [](double a, double b) { return checked(a - b <= slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {">=", [](double a, double b) { return checked(b - a <= slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"==", [](double a, double b) { return checked(std::abs(a - b) <= slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
+    {"!=", [](double a, double b) { return checked(std::abs(a - b) > slack(a, b), {a, b}); }, mu::prCMP, mu::oaLEFT},
     {"&&", [](double a, double b) { return checked(a != 0 && b != 0, {a, b}); }, mu::prLAND, mu::oaLEFT},
     {"||", [](double a, double b) { return checked(a != 0 || b != 0, {a, b}); }, mu::prLOR, mu::oaLEFT},
 };
@@ -136,9 +155,15 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
 double Expression::evaluate(const double* values) const {
   for (size_t i = 0; i < impl_->bound.size(); ++i) *impl_->bound[i] = values[i];
   try {
-    g_non_finite = false;
+    g_non_finite = g_not_a_number = false;
+    g_scale = 0;
+    for (size_t i = 0; i < impl_->bound.size(); ++i)
+      if (std::isfinite(values[i])) g_scale = std::max(g_scale, std::abs(values[i]));
     double v = impl_->parser.Eval();
-    return g_non_finite && std::isfinite(v) ? std::nan("") : v;  // keep inf where it is the result
+    // A value met on the way that is not finite makes the result so: NaN if one was NaN, else
+    // infinite (`1/0 > 0` is "infinite", not "not a number"); inf stays where it is the result.
+    if (g_non_finite && std::isfinite(v)) return g_not_a_number ? std::nan("") : INFINITY;
+    return v;
   } catch (const mu::Parser::exception_type&) {
     return std::nan("");
   }

@@ -30,6 +30,9 @@ class Expression {
   const std::vector<std::string>& names() const { return names_; }
   const std::string& text() const { return text_; }
   /// Evaluates with `values[i]` for `names()[i]`. May return inf or nan (e.g. 1/0): callers check.
+  /// A value met on the way that is not finite (`1/0 > 0`, `min(x, 0/0)`) makes the result NaN if
+  /// one was NaN, else infinite. Comparisons hold up to rounding (a few ulps of the largest
+  /// magnitude met); only the taken branch of `?:` is evaluated (`x > 0 ? sqrt(x) : 0` guards).
   double evaluate(const double* values) const;
 
  private:

@@ -241,6 +241,24 @@ TEST_F(SpatialRules, ExprComparisonsHoldUpToRounding) {
                   5);
 }
 
+TEST_F(SpatialRules, NestedComparisonsHoldUpToRounding) {
+  // Comparisons inside an expression (a ternary's condition, a comparison used as a value) treat
+  // 0.1 + 0.2 and 0.3 as equal, as the top-level comparison does.
+  CheckReport r = check_vault(
+      "objects:\n  - {type: block, name: A, sx: 0.1}\n  - {type: block, name: B, sx: 0.2}\n"
+      "  - {type: block, name: C, sx: 0.3}\n"
+      "constraints:\n  - {name: eq_value, expr: \"(A.sx + B.sx == C.sx) == 1\"}\n"
+      "  - {name: lt_cond, expr: \"(A.sx + B.sx < C.sx) ? 0 : 1\"}\n"
+      "  - {name: strict_and_not, expr: \"(A.sx + B.sx > C.sx) + (A.sx + B.sx >= C.sx) + (A.sx + B.sx != C.sx) == 1\"}\n"
+      "  - {name: le_cond, expr: \"(A.sx + B.sx <= C.sx ? 1 : 0) && (C.sx >= A.sx + B.sx ? 1 : 0)\"}\n"
+      // A real difference still counts, however small next to the values.
+      "  - {name: apart, expr: \"(A.sx + B.sx < C.sx + 0.000000001) == 1\"}\n"
+      // Only the taken branch is evaluated: a guard keeps sqrt from a negative value.
+      "  - {name: guard, expr: \"(A.sx - 1 > 0 ? sqrt(A.sx - 1) : 0) == 0\"}\n");
+  ASSERT_EQ(r.results.size(), 6u);
+  for (const CheckResult& result : r.results) EXPECT_EQ(result.status, Status::Pass) << result.message;
+}
+
 TEST_F(SpatialRules, StrictBoundsOfValuesEqualUpToRoundingFail) {
   // 0.1 + 0.2 and 0.3 are equal as written: GT and LT fail, EQ, LE and GE hold, margins 0.
   CheckReport r = check_vault(
@@ -267,6 +285,10 @@ TEST_F(SpatialRules, NonFiniteExpressionsAreErrorsNeverVerdicts) {
   ASSERT_EQ(r.results.size(), 13u);
   for (size_t k = 0; k < 12; ++k) EXPECT_EQ(r.results[k].status, Status::Error) << r.results[k].message;
   EXPECT_EQ(r.results[12].status, Status::Pass) << r.results[12].message;
+  // The message tells an infinite value from one that is no number.
+  EXPECT_NE(r.results[3].message.find("infinite"), std::string::npos) << r.results[3].message;
+  EXPECT_NE(r.results[11].message.find("infinite"), std::string::npos) << r.results[11].message;
+  EXPECT_NE(r.results[9].message.find("not a number"), std::string::npos) << r.results[9].message;
 }
 
 TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
