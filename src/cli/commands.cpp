@@ -51,6 +51,8 @@ struct Common {
   std::vector<std::string> set;
   bool quiet = false;
   bool allow_vault_plugins = false;
+  std::string root;
+  bool allow_outside_root = false;
   std::string color = "auto";
 
   /// The options every command takes; `with_set` false for commands that read no vault (types).
@@ -59,6 +61,9 @@ struct Common {
     app->add_option("--plugins", plugins, "load the plugins in this folder (repeatable)");
     app->add_flag("--allow-vault-plugins", allow_vault_plugins, "also load the folders a vault's plugins: key names");
     app->add_option("--package-path", package_paths, "folder of ROS packages for URDF package:// references (repeatable)");
+    app->add_option("--root", root, "the project root: files named inside input files must lie in it (default: the git "
+                                    "work tree holding the input, else its folder)");
+    app->add_flag("--allow-outside-root", allow_outside_root, "let input files name files outside the project root");
     if (with_set) app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
     app->add_flag("--quiet", quiet, "print only summaries and errors");
     app->add_option("--color", color, "colour output: auto, always or never")
@@ -69,8 +74,18 @@ struct Common {
     if (color == "never") return false;
     return isatty(fileno(stream)) && std::getenv("NO_COLOR") == nullptr;
   }
-  /// --set NAME=VALUE pairs; a malformed one is an input error.
-  bool overrides(CompileOptions& options) const {
+  /// The options in `options`, and the folders files named inside `inputs` (the files or run
+  /// folder the command line names) may come from: the project root, the standard library and
+  /// the folders given as options. A malformed --set NAME=VALUE is an input error.
+  bool apply(CompileOptions& options, const std::vector<std::string>& inputs) const {
+    if (!allow_outside_root && !inputs.empty()) {
+      std::vector<std::string> roots;
+      if (!root.empty()) roots.push_back(root);
+      for (const std::string& input : inputs) roots.push_back(project_root_of(input));
+      roots.push_back(data_dir("library"));
+      for (const auto* dirs : {&library, &plugins, &package_paths}) roots.insert(roots.end(), dirs->begin(), dirs->end());
+      confine_reads(roots);
+    }
     for (const std::string& s : set) {
       auto eq = s.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -117,7 +132,7 @@ int run_check(const Common& common, const CheckArgs& args) {
     }
   }
   CompileOptions options;
-  if (!common.overrides(options)) return kInputError;
+  if (!common.apply(options, args.vaults)) return kInputError;
   Sources sources;
   Diagnostics diag;
   std::vector<Workcell> cells;
@@ -384,7 +399,7 @@ int run_types(const Common& common, const std::string& format) {
 
 int run_export(const Common& common, const std::string& vault, const std::string& out) {
   CompileOptions options;
-  if (!common.overrides(options)) return kInputError;
+  if (!common.apply(options, {vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
   auto wc = compile_file(vault, options, sources, diag);
@@ -447,7 +462,7 @@ int run_render(const Common& common, const RenderArgs& args) {
       return kInputError;
     }
   CompileOptions options;
-  if (!common.overrides(options)) return kInputError;
+  if (!common.apply(options, {args.vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
   auto wc = compile_file(args.vault, options, sources, diag);
@@ -516,7 +531,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     return kInputError;
   }
   CompileOptions options;
-  if (!common.overrides(options)) return kInputError;
+  if (!common.apply(options, {args.run})) return kInputError;
   PreparedScenario ps;
   if (!ps.prepare(scenario, options, args.camera)) {
     std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
@@ -605,7 +620,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   const bool no_frames = args.no_frames;
   std::string out = args.out;
   CompileOptions options;
-  if (!common.overrides(options)) return kInputError;
+  if (!common.apply(options, {args.scenario})) return kInputError;
   if (!video.empty()) {
     std::string why = no_frames ? "--video needs frames; it cannot go with --no-frames"
                     : std::filesystem::path(video).extension() != ".mp4" ? fmt::format("--video expects a .mp4 file, found '{}'", video)
@@ -766,7 +781,8 @@ int report_sweep(const SweepOutcome& o, const char* verb) {
 
 int run_sweep_command(const Common& common, const SweepArgs& args) {
   SweepOptions options;
-  if (!common.overrides(options.compile)) return kInputError;
+  if (!common.apply(options.compile, args.sweep.empty() ? std::vector<std::string>{} : std::vector<std::string>{args.sweep}))
+    return kInputError;
   if (!args.shard.empty() && !parse_shard(args.shard, options.shard, options.shards)) {
     std::cerr << fmt::format("sscs: error: --shard expects K/N with 0 <= K < N (e.g. 3/8), found '{}'\n", args.shard);
     return kInputError;

@@ -655,7 +655,7 @@ void resolve_object_links(CompileState& st) {
     }
     if (o.geomodel.present && !o.geomodel.null) {
       obj.geomodel = resolve_path(st.spec.path, o.geomodel.text);
-      if (std::string why = not_a_file(obj.geomodel); !why.empty())
+      if (std::string why = not_a_readable_reference(obj.geomodel); !why.empty())
         st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' {}", obj.geomodel, why));
     }
     const Scalar& color = o.color.present ? o.color : st.wc.types[obj.type].spec->color;
@@ -834,6 +834,8 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
       else if (!named && !options.allow_vault_plugins)
         diag.error(dir.mark, fmt::format("the vault asks to load the plugins in '{}'; a vault alone never loads code. To "
                                          "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
+      else if (std::string why = named ? "" : outside_roots(path); !why.empty())
+        diag.error(dir.mark, fmt::format("plugin folder '{}' {}", dir.text, why));
       else if (!named) folders.push_back(path);
     }
     if (diag.has_errors()) return std::nullopt;  // nothing loads when any folder is refused

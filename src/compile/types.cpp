@@ -149,7 +149,7 @@ void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType&
           } else {
             for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
             if (shape.file.present)
-              if (std::string why = not_a_file(resolve_mesh_path(type_file, shape.file.text)); !why.empty())
+              if (std::string why = not_a_readable_reference(resolve_mesh_path(type_file, shape.file.text)); !why.empty())
                 diag.error(shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why));
           }
         },
@@ -220,13 +220,27 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
                                      const std::vector<PluginType>& plugin_types) {
   std::vector<std::shared_ptr<const TypeSpec>> specs;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
+  std::vector<fs::path> loaded;  // a folder named twice (a vault's library and --library) loads once
   for (const auto& [dir, where] : dirs) {
     std::error_code ec;
+    if (fs::path real = fs::weakly_canonical(dir, ec); !ec) {
+      if (std::find(loaded.begin(), loaded.end(), real) != loaded.end()) continue;
+      loaded.push_back(real);
+    }
     if (!fs::is_directory(dir, ec)) {
       diag.error(where, fmt::format("type library folder '{}' does not exist", dir));
       continue;
     }
+    // A folder a vault names (where is valid), and each type file in it, stay inside the project.
+    if (std::string why = where.valid() ? outside_roots(dir) : ""; !why.empty()) {
+      diag.error(where, fmt::format("type library folder '{}' {}", dir, why));
+      continue;
+    }
     for (const std::string& file : type_files(dir)) {
+      if (std::string why = where.valid() ? outside_roots(file) : ""; !why.empty()) {
+        diag.error(where, fmt::format("type file '{}' {}", file, why));
+        continue;
+      }
       auto spec = load_type(file, sources, diag, {}, package_paths);
       if (!spec || spec->name.empty()) continue;
       std::string stem = fs::path(file).stem().string();

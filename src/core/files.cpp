@@ -28,6 +28,73 @@ std::string not_a_file(const std::string& path) {
 
 namespace fs = std::filesystem;
 
+namespace {
+struct Confinement {
+  bool active = false;
+  std::vector<fs::path> roots;  ///< canonical; the first is the project root
+};
+Confinement& confinement() {
+  static Confinement c;
+  return c;
+}
+
+/// `path` as an absolute path with symbolic links resolved (as far as it exists).
+fs::path resolved(const fs::path& path) {
+  std::error_code ec;
+  fs::path abs = fs::absolute(path, ec);
+  fs::path canon = fs::weakly_canonical(abs, ec);
+  return ec ? abs.lexically_normal() : canon;
+}
+
+bool within(const fs::path& path, const fs::path& root) {
+  auto p = path.begin();
+  for (auto r = root.begin(); r != root.end(); ++r, ++p) {
+    if (r->empty() && std::next(r) == root.end()) return true;  // a trailing separator
+    if (p == path.end() || *p != *r) return false;
+  }
+  return true;
+}
+}  // namespace
+
+void confine_reads(const std::vector<std::string>& roots) {
+  Confinement& c = confinement();
+  c.active = true;
+  c.roots.clear();
+  for (const std::string& r : roots)
+    if (!r.empty()) c.roots.push_back(resolved(r));
+}
+
+std::string outside_roots(const std::string& path) {
+  const Confinement& c = confinement();
+  if (!c.active || c.roots.empty()) return "";
+  const fs::path real = resolved(path);
+  for (const fs::path& root : c.roots)
+    if (within(real, root)) return "";
+  std::error_code ec;
+  const fs::path written = fs::absolute(path, ec).lexically_normal();
+  const std::string how = "(run with --root naming a folder that holds it, or --allow-outside-root)";
+  for (const fs::path& root : c.roots)
+    if (within(written, root))
+      return fmt::format("leads outside the project root {} through a symbolic link (to {}) {}", c.roots[0].string(),
+                         real.string(), how);
+  return fmt::format("is outside the project root {} {}", c.roots[0].string(), how);
+}
+
+std::string not_a_readable_reference(const std::string& path) {
+  if (std::string why = outside_roots(path); !why.empty()) return why;
+  return not_a_file(path);
+}
+
+std::string project_root_of(const std::string& file) {
+  std::error_code ec;
+  fs::path folder = fs::is_directory(file, ec) ? resolved(file) : resolved(file).parent_path();
+  for (fs::path p = folder; !p.empty(); p = p.parent_path()) {
+    if (fs::exists(p / ".git", ec)) return p.string();
+    if (p == p.parent_path()) break;
+  }
+  return folder.string();
+}
+
 std::string temp_path_for(const std::string& path) {
   fs::path target(path);
   return (target.parent_path() /

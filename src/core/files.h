@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sscs {
 
@@ -24,6 +25,24 @@ std::string write_file(const std::string& path, std::string_view content);
 /// exist", "is a folder, not a file", "is a FIFO (named pipe), not a file", "is a device, not a
 /// file" or "is a socket, not a file" (reading a FIFO would wait for ever).
 std::string not_a_file(const std::string& path);
+
+/// Confines the files and folders that input files name (meshes, URDFs and their meshes, type
+/// files, libraries, plugin folders, geomodels, the vaults and scenarios of scenarios and sweeps)
+/// to `roots`: the project root first (the one messages name), then folders the command line
+/// named. Paths are compared after resolving symbolic links, so a link inside a root that points
+/// out of it is outside. Until this is called nothing is confined (tests, library users).
+void confine_reads(const std::vector<std::string>& roots);
+
+/// "" when `path`, named in an input file, lies inside the roots of confine_reads(); else why not
+/// ("is outside the project root /p (...)", "leads outside the project root /p through a symbolic link ...").
+std::string outside_roots(const std::string& path);
+
+/// Why a file named in an input file cannot be read: outside_roots(), else not_a_file().
+std::string not_a_readable_reference(const std::string& path);
+
+/// The project root of a file (or folder) named on the command line: the top of the git work tree
+/// holding it (the folder with `.git`), else its own folder (the folder itself).
+std::string project_root_of(const std::string& file);
 
 /// A temporary path in the target's folder that keeps the target's extension (exporters pick
 /// formats by it): "dir/.name.tmp<pid>.ext".

@@ -244,7 +244,7 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
   auto it = meshes_.find(path);
   if (it != meshes_.end()) return it->second;
   std::shared_ptr<const TriangleMesh> result;
-  if (std::string why = not_a_file(path); !why.empty()) {
+  if (std::string why = not_a_readable_reference(path); !why.empty()) {
     diag.error(where, fmt::format("mesh file '{}' {}", path, why));
   } else if (std::string why = unfit_mesh_file(path); !why.empty()) {
     diag.error(where, fmt::format("cannot read mesh '{}': {}", path, why));

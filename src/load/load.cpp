@@ -29,7 +29,8 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
 
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
-  if (std::string why = not_a_file(path); !why.empty()) {  // a FIFO would be read for ever
+  // A file named in another (where is valid) stays inside the project; a FIFO would be read for ever.
+  if (std::string why = where.valid() ? not_a_readable_reference(path) : not_a_file(path); !why.empty()) {
     diag.error(where, fmt::format("cannot read '{}': it {}", path, why));
     return 0;
   }

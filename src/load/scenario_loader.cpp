@@ -9,6 +9,8 @@
 #include "load/reader.h"
 #include "load/scenario.h"
 
+#include "core/files.h"
+
 namespace fs = std::filesystem;
 
 namespace sscs {
@@ -191,6 +193,8 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
   if (sc.vault.present && !sc.vault.null) {
     fs::path p(sc.vault.text);
     sc.vault_path = p.is_absolute() ? p.string() : (fs::path(sc.path).parent_path() / p).lexically_normal().string();
+    if (std::string why = outside_roots(sc.vault_path); !why.empty())
+      diag.error(sc.vault.mark, fmt::format("vault file '{}' {}", sc.vault.text, why));
   }
   MapReader set(root.take("set"), "set", diag);
   for (auto& [k, v] : set.rest()) sc.set.emplace_back(load::name(k, "a parameter", diag), load::scalar(v, "a parameter value", diag));

@@ -99,7 +99,7 @@ class Converter {
     }
     fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
     if (p.is_relative()) p = fs::path(urdf_path_).parent_path() / p;
-    if (std::string why = not_a_file(p.string()); !why.empty()) {
+    if (std::string why = not_a_readable_reference(p.string()); !why.empty()) {
       error(fmt::format("mesh '{}' {} ({})", uri, why, p.lexically_normal().string()));
       return std::nullopt;
     }
@@ -223,7 +223,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
                Diagnostics& diag) {
   const Scalar& at = device.urdf;
   const std::string urdf_path = resolve_mesh_path(type_file, at.text);
-  if (std::string why = not_a_file(urdf_path); !why.empty()) {
+  if (std::string why = not_a_readable_reference(urdf_path); !why.empty()) {
     diag.error(at.mark, fmt::format("URDF file '{}' {} ({})", at.text, why, urdf_path));
     return;
   }

@@ -133,7 +133,7 @@ template <class Spec, class Load>
 const Spec* Study::parsed(std::map<std::string, Spec>& cache, const std::string& path, SourceMark where,
                           std::string_view what, Load load) {
   if (auto it = cache.find(path); it != cache.end()) return &it->second;
-  if (std::string why = not_a_file(path); !why.empty()) {
+  if (std::string why = not_a_readable_reference(path); !why.empty()) {
     diag_.error(where, fmt::format("{} file '{}' {}", what, path, why));
     return nullptr;
   }
@@ -261,6 +261,10 @@ bool Study::prepare(const std::string& path) {
       std::error_code ec;
       if (!fs::is_directory(c.library_dir, ec)) {
         diag_.error(dir.mark, fmt::format("library folder '{}' does not exist", c.library_dir));
+        return false;
+      }
+      if (std::string why = outside_roots(c.library_dir); !why.empty()) {
+        diag_.error(dir.mark, fmt::format("library folder '{}' {}", c.library_dir, why));
         return false;
       }
     }

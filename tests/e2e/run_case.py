@@ -292,7 +292,8 @@ def simulate(sscs, root):
         text = open(os.path.join(root, "tests/data/sim/floor-lift.yaml")).read()
         open(strict, "w").write(text.replace("vault: floor-cell.yaml", "vault: " + os.path.join(root, "tests/data/sim/floor-cell.yaml"))
                                 .replace("limit: 30 s}", "limit: 30 s, check_tolerance: 0}"))
-        p = run(sscs, root, ["simulate", strict, "--out", os.path.join(tmp, "floor0"), "--quiet"])
+        # The scenario (in a temporary folder) names the project's vault: --root lets it.
+        p = run(sscs, root, ["simulate", strict, "--out", os.path.join(tmp, "floor0"), "--quiet", "--root", root])
         events = [json.loads(line) for line in open(os.path.join(tmp, "floor0", "events.jsonl"))]
         sunk = [e for e in events if e["kind"] == "constraint"]
         if p.returncode != 1 or len(sunk) != 1 or not (-1e-4 < sunk[0]["margin"] < 0):
@@ -633,7 +634,13 @@ def plugins(sscs, root):
     p = run(sscs, root, ["check", vp])
     if p.returncode != 2 or "a vault alone never loads code" not in p.stderr or "--allow-vault-plugins" not in p.stderr:
         fail("vault plugins without permission", p)
-    for allow in (["--allow-vault-plugins"], ["--plugins", examples]):
+    # Allowed, a vault's plugin folder must still lie in the project root (the vault's temporary
+    # folder here), unless the command line lets it out.
+    p = run(sscs, root, ["check", vp, "--allow-vault-plugins"])
+    if p.returncode != 2 or f"plugin folder '{examples}' is outside the project root" not in p.stderr:
+        fail("a vault's plugin folder outside the project root", p)
+    for allow in (["--allow-vault-plugins", "--allow-outside-root"], ["--allow-vault-plugins", "--root", build_dir(sscs)],
+                  ["--plugins", examples]):
         p = run(sscs, root, ["check", vp] + allow)
         if p.returncode != 1 or "1 passed, 1 failed" not in p.stdout:
             fail(f"vault plugins with {allow}", p)

@@ -1,0 +1,39 @@
+#!/bin/bash
+# Files named inside input files stay in the project root: the git work tree holding the input,
+# else its folder; --root names another, --allow-outside-root lifts the limit. A vault in
+# project/vaults/ naming ../lib (a sibling folder) shows each case.
+set -u
+sscs=$(realpath "$1") root=$(realpath "$2")
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+mkdir -p "$dir/project/vaults" "$dir/project/lib/types"
+cp "$root/library/types/drum.yaml" "$dir/project/lib/types/mydrum.yaml"
+sed -i 's/^type: drum$/type: mydrum/' "$dir/project/lib/types/mydrum.yaml"
+printf 'sscs: 1\nvault: V\nlibrary: [../lib]\nobjects:\n  - {type: mydrum, name: D}\n' > "$dir/project/vaults/v.yaml"
+fail() { echo "FAIL: $1"; cat "$dir/err"; exit 1; }
+cd "$dir/project/vaults"
+
+# No git work tree: the root is the vault's folder, and ../lib is outside it.
+"$sscs" check v.yaml >/dev/null 2>"$dir/err"; code=$?
+[ $code = 2 ] || fail "exit $code outside the root, expected 2"
+grep -q "v.yaml:3:11: error: type library folder '.*/lib' is outside the project root $dir/project/vaults" "$dir/err" ||
+  fail "the message should name the folder and the root"
+
+"$sscs" check v.yaml --root "$dir/project" >/dev/null 2>"$dir/err" || fail "--root holding the library should pass"
+"$sscs" check v.yaml --allow-outside-root >/dev/null 2>"$dir/err" || fail "--allow-outside-root should pass"
+# --library names a folder on the command line: trusted, like the standard library.
+"$sscs" check v.yaml --library "$dir/project/lib" >/dev/null 2>"$dir/err" || fail "a --library folder is trusted"
+
+# In a git work tree the root is its top: the project's own folders are in.
+git init -q "$dir/project" 2>/dev/null || mkdir "$dir/project/.git"
+"$sscs" check v.yaml >/dev/null 2>"$dir/err" || fail "inside a git work tree, ../lib is in the project"
+
+# A symbolic link in the project pointing out of it is outside.
+mkdir -p "$dir/elsewhere/types"
+mv "$dir/project/lib/types/mydrum.yaml" "$dir/elsewhere/types/"
+ln -s "$dir/elsewhere/types/mydrum.yaml" "$dir/project/lib/types/mydrum.yaml"
+"$sscs" check v.yaml >/dev/null 2>"$dir/err"; code=$?
+[ $code = 2 ] || fail "exit $code for a symlink out of the project, expected 2"
+grep -q "type file '.*mydrum.yaml' leads outside the project root $dir/project through a symbolic link" "$dir/err" ||
+  fail "the message should say the link leads out"
+echo "project root: the input's folder, its git work tree, --root, --library, --allow-outside-root and symlinks as documented"
