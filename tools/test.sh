@@ -43,7 +43,7 @@ export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$root/tests/sanitize/lsan.supp:print_suppressions=0
 # Tests the sanitizers cannot run: RLIMIT_AS (--variant-memory) does not bound an ASan process.
-skip='^e2e\.variant_memory$'
+skip='^e2e\.(variant_memory|soak)$'
 if [[ $mode == all ]]; then
   # CI's subset (about 3 minutes): the unit tests, every bad input and golden report, the command
   # line, and the fuzzers. The slow runs stay in stage 1 only: end-to-end simulate, sweep, render,

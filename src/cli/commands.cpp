@@ -612,6 +612,7 @@ struct SimulateArgs {
   std::string video;
   bool shadows = false;
   bool force = false;  // replace an existing run folder or bundle
+  double wall_limit = 0;  // s of wall-clock time (0: none)
 };
 
 int run_simulate(const Common& common, const SimulateArgs& args) {
@@ -680,6 +681,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   run.scenario_name = spec->name;
   run.inputs = &inputs;
   run.interrupted = &g_interrupted;
+  run.wall_limit = args.wall_limit;
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
   std::optional<InterruptGuard> interrupts(std::in_place);
   run.work_dir = prepare_work_dir(run);
@@ -866,6 +868,9 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_option("--video", sim_args.video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
     sim_cmd->add_flag("--shadows", sim_args.shadows, "frames with shadows of the key light");
     sim_cmd->add_flag("--force", sim_args.force, "replace an existing run folder or bundle (never replaced without it)");
+    sim_cmd->add_option("--wall-limit", sim_args.wall_limit, "seconds of wall-clock time the run may take; past it the run "
+                        "stops as failed with a wall_limit event (default: no limit; sim.limit bounds simulated time)")
+        ->check(CLI::PositiveNumber);
     common.add_to(sim_cmd);
 
     RenderArgs render_args;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iostream>
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <set>
 
@@ -80,6 +81,7 @@ class Run {
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
     std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
     double settle_until = -1;
+    const auto wall_start = std::chrono::steady_clock::now();
     long k = 0;
     for (;; ++k) {
       const double t = k * dt;
@@ -135,6 +137,12 @@ class Run {
       }
       if (t >= s.limit - dt / 2) {
         event(t, "time_limit", {{"limit", s.limit}});
+        failed_ = true;
+        break;
+      }
+      if (options_.wall_limit > 0 && k % 64 == 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > options_.wall_limit) {
+        event(t, "wall_limit", {{"limit", options_.wall_limit}});
         failed_ = true;
         break;
       }

@@ -36,6 +36,9 @@ struct RunOptions {
   const RunInputs* inputs = nullptr;  ///< their digests go in summary.json, resolved/ in the run
   /// Set (by a signal handler) to stop the run: then nothing is written.
   const volatile std::sig_atomic_t* interrupted = nullptr;
+  /// Seconds of wall-clock time the run may take (0: no limit). Past it the run stops as failed
+  /// with a `wall_limit` event, and writes what it has, as at the simulated-time limit.
+  double wall_limit = 0;
   /// Called for frame n at the first step at or after n * frame_interval of simulated time,
   /// with where everything is then (frame_interval 0: no frames).
   std::function<void(int n, double t, const ScenePose& pose)> on_frame;

@@ -367,6 +367,13 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
     if (run->status != RunStatus::Ok) row.status = "fail";
   }
   std::vector<std::string> problems;
+  // A check that could not be evaluated fails the variant: say why first (a plugin out of memory,
+  // a value that is not a number), not only the metrics that then have no value.
+  for (const CheckResult& r : report.results)
+    if (r.status == Status::Error) {
+      problems.push_back(fmt::format("'{}' could not be evaluated: {}", wc->constraints[r.constraint].name, r.message));
+      break;
+    }
   if (run && run->status != RunStatus::Ok)
     problems.push_back(fmt::format("run: {} (see run/events.jsonl)", run_status_name(run->status)));
   for (size_t i = 0; i < metrics_.size(); ++i) {

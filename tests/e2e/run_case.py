@@ -443,6 +443,19 @@ def simulate(sscs, root):
         left = [f for f in os.listdir(tmp) if f.startswith(".") and "killed-9" not in f]
         if left:
             fail(f"an interrupted run left temporary files: {left}")
+        # --wall-limit: the two simulated minutes of long-hold stop after 1 s of wall time, as a
+        # failed run that says why (a wall_limit event, the last) and writes what it has.
+        out = os.path.join(tmp, "wall")
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/long-hold.yaml", "--out", out, "--quiet", "--no-frames",
+                             "--wall-limit", "1"])
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))] if p.returncode == 1 else []
+        summary = json.load(open(os.path.join(out, "summary.json"))) if events else {}
+        if not events or events[-1]["kind"] != "wall_limit" or events[-1]["limit"] != 1 or summary.get("status") != "failed" \
+                or not 0 < events[-1]["t"] < 120 or "long-hold: failed" not in p.stdout:
+            fail(f"--wall-limit 1 on long-hold: {events[-1:]}, {summary.get('status')}", p)
+        p = run(sscs, root, ["simulate", "scenarios/drum-transfer/long-hold.yaml", "--out", out + "0", "--wall-limit", "0"])
+        if p.returncode != 2 or "--wall-limit" not in p.stderr:
+            fail("--wall-limit 0 is a usage error", p)
         # A killed run cannot clean up its hidden work folder; the next run to that name does.
         run(sscs, root, ["simulate", "scenarios/drum-transfer/unreachable.yaml", "--out", os.path.join(tmp, "killed-9"),
                          "--quiet"])
