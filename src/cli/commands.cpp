@@ -354,8 +354,8 @@ int run_types(const Common& common, const std::string& format) {
       const char* unit = file_unit(a.dim);
       std::string range;
       if (a.min_si || a.max_si)
-        range = fmt::format("  [{}, {}]", a.min_si ? fmt::format("{:g}", stable(si_to_file(*a.min_si, a.dim))) : "",
-                            a.max_si ? fmt::format("{:g}", stable(si_to_file(*a.max_si, a.dim))) : "");
+        range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : "",
+                            a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : "");
       std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
       std::string def = a.default_value.present ? fmt::format("  default {}", a.default_value.text) : "  required";
       std::cout << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,

@@ -789,15 +789,12 @@ void check_values(CompileState& st) {
         }
       }
       if (def.dim == Dim::Length) check_length(st, slot, mark, fmt::format("'{}'", def.name), obj.name);
-      const char* unit = file_unit(def.dim);
       if (def.min_si && v < *def.min_si - 1e-12)
-        st.diag.error(mark, fmt::format("'{}' of '{}' is {:g}{}{}, below the min {:g}{}{} of type '{}'", def.name, obj.name,
-                                        si_to_file(v, def.dim), *unit ? " " : "", unit, si_to_file(*def.min_si, def.dim),
-                                        *unit ? " " : "", unit, type.name));
+        st.diag.error(mark, fmt::format("'{}' of '{}' is {}, below the min {} of type '{}'", def.name, obj.name,
+                                        with_unit(v, def.dim), with_unit(*def.min_si, def.dim), type.name));
       if (def.max_si && v > *def.max_si + 1e-12)
-        st.diag.error(mark, fmt::format("'{}' of '{}' is {:g}{}{}, above the max {:g}{}{} of type '{}'", def.name, obj.name,
-                                        si_to_file(v, def.dim), *unit ? " " : "", unit, si_to_file(*def.max_si, def.dim),
-                                        *unit ? " " : "", unit, type.name));
+        st.diag.error(mark, fmt::format("'{}' of '{}' is {}, above the max {} of type '{}'", def.name, obj.name,
+                                        with_unit(v, def.dim), with_unit(*def.max_si, def.dim), type.name));
     }
   }
 }

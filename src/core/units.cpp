@@ -156,9 +156,12 @@ std::string known_units(Dim dim) {
   return out;
 }
 
+std::string number_text(double v) { return fmt::format("{}", stable(v)); }
+
 std::string with_unit(double si, Dim dim) {
   const char* unit = file_unit(dim);
-  return *unit ? fmt::format("{:g} {}", si_to_file(si, dim), unit) : fmt::format("{:g}", si_to_file(si, dim));
+  const std::string number = number_text(si_to_file(si, dim));
+  return *unit ? number + " " + unit : number;
 }
 
 }  // namespace sscs

@@ -65,4 +65,9 @@ inline double si_to_file(double si, Dim dim) { return si / file_unit_to_si(dim);
 /// An SI value as reports print it: in the file unit, with the unit ("90 deg", "1.5 m", "3").
 std::string with_unit(double si, Dim dim);
 
+/// A value in file units as messages and listings print it: to 12 significant digits, no more
+/// than it takes (-22.9183118052, 0.3, 1e+21), so two values that differ print differently
+/// ("{:g}" printed a limit and a value below it both as -22.9183).
+std::string number_text(double v);
+
 }  // namespace sscs

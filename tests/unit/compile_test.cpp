@@ -119,6 +119,18 @@ TEST_F(Compile, IntegerRangeIsChecked) {
             "integer attribute 'n' of 'C' is 3000000000, outside the 32-bit range -2147483648 to 2147483647");
 }
 
+TEST_F(Compile, LimitsPrintEnoughDigitsToTellValuesApart) {
+  // A URDF limit of -0.4 rad is -22.918311805232928 deg: the value written from a 6-digit listing
+  // must not be refused as "-22.9183 deg, above the max -22.9183 deg" (issue 19).
+  options.library_dirs = {type_dir({{"hinge", "sscs: 1\ntype: hinge\nattributes:\n"
+                                               "  a: {type: angle, default: -0.5 rad, min: -1 rad, max: -0.4 rad}\n"}})};
+  EXPECT_EQ(first_error("objects:\n  - {type: hinge, name: H, a: -22.9183 deg}\n"),
+            "'a' of 'H' is -22.9183 deg, above the max -22.9183118052 deg of type 'hinge'");
+  // The 12 digits printed are accepted as the limit itself.
+  diag = Diagnostics{};
+  EXPECT_TRUE(compile_text("objects:\n  - {type: hinge, name: H, a: -22.9183118052 deg}\n")) << diag.format(sources);
+}
+
 TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
   compile_text(
       "objects:\n  - {type: drumm, name: A}\n  - {type: drum, name: B, diamter: 1}\n  - {type: room, name: C}\n");
