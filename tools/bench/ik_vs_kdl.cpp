@@ -7,12 +7,21 @@
 // component of the position (m) and rotation-vector (rad) error within 1e-5.
 //
 //   ik_vs_kdl [samples=10000] [type ...]      (types default to arm6 and ur5)
+//   ik_vs_kdl [samples] --urdf FILE BASE TIP [--package-path DIR ...]
+// The second form benchmarks a vendor's URDF as shipped, from its root link BASE to link TIP,
+// without writing a type file. A continuous joint (no limits) is sampled over one turn.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
 #include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
+#include <array>
+#include <unistd.h>
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -90,13 +99,24 @@ struct Stats {
   }
 };
 
-int run(const std::string& type, int samples) {
+/// Where joint k is sampled: within its limits; a continuous joint (an infinite limit) over one
+/// turn from its finite limit, or around 0 (samples drawn from ±inf were NaN configurations).
+std::pair<double, double> sample_range(const sscs::Chain& chain, int k) {
+  double lo = chain.lower(k), hi = chain.upper(k);
+  if (!std::isfinite(lo) && !std::isfinite(hi)) return {-std::numbers::pi, std::numbers::pi};
+  if (!std::isfinite(lo)) return {hi - 2 * std::numbers::pi, hi};
+  if (!std::isfinite(hi)) return {lo, lo + 2 * std::numbers::pi};
+  return {lo, hi};
+}
+
+/// `type` of the standard library (or of `options.library_dirs`).
+int run(const std::string& type, int samples, const sscs::CompileOptions& options = {}, const std::string& base = "") {
   sscs::Sources sources;
   sscs::Diagnostics diag;
   uint32_t file = sources.add("bench.yaml", "sscs: 1\nvault: Bench\nobjects:\n  - {type: " + type + ", name: R}\n");
   auto spec = sscs::load_vault(file, sources, diag);
   std::optional<sscs::Workcell> wc;
-  if (spec) wc = sscs::compile(*spec, {}, sources, diag);
+  if (spec) wc = sscs::compile(*spec, options, sources, diag);
   sscs::GeometryModel geometry;
   if (wc) geometry = sscs::build_geometry(*wc, diag);
   if (diag.has_errors() || !wc) {
@@ -104,6 +124,11 @@ int run(const std::string& type, int samples) {
     return 2;
   }
   const sscs::Device& d = *geometry.objects[0].device;
+  if (!base.empty() && d.parts[0].name != base) {
+    std::fprintf(stderr, "ik_vs_kdl: the chain starts at the URDF's root link '%s', not '%s'\n", d.parts[0].name.c_str(),
+                 base.c_str());
+    return 2;
+  }
   sscs::Chain chain(d);
   const int n = chain.size();
   KDL::Chain kchain = kdl_chain(d);
@@ -112,7 +137,8 @@ int run(const std::string& type, int samples) {
   for (int k = 0; k < n; ++k) {
     ll(k) = chain.lower(k);
     ul(k) = chain.upper(k);
-    nominal(k) = nominal_q[k] = (chain.lower(k) + chain.upper(k)) / 2;
+    auto [lo, hi] = sample_range(chain, k);
+    nominal(k) = nominal_q[k] = (lo + hi) / 2;
   }
   KDL::ChainFkSolverPos_recursive fk(kchain);
   KDL::ChainIkSolverVel_pinv vik(kchain);
@@ -121,7 +147,10 @@ int run(const std::string& type, int samples) {
   std::mt19937_64 rng(42);
   std::vector<Eigen::VectorXd> configs(samples, Eigen::VectorXd(n));
   for (auto& q : configs)
-    for (int k = 0; k < n; ++k) q[k] = std::uniform_real_distribution<double>(chain.lower(k), chain.upper(k))(rng);
+    for (int k = 0; k < n; ++k) {
+      auto [lo, hi] = sample_range(chain, k);
+      q[k] = std::uniform_real_distribution<double>(lo, hi)(rng);
+    }
 
   // Both models must agree before their solvers are compared.
   double worst = 0;
@@ -177,10 +206,47 @@ int run(const std::string& type, int samples) {
 
 }  // namespace
 
+/// The URDF as a device type `bench_robot` whose tool is link `tip`, in a temporary library.
+int run_urdf(const std::string& urdf, const std::string& base, const std::string& tip,
+             const std::vector<std::string>& package_paths, int samples) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::temp_directory_path() / ("ik_vs_kdl-" + std::to_string(::getpid()));
+  fs::create_directories(dir / "types");
+  std::ofstream(dir / "types" / "bench_robot.yaml") << "sscs: 1\ntype: bench_robot\nkind: device\nurdf: \""
+                                                   << fs::absolute(urdf).string() << "\"\ntool: {part: \"" << tip << "\"}\n";
+  sscs::CompileOptions options;
+  options.library_dirs = {dir.string()};
+  options.package_paths = package_paths;
+  int status = run("bench_robot", samples, options, base);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return status;
+}
+
 int main(int argc, char** argv) {
   int samples = argc > 1 ? std::atoi(argv[1]) : 10000;
-  std::vector<std::string> types;
-  for (int i = 2; i < argc; ++i) types.push_back(argv[i]);
+  std::vector<std::string> types, package_paths;
+  std::vector<std::array<std::string, 3>> urdfs;
+  for (int i = 2; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--urdf" && i + 3 < argc) {
+      urdfs.push_back({argv[i + 1], argv[i + 2], argv[i + 3]});
+      i += 3;
+    } else if (a == "--package-path" && i + 1 < argc) {
+      package_paths.push_back(argv[++i]);
+    } else if (a.starts_with("--")) {
+      std::fprintf(stderr, "usage: ik_vs_kdl [samples] [type ...] [--urdf FILE BASE TIP ...] [--package-path DIR ...]\n");
+      return 2;
+    } else {
+      types.push_back(a);
+    }
+  }
+  if (!urdfs.empty()) {
+    int status = 0;
+    for (const auto& [file, base, tip] : urdfs) status = std::max(status, run_urdf(file, base, tip, package_paths, samples));
+    for (const std::string& t : types) status = std::max(status, run(t, samples));
+    return status;
+  }
   if (types.empty()) types = {"arm6", "ur5"};
   int status = 0;
   for (const std::string& t : types) status = std::max(status, run(t, samples));
