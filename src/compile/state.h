@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <set>
 #include <unordered_set>
 #include <vector>
 
@@ -43,6 +44,7 @@ struct CompileState {
   std::vector<std::array<int, 3>> array_index;           ///< per object, {0,0,0} when not in an array
   std::vector<std::array<double, 3>> array_offset;       ///< per object, SI
   std::unordered_set<std::string> unbuilt;  ///< objects dropped by an earlier error: no second error for them
+  std::set<int> reported_types;  ///< types whose problems (ObjectType::problems) were reported
   std::vector<PendingValue> pending;
   std::vector<int> slot_pending;
   std::vector<bool> slot_failed;                         ///< slot whose value could not be read: no range check                         ///< slot -> index into pending, or -1

@@ -133,8 +133,10 @@ void check_pose(const PoseSpec& pose, const ObjectType& type, std::string_view w
   for (const Scalar& c : pose.rpy) check_shape_value(c, Dim::Angle, type, fmt::format("{} rpy", what), diag);
 }
 
+/// Checks geometry entries; a mesh file that cannot be read goes to `deferred` (the type's
+/// problems, reported when it is used).
 void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType& type, const std::string& type_file,
-                    Diagnostics& diag) {
+                    Diagnostics& diag, std::vector<Diagnostic>& deferred) {
   for (const GeometrySpec& g : geometry) {
     std::visit(
         [&](const auto& shape) {
@@ -150,7 +152,7 @@ void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType&
             for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
             if (shape.file.present)
               if (std::string why = not_a_readable_reference(resolve_mesh_path(type_file, shape.file.text)); !why.empty())
-                diag.error(shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why));
+                deferred.push_back({shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why)});
           }
         },
         g.shape);
@@ -159,7 +161,8 @@ void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType&
 }
 
 /// A device's parts form one tree: unique names, one root, known parents, no cycles, a real tool.
-void check_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file, Diagnostics& diag) {
+void check_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file, Diagnostics& diag,
+                  std::vector<Diagnostic>& deferred) {
   std::map<std::string, const PartSpec*> parts;
   std::vector<std::string> names;
   std::map<std::string, SourceMark> joints;
@@ -203,7 +206,7 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
       }
       check_pose(j.origin, type, fmt::format("joint '{}'", j.name), diag);
     }
-    check_geometry(p.geometry, type, type_file, diag);
+    check_geometry(p.geometry, type, type_file, diag, deferred);
     if (p.color.present && !p.color.null && !is_valid_color(p.color.text))
       diag.error(p.color.mark, fmt::format("expected a colour \"#RRGGBB\" for part '{}', found '{}'", p.name, p.color.text));
   }
@@ -329,9 +332,9 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     if (spec.device) add_joint_attributes(spec, t, diag);
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
-    check_geometry(spec.geometry, t, spec.path, diag);
+    check_geometry(spec.geometry, t, spec.path, diag, t.problems);
     for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), diag);
-    if (spec.device) check_device(*spec.device, t, spec.path, diag);
+    if (spec.device) check_device(*spec.device, t, spec.path, diag, t.problems);
     state[i] = 2;
     return true;
   };

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "core/expr.h"
+#include "core/diagnostics.h"
 #include "core/source.h"
 #include "core/units.h"
 #include "load/spec.h"
@@ -39,6 +40,9 @@ struct ObjectType {
   bool device = false;
   std::vector<AttributeDef> attributes;
   std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
+  /// Errors in the files the type names (a mesh that cannot be read): reported when a vault uses
+  /// the type (or one extending it), so one broken type does not break its whole folder.
+  std::vector<Diagnostic> problems;
   int find_attribute(std::string_view name) const;
 };
 

@@ -131,6 +131,22 @@ TEST_F(Compile, LimitsPrintEnoughDigitsToTellValuesApart) {
   EXPECT_TRUE(compile_text("objects:\n  - {type: hinge, name: H, a: -22.9183118052 deg}\n")) << diag.format(sources);
 }
 
+TEST_F(Compile, ABrokenTypeFailsOnlyTheVaultsThatUseIt) {
+  // One folder, a good type and one whose mesh is missing (issue 19): vaults that do not use the
+  // broken type compile; a vault using it, or a type extending it, gets the error once.
+  options.library_dirs = {type_dir({{"good", "sscs: 1\ntype: good\ngeometry:\n  - box: {size: [1, 1, 1]}\n"},
+                                    {"broken", "sscs: 1\ntype: broken\ngeometry:\n  - mesh: {file: nowhere.stl}\n"},
+                                    {"derived", "sscs: 1\ntype: derived\nextends: broken\n"}})};
+  EXPECT_TRUE(compile_text("objects:\n  - {type: good, name: G}\n")) << diag.format(sources);
+  diag = Diagnostics{};
+  EXPECT_EQ(first_error("objects:\n  - {type: broken, name: B}\n  - {type: broken, name: B2}\n"),
+            "mesh file 'nowhere.stl' does not exist");
+  EXPECT_EQ(diag.count(), 1u) << diag.format(sources);
+  diag = Diagnostics{};
+  EXPECT_EQ(first_error("objects:\n  - {type: derived, name: D}\n"), "mesh file 'nowhere.stl' does not exist");
+  EXPECT_EQ(diag.count(), 1u) << diag.format(sources);
+}
+
 TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
   compile_text(
       "objects:\n  - {type: drumm, name: A}\n  - {type: drum, name: B, diamter: 1}\n  - {type: room, name: C}\n");
