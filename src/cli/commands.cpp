@@ -51,7 +51,7 @@ struct Common {
   std::vector<std::string> set;
   bool quiet = false;
   bool allow_vault_plugins = false;
-  std::string root;
+  std::vector<std::string> roots;  // --root
   bool allow_outside_root = false;
   std::string color = "auto";
 
@@ -61,13 +61,23 @@ struct Common {
     app->add_option("--plugins", plugins, "load the plugins in this folder (repeatable)");
     app->add_flag("--allow-vault-plugins", allow_vault_plugins, "also load the folders a vault's plugins: key names");
     app->add_option("--package-path", package_paths, "folder of ROS packages for URDF package:// references (repeatable)");
-    app->add_option("--root", root, "the project root: files named inside input files must lie in it (default: the git "
-                                    "work tree holding the input, else its folder)");
+    app->add_option("--root", roots, "a folder files named inside input files may come from, besides the project root "
+                                     "(the git work tree holding the input, else its folder); repeatable");
     app->add_flag("--allow-outside-root", allow_outside_root, "let input files name files outside the project root");
     if (with_set) app->add_option("--set", set, "parameter override NAME=VALUE (repeatable)");
     app->add_flag("--quiet", quiet, "print only summaries and errors");
     app->add_option("--color", color, "colour output: auto, always or never")
         ->check(CLI::IsMember({"auto", "always", "never"}));
+  }
+  /// Confines what files named inside `input` may read: its project root first (the one messages
+  /// name), the --root folders, the standard library and the folders given as options.
+  void confine_to(const std::string& input) const {
+    if (allow_outside_root) return;
+    std::vector<std::string> allowed = {project_root_of(input)};
+    allowed.insert(allowed.end(), roots.begin(), roots.end());
+    allowed.push_back(data_dir("library"));
+    for (const auto* dirs : {&library, &plugins, &package_paths}) allowed.insert(allowed.end(), dirs->begin(), dirs->end());
+    confine_reads(allowed);
   }
   bool color_for(FILE* stream) const {
     if (color == "always") return true;
@@ -78,14 +88,14 @@ struct Common {
   /// folder the command line names) may come from: the project root, the standard library and
   /// the folders given as options. A malformed --set NAME=VALUE is an input error.
   bool apply(CompileOptions& options, const std::vector<std::string>& inputs) const {
-    if (!allow_outside_root && !inputs.empty()) {
-      std::vector<std::string> roots;
-      if (!root.empty()) roots.push_back(root);
-      for (const std::string& input : inputs) roots.push_back(project_root_of(input));
-      roots.push_back(data_dir("library"));
-      for (const auto* dirs : {&library, &plugins, &package_paths}) roots.insert(roots.end(), dirs->begin(), dirs->end());
-      confine_reads(roots);
+    for (const std::string& r : roots) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(r, ec)) {
+        std::cerr << fmt::format("sscs: error: --root '{}' is no folder\n", r);
+        return false;
+      }
     }
+    for (const std::string& input : inputs) confine_to(input);
     for (const std::string& s : set) {
       auto eq = s.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -139,6 +149,7 @@ int run_check(const Common& common, const CheckArgs& args) {
   std::vector<GeometryModel> geometry;
   cells.reserve(args.vaults.size());
   for (const std::string& path : args.vaults) {
+    common.confine_to(path);  // each vault reads within its own project, not another's
     auto wc = compile_file(path, options, sources, diag);
     if (wc) {
       geometry.push_back(build_geometry(*wc, diag));
@@ -612,7 +623,7 @@ struct SimulateArgs {
   std::string video;
   bool shadows = false;
   bool force = false;  // replace an existing run folder or bundle
-  double wall_limit = 0;  // s of wall-clock time (0: none)
+  std::string wall_limit;  // s of wall-clock time ("": none)
 };
 
 int run_simulate(const Common& common, const SimulateArgs& args) {
@@ -681,7 +692,15 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   run.scenario_name = spec->name;
   run.inputs = &inputs;
   run.interrupted = &g_interrupted;
-  run.wall_limit = args.wall_limit;
+  if (!args.wall_limit.empty()) {
+    char* end = nullptr;
+    run.wall_limit = std::strtod(args.wall_limit.c_str(), &end);
+    if (end != args.wall_limit.c_str() + args.wall_limit.size() || !std::isfinite(run.wall_limit) || !(run.wall_limit > 0)) {
+      std::cerr << fmt::format("sscs: error: --wall-limit expects a number of seconds above 0, found '{}'\n",
+                               printable(args.wall_limit));
+      return kInputError;
+    }
+  }
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
   std::optional<InterruptGuard> interrupts(std::in_place);
   run.work_dir = prepare_work_dir(run);
@@ -789,16 +808,18 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
     std::cerr << fmt::format("sscs: error: --shard expects K/N with 0 <= K < N (e.g. 3/8), found '{}'\n", args.shard);
     return kInputError;
   }
-  if (args.variant_timeout < 0) {
-    std::cerr << "sscs: error: --variant-timeout must be at least 0 seconds\n";
+  if (!(args.variant_timeout >= 0) || !std::isfinite(args.variant_timeout)) {  // nan and inf too
+    std::cerr << fmt::format("sscs: error: --variant-timeout must be a number of seconds, at least 0, found {}\n",
+                             args.variant_timeout);
     return kInputError;
   }
   options.out = args.out;
   options.jobs = args.jobs;
   options.force = args.force;
   options.variant_timeout = args.variant_timeout;
-  if (args.variant_memory < 0) {
-    std::cerr << "sscs: error: --variant-memory must be at least 0 GB\n";
+  if (!(args.variant_memory >= 0) || !std::isfinite(args.variant_memory)) {
+    std::cerr << fmt::format("sscs: error: --variant-memory must be a number of GB, at least 0, found {}\n",
+                             args.variant_memory);
     return kInputError;
   }
   options.variant_memory_gb = args.variant_memory;
@@ -869,8 +890,7 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_flag("--shadows", sim_args.shadows, "frames with shadows of the key light");
     sim_cmd->add_flag("--force", sim_args.force, "replace an existing run folder or bundle (never replaced without it)");
     sim_cmd->add_option("--wall-limit", sim_args.wall_limit, "seconds of wall-clock time the run may take; past it the run "
-                        "stops as failed with a wall_limit event (default: no limit; sim.limit bounds simulated time)")
-        ->check(CLI::PositiveNumber);
+                        "stops as failed with a wall_limit event (default: no limit; sim.limit bounds simulated time)");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;

@@ -5,6 +5,8 @@
 #include "core/limits.h"
 #include "core/units.h"
 
+#include <assimp/DefaultIOSystem.h>
+#include <assimp/IOStream.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -90,12 +92,42 @@ struct RawMesh {
   std::string error;  ///< non-empty: the file could not be read
 };
 
+/// assimp's file access, confined: a file a mesh refers to (a glTF buffer, an OBJ's .mtl) must lie
+/// where the mesh itself may (outside_roots) and be a regular file (a FIFO would block for ever).
+/// The first refusal is kept for the error message.
+class ConfinedIO : public Assimp::DefaultIOSystem {
+ public:
+  bool Exists(const char* file) const override { return allowed(file) && Assimp::DefaultIOSystem::Exists(file); }
+  Assimp::IOStream* Open(const char* file, const char* mode = "rb") override {
+    return allowed(file) ? Assimp::DefaultIOSystem::Open(file, mode) : nullptr;
+  }
+  mutable std::string refused;
+
+ private:
+  bool allowed(const char* file) const {
+    std::string w = why(file);
+    if (!w.empty() && refused.empty()) refused = fmt::format("it refers to '{}', which {}", file, w);
+    return w.empty();
+  }
+  static std::string why(const char* file) {
+    if (std::string w = outside_roots(file); !w.empty()) return w;
+    std::string w = not_a_file(file);
+    return w == "does not exist" ? "" : w;  // a missing file is assimp's own error
+  }
+};
+
 /// Reads `path` with assimp in this process. Polygons are fanned into triangles here: assimp's
 /// own triangulation aborts the process on some malformed files (an OFF face with a stray byte).
 RawMesh read_with_assimp(const std::string& path) {
   RawMesh out;
   Assimp::Importer importer;
+  auto* io = new ConfinedIO;  // the importer owns it
+  importer.SetIOHandler(io);
   const aiScene* scene = importer.ReadFile(path, aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+  if (!io->refused.empty()) {  // even where assimp went on without the file (an OBJ's materials)
+    out.error = io->refused;
+    return out;
+  }
   if (!scene || !scene->mRootNode) {
     out.error = importer.GetErrorString();
     if (out.error.empty()) out.error = "assimp read no scene";
@@ -203,6 +235,7 @@ RawMesh read_isolated(const std::string& path) {
     }
     rlimit cpu{seconds, seconds + 1};
     ::setrlimit(RLIMIT_CPU, &cpu);
+    ::alarm(static_cast<unsigned>(3 * seconds));  // wall clock too: a read that blocks uses no CPU
     RawMesh mesh;
     try {
       mesh = read_with_assimp(path);
@@ -227,7 +260,9 @@ RawMesh read_isolated(const std::string& path) {
   }
   if (whole && WIFEXITED(status) && WEXITSTATUS(status) == 0) return mesh;
   mesh = RawMesh{};
-  if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM)
+    mesh.error = fmt::format("the mesh reader (assimp) took more than {} s on it (blocked on a file?)", 3 * seconds);
+  else if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
     mesh.error = fmt::format("the mesh reader (assimp) took more than {} s of CPU on it (raise the limit with "
                              "SSCS_MAX_MESH_READ_SECONDS)", seconds);
   else if (WIFSIGNALED(status))

@@ -36,4 +36,23 @@ ln -s "$dir/elsewhere/types/mydrum.yaml" "$dir/project/lib/types/mydrum.yaml"
 [ $code = 2 ] || fail "exit $code for a symlink out of the project, expected 2"
 grep -q "type file '.*mydrum.yaml' leads outside the project root $dir/project through a symbolic link" "$dir/err" ||
   fail "the message should say the link leads out"
+# check with several vaults: each reads within its own project (v.yaml's folder), not another's.
+printf 'sscs: 1\nvault: O\nobjects: []\n' > "$dir/project/o.yaml"
+rm "$dir/project/lib/types/mydrum.yaml"; mv "$dir/elsewhere/types/mydrum.yaml" "$dir/project/lib/types/"
+rm -rf "$dir/project/.git"
+"$sscs" check v.yaml ../o.yaml >/dev/null 2>"$dir/err"; code=$?
+[ $code = 2 ] || fail "exit $code: o.yaml's project (which holds lib/) must not let v.yaml read ../lib, expected 2"
+grep -q "v.yaml:3:11: error: type library folder" "$dir/err" || fail "the error should be v.yaml's"
+"$sscs" check v.yaml --root "$dir/nowhere" >/dev/null 2>"$dir/err"; code=$?
+[ $code = 2 ] && grep -q -- "--root '.*nowhere' is no folder" "$dir/err" || fail "a --root that is no folder is an error"
+
+# A file a mesh refers to (a glTF buffer) that is a FIFO is refused, not waited on for ever.
+mkdir -p "$dir/fifo/lib/types"
+printf 'sscs: 1\nvault: F\nlibrary: [lib]\nobjects:\n  - {type: part, name: P}\n' > "$dir/fifo/v.yaml"
+printf 'sscs: 1\ntype: part\ngeometry:\n  - mesh: {file: part.gltf}\n' > "$dir/fifo/lib/types/part.yaml"
+sed 's|"uri":"[./a-z]*passwd"|"uri":"buffer.bin"|' "$root/tests/data/bad/libs/mesh_refers_outside_root/types/part.gltf" > "$dir/fifo/lib/types/part.gltf"
+mkfifo "$dir/fifo/lib/types/buffer.bin"
+timeout 60 "$sscs" check "$dir/fifo/v.yaml" >/dev/null 2>"$dir/err"; code=$?
+[ $code = 2 ] && grep -q "it refers to '.*buffer.bin', which is a FIFO (named pipe), not a file" "$dir/err" ||
+  fail "exit $code: a glTF buffer that is a FIFO must be refused"
 echo "project root: the input's folder, its git work tree, --root, --library, --allow-outside-root and symlinks as documented"

@@ -98,6 +98,7 @@ TEST_F(Kinematics, InverseKinematicsRoundTripsRandomReachablePoses) {
   ASSERT_TRUE(d);
   Chain chain(*d);
   IkOptions opt;
+  opt.time_limit = 1e9;  // the iteration budget ends a solve, not the machine's speed
   opt.position_tol = 1e-6;
   opt.angle_tol = 1e-6;
   std::srand(7);
@@ -150,6 +151,7 @@ TEST_F(Kinematics, ExtraAttemptsFindANearerSolution) {
   q << 0.5, 0.4, -0.6, 1.2, -0.9, 0.3;
   seed << -2.5, 1.5, 0.8, -3.0, 1.5, -4.0;  // far from q: the first solution found may be another branch
   IkOptions opt;
+  opt.time_limit = 1e9;  // the iteration budget ends a solve, not the machine's speed
   IkResult first = solve_ik(chain, chain.forward(q), seed, opt);
   opt.extra_attempts = 30;
   IkResult nearest = solve_ik(chain, chain.forward(q), seed, opt);
@@ -165,6 +167,7 @@ TEST_F(Kinematics, PositionOnlyMode) {
   ASSERT_TRUE(d);
   Chain chain(*d);
   IkOptions opt;
+  opt.time_limit = 1e9;  // the iteration budget ends a solve, not the machine's speed
   opt.orientation = false;
   Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
   target.translation() = Eigen::Vector3d(1.0, 0.5, 0.8);
@@ -179,6 +182,7 @@ TEST_F(Kinematics, UnreachableAndSingularTargetsReturnPromptly) {
   ASSERT_TRUE(d);
   Chain chain(*d);
   IkOptions opt;
+  opt.time_limit = 1e9;  // the iteration budget ends a solve, not the machine's speed
   // Far outside the workspace: rejected at once, with the remaining error measured.
   Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
   far.translation() = Eigen::Vector3d(5, 0, 1);
@@ -214,6 +218,7 @@ TEST_F(Kinematics, JointLimitsBoundTheSolution) {
   Eigen::Isometry3d folded = Eigen::Isometry3d::Identity();
   folded.translation() = Eigen::Vector3d(0.15, 0.0, 0.5);  // needs b = 173 deg
   IkOptions opt;
+  opt.time_limit = 1e9;  // the iteration budget ends a solve, not the machine's speed
   opt.orientation = false;
   IkResult r = solve_ik(chain, folded, Eigen::VectorXd::Zero(3), opt);
   EXPECT_EQ(r.status, IkResult::Status::Unreachable);
