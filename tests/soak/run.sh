@@ -13,7 +13,7 @@ cleanup() { [ -n "$mnt" ] && umount "$mnt" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
-sweep() { "$sscs" sweep "$root/tests/data/soak/sweep.yaml" --plugins "$plugins" --jobs 2 --variant-timeout 2 --variant-memory 1 "$@"; }
+sweep() { "$sscs" sweep "$root/tests/data/soak/sweep.yaml" --plugins "$plugins" --jobs 2 --variant-timeout 3 --variant-memory 1 "$@"; }
 # Every variant folder under $1 holds a result.json that parses whole; prints how many.
 whole() {
   /usr/bin/python3 - "$1" <<'PY'
