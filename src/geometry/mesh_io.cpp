@@ -48,6 +48,14 @@ double as_written(float x) {
   return value;
 }
 
+/// "" when a mesh of `n` triangles is within SSCS_MAX_MESH_TRIANGLES, else why not.
+std::string too_many_triangles(uintmax_t n) {
+  const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
+  if (static_cast<double>(n) <= max_triangles) return "";
+  return fmt::format("it has {} triangles, above the limit of {:.0f} (raise it with SSCS_MAX_MESH_TRIANGLES, or simplify "
+                     "the mesh)", n, max_triangles);
+}
+
 /// Why a mesh file must not reach assimp: too large (it would take many times its size in
 /// memory), or a binary glTF whose header does not match the file (assimp reads a corrupt 22-byte
 /// .glb into gigabytes). "" when it may be read.
@@ -66,10 +74,7 @@ std::string unfit_mesh_file(const std::string& path) {
     unsigned char h[84] = {};
     in.read(reinterpret_cast<char*>(h), sizeof h);
     const uint32_t n = uint32_t(h[80]) | uint32_t(h[81]) << 8 | uint32_t(h[82]) << 16 | uint32_t(h[83]) << 24;
-    const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
-    if (size == 84 + 50 * uintmax_t(n) && n > max_triangles)
-      return fmt::format("it has {} triangles, above the limit of {:.0f} (raise it with SSCS_MAX_MESH_TRIANGLES, or "
-                         "simplify the mesh)", n, max_triangles);
+    if (size == 84 + 50 * uintmax_t(n)) return too_many_triangles(n);
   }
   if (ext == ".glb") {
     // Header: magic "glTF", version 2, total length; then a JSON chunk (length, "JSON").
@@ -137,12 +142,7 @@ RawMesh read_with_assimp(const std::string& path) {
   for (unsigned m = 0; m < scene->mNumMeshes; ++m)
     for (unsigned f = 0; f < scene->mMeshes[m]->mNumFaces; ++f)
       triangles += std::max(2u, scene->mMeshes[m]->mFaces[f].mNumIndices) - 2;
-  const double max_triangles = limit("SSCS_MAX_MESH_TRIANGLES", kMaxMeshTriangles);
-  if (static_cast<double>(triangles) > max_triangles) {
-    out.error = fmt::format("it has {} triangles, above the limit of {:.0f} (raise it with SSCS_MAX_MESH_TRIANGLES, "
-                            "or simplify the mesh)", triangles, max_triangles);
-    return out;
-  }
+  if (out.error = too_many_triangles(triangles); !out.error.empty()) return out;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
     auto base = static_cast<int>(out.vertices.size());
