@@ -542,6 +542,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
     const Constraint& c = wc.constraints[i];
     auto tally = [&](const CheckResult& r) {
       if (r.status == Status::Pass) ++report.passed;
+      else if (r.status == Status::Error) ++report.failed, ++report.unevaluated;
       else if (c.severity == Severity::Warning) ++report.warnings;
       else ++report.failed;
     };

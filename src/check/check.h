@@ -29,8 +29,11 @@ struct CheckResult {
 struct CheckReport {
   std::vector<CheckResult> results;
   size_t passed = 0;
-  size_t failed = 0;    ///< error-severity checks that failed or could not be evaluated
-  size_t warnings = 0;  ///< warning-severity checks that failed or could not be evaluated
+  /// Error-severity checks that failed, and checks of any severity that could not be evaluated
+  /// (a value that is not a number is never a pass, nor a mere warning).
+  size_t failed = 0;
+  size_t unevaluated = 0;  ///< of `failed`: the checks that could not be evaluated
+  size_t warnings = 0;     ///< warning-severity checks that failed
   /// Violations for the exit status: failures, and warnings too when strict.
   bool violated(bool strict) const { return failed > 0 || (strict && warnings > 0); }
 };

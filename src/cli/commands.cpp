@@ -743,8 +743,15 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     return kInternalError;
   }
   std::string where = out.empty() ? bundle : bundle.empty() ? out : fmt::format("{} and {}", out, bundle);
-  std::cout << fmt::format("{}: {}, cycle time {:g} s, {} collisions, {} events; written to {}\n", spec->name,
-                           run_status_name(summary.status), stable(summary.cycle_time), summary.collisions, summary.events, where);
+  // A run that stopped says why and when, and has no cycle time.
+  std::string status = run_status_name(summary.status);
+  if (!summary.stopped_by.empty())
+    status += fmt::format(" ({} at {:g} s{}{}), no cycle time", summary.stopped_by, stable(summary.stopped_at),
+                          summary.stop_message.empty() ? "" : ": ", printable(within_window(summary.stop_message)));
+  else
+    status += fmt::format(", cycle time {:g} s", stable(summary.cycle_time));
+  std::cout << fmt::format("{}: {}, {} collisions, {} events; written to {}\n", spec->name, status, summary.collisions,
+                           summary.events, where);
   return summary.status == RunStatus::Ok ? kOk : kViolations;
 }
 

@@ -33,7 +33,9 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
   for (const RunRecord& r : runs) {
     out[0].values.push_back(r.summary.value("scenario", ""));
     out[1].values.push_back(r.summary.value("status", ""));
-    out[2].values.push_back(fmt::format("{:.3f}", r.summary.value("cycle_time", 0.0)));
+    // A failed run has no cycle time (null): it stopped before its cycle was done.
+    const auto ct = r.summary.find("cycle_time");
+    out[2].values.push_back(ct != r.summary.end() && ct->is_number() ? fmt::format("{:.3f}", ct->get<double>()) : "");
   }
   Metric clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
   for (const RunRecord& r : runs) {

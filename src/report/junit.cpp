@@ -29,12 +29,13 @@ std::string xml_escape(std::string_view text) {
 }
 
 /// A check's place in the suite: a passing case, an <error> or a <failure> (counted), or a
-/// warning shown in <system-out> (passes the gate unless strict).
+/// warning shown in <system-out> (passes the gate unless strict). A check that could not be
+/// evaluated is an <error> whatever its severity: nothing is known to hold.
 enum class Outcome { Pass, Error, Failure, Warning };
 Outcome outcome(const Constraint& c, const CheckResult& r, bool strict) {
   bool warning = c.severity == Severity::Warning;
   if (r.status == Status::Pass) return Outcome::Pass;
-  if (r.status == Status::Error && (!warning || strict)) return Outcome::Error;
+  if (r.status == Status::Error) return Outcome::Error;
   if (!warning || strict) return Outcome::Failure;
   return Outcome::Warning;
 }

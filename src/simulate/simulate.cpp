@@ -12,6 +12,7 @@
 #include <iostream>
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -126,7 +127,7 @@ class Run {
         nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
         if (f.kind == "unreachable") fields["position_error"] = r9(f.position_error);
         event(t, f.kind, fields);
-        failed_ = true;
+        stop(f.kind, f.message);
         break;
       }
       if (t >= plan_.end - dt / 2) {
@@ -137,13 +138,13 @@ class Run {
       }
       if (t >= s.limit - dt / 2) {
         event(t, "time_limit", {{"limit", s.limit}});
-        failed_ = true;
+        stop("time_limit", fmt::format("the run reached sim.limit ({:g} s of simulated time)", s.limit));
         break;
       }
       if (options_.wall_limit > 0 && k % 64 == 0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > options_.wall_limit) {
         event(t, "wall_limit", {{"limit", options_.wall_limit}});
-        failed_ = true;
+        stop("wall_limit", fmt::format("the run took more than --wall-limit {:g} s of wall-clock time", options_.wall_limit));
         break;
       }
       if (options_.interrupted && *options_.interrupted) {
@@ -530,9 +531,20 @@ class Run {
     }
   }
 
+  /// The run fails here: it stops with what it has, and says why.
+  void stop(const std::string& kind, const std::string& message) {
+    failed_ = true;
+    stopped_by_ = kind;
+    stop_message_ = message;
+  }
+
   RunSummary finish(double t_end) {
     RunSummary s;
-    s.cycle_time = failed_ ? t_end : plan_.end;
+    // A run that stopped has no cycle time: its cycle was not done.
+    s.cycle_time = failed_ ? std::numeric_limits<double>::quiet_NaN() : plan_.end;
+    s.stopped_by = stopped_by_;
+    s.stopped_at = t_end;
+    s.stop_message = stop_message_;
     s.simulated = t_end;
     s.events = events_.size();
     s.collisions = counts_.count("collision") ? counts_.at("collision") : 0;
@@ -561,15 +573,24 @@ class Run {
     j["scenario"] = options_.scenario_name;
     j["vault"] = wc_.name;
     j["status"] = run_status_name(s.status);
-    j["cycle_time"] = r9(s.cycle_time);
+    j["cycle_time"] = std::isfinite(s.cycle_time) ? nlohmann::ordered_json(r9(s.cycle_time)) : nullptr;
     j["simulated_time"] = r9(s.simulated);
+    if (!s.stopped_by.empty()) {
+      nlohmann::ordered_json stopped = {{"by", s.stopped_by}, {"t", r9(s.stopped_at)}};
+      if (!s.stop_message.empty()) stopped["message"] = s.stop_message;
+      j["stopped"] = std::move(stopped);
+    }
     auto steps = nlohmann::ordered_json::array();
+    // A run that stopped early: steps it had not begun or not finished by then have no start or
+    // end (null), never a planned time the run did not reach.
+    const double reached = s.stopped_by.empty() ? std::numeric_limits<double>::infinity() : s.stopped_at;
+    auto when = [&](double t) { return t <= reached + 1e-9 ? nlohmann::ordered_json(r9(t)) : nullptr; };
     for (const PlannedStep& ps : plan_.steps) {
       nlohmann::ordered_json st = {{"index", ps.index}, {"action", ps.kind}};
       st["device"] = ps.device >= 0 ? nlohmann::ordered_json(wc_.objects[ps.device].name) : nullptr;
       if (ps.object >= 0) st["object"] = wc_.objects[ps.object].name;
-      st["start"] = r9(ps.start);
-      st["end"] = r9(ps.end);
+      st["start"] = when(ps.start);
+      st["end"] = when(ps.end);
       steps.push_back(std::move(st));
     }
     j["steps"] = std::move(steps);
@@ -621,6 +642,7 @@ class Run {
   std::set<std::pair<int, int>> over_limit_;
   std::string objects_csv_;
   bool failed_ = false;
+  std::string stopped_by_, stop_message_;
   bool interrupted_ = false;
   size_t current_step_ = 0;
   int frames_ = 0;

@@ -20,11 +20,17 @@ const char* run_status_name(RunStatus s);
 
 struct RunSummary {
   RunStatus status = RunStatus::Ok;
-  double cycle_time = 0;   ///< s: when the last step ended
+  /// s: when the last step ended; NaN when the run failed (it stopped before its cycle was done)
+  double cycle_time = 0;
   double simulated = 0;    ///< s: including settling after the last step
   size_t events = 0;
   size_t collisions = 0;
   bool interrupted = false;  ///< stopped through RunOptions::interrupted; nothing was written
+  /// A failed run: the event that stopped it (time_limit, wall_limit, unreachable, ...), when
+  /// (simulated s), and its message ("" for the limits).
+  std::string stopped_by;
+  double stopped_at = 0;
+  std::string stop_message;
 };
 
 struct RunOptions {

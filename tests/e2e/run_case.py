@@ -130,6 +130,25 @@ def cli(sscs, root):
         p = run(sscs, root, ["check", "tests/data/good/warning_only.yaml", "--strict"])
         if p.returncode != 1:
             fail("a failing warning with --strict exits 1", p)
+        # A warning-severity check that cannot be evaluated is no warning: nothing is known to
+        # hold, so it fails the gate in every report.
+        unevaluated = "tests/data/good/warning_unevaluated.yaml"
+        p = run(sscs, root, ["check", unevaluated])
+        if p.returncode != 1 or "1 passed, 1 failed (1 could not be evaluated), 0 warnings" not in p.stdout or \
+                ": error: spare ratio" not in p.stdout:
+            fail("a warning that cannot be evaluated fails the gate", p)
+        p = run(sscs, root, ["check", unevaluated, "--format", "junit"])
+        import xml.etree.ElementTree as ET
+        suite = ET.fromstring(p.stdout).find("testsuite")
+        if p.returncode != 1 or suite.get("errors") != "1" or len(suite.findall("testcase/error")) != 1:
+            fail("junit: a warning that cannot be evaluated is an <error>", p)
+        p = run(sscs, root, ["check", unevaluated, "--format", "sarif"])
+        levels = [r["level"] for r in json.loads(p.stdout)["runs"][0]["results"]]
+        if p.returncode != 1 or levels != ["error"]:
+            fail("sarif: a warning that cannot be evaluated is level error", p)
+        p = run(sscs, root, ["check", unevaluated, "--format", "json"])
+        if p.returncode != 1 or json.loads(p.stdout)["failed"] != 1 or json.loads(p.stdout)["warnings"] != 0:
+            fail("json: a warning that cannot be evaluated counts as failed", p)
         # --out infers the format from the extension and writes the file atomically.
         out = os.path.join(tmp, "r.json")
         p = run(sscs, root, ["check", demo, "--out", out])
@@ -451,8 +470,18 @@ def simulate(sscs, root):
         events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))] if p.returncode == 1 else []
         summary = json.load(open(os.path.join(out, "summary.json"))) if events else {}
         if not events or events[-1]["kind"] != "wall_limit" or events[-1]["limit"] != 1 or summary.get("status") != "failed" \
-                or not 0 < events[-1]["t"] < 120 or "long-hold: failed" not in p.stdout:
+                or not 0 < events[-1]["t"] < 120 or "long-hold: failed (wall_limit at " not in p.stdout \
+                or "no cycle time" not in p.stdout:
             fail(f"--wall-limit 1 on long-hold: {events[-1:]}, {summary.get('status')}", p)
+        # A run that stopped has no cycle time and claims no step time it did not reach.
+        stopped = summary.get("stopped", {})
+        if summary.get("cycle_time") is not None or stopped.get("by") != "wall_limit" or stopped.get("t") != events[-1]["t"] \
+                or summary["steps"][-1]["end"] is not None \
+                or any(st[k] is not None and st[k] > summary["simulated_time"] + 1e-6 for st in summary["steps"] for k in ("start", "end")):
+            fail(f"a stopped run's summary: {summary}")
+        p = run(sscs, root, ["compare", out, "--format", "csv"])
+        if p.returncode != 0 or "cycle time" not in p.stdout:
+            fail("compare reads a stopped run (no cycle time)", p)
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/long-hold.yaml", "--out", out + "0", "--wall-limit", "0"])
         if p.returncode != 2 or "--wall-limit" not in p.stderr:
             fail("--wall-limit 0 is a usage error", p)
@@ -777,7 +806,7 @@ def plugins(sscs, root):
         p = run(os.path.join(prefix, "bin", "sscs"), root,
                 ["check", "tests/data/plugins/template.yaml", "--plugins", os.path.join(src, "build", "plugins")])
         if p.returncode != 1 or "High.height = 4.900000, at most 3.000000 (margin -1.9 m)" not in p.stdout or \
-                "the check threw: args need a number 'max'" not in p.stdout or "2 passed, 1 failed, 1 warnings" not in p.stdout:
+                "the check threw: args need a number 'max'" not in p.stdout or "2 passed, 2 failed (1 could not be evaluated), 0 warnings" not in p.stdout:
             fail("the template plugin from an installed sscs", p)
         # An installed sscs names the installed schemas in the files it writes.
         p = run(os.path.join(prefix, "bin", "sscs"), root,
