@@ -34,6 +34,7 @@
 #include "render/replay.h"
 #include "report/compare.h"
 #include "core/files.h"
+#include "core/limits.h"
 #include "core/names.h"
 #include "report/report.h"
 
@@ -943,11 +944,23 @@ int run_cli(int argc, char** argv) {
     merge_cmd->add_option("DIR", sweep_args.merge_dirs, "shard folders (--out of each sscs sweep --shard K/N)")->required();
     merge_cmd->add_option("--out", merge_out, "the merged folder")->required();
 
+    // A word where the command goes that is no command: say so, not "A subcommand is required".
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (argc > 1 && argv[1][0] != '-' && std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      std::cerr << fmt::format("sscs: error: '{}' is not a command; the commands are {} (sscs --help)\n", printable(argv[1]),
+                               fmt::join(names, ", "));
+      return kInputError;
+    }
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       int code = app.exit(e);
       return code == 0 ? kOk : kInputError;
+    }
+    if (std::string error = limit_environment_error(); !error.empty()) {
+      std::cerr << "sscs: error: " << error << "\n";
+      return kInputError;
     }
     if (check_cmd->parsed()) return run_check(common, check_args);
     if (types_cmd->parsed()) return run_types(common, types_format);

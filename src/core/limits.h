@@ -2,6 +2,7 @@
 /// The limits sscs holds hostile or broken input to (docs/reliability.md lists them all). Each
 /// error that names a limit says how to raise it: an environment variable read here.
 #include <cstdint>
+#include <string>
 
 namespace sscs {
 
@@ -31,8 +32,13 @@ inline constexpr bool kAddressSpaceLimits = true;
 inline constexpr bool kAddressSpaceLimits = true;
 #endif
 
-/// The limit `env` sets (a number; its default otherwise or when it is no positive number).
+/// The limit `env` sets (a number; its default when unset or empty). Garbage in one of these
+/// variables is refused before any command runs (limit_environment_error).
 double limit(const char* env, double fallback);
+/// "" when every SSCS_MAX_* variable that is set holds a positive finite number (a whole one for
+/// counts), else what is wrong with the first that does not: a typo must not quietly leave a
+/// limit at its default.
+std::string limit_environment_error();
 /// limit() of a size in MB, in bytes.
 uintmax_t limit_bytes(const char* env, double fallback_mb);
 
