@@ -315,7 +315,8 @@ void CompileState::evaluate_pending() {
           inputs.push_back(in.kind == Operand::Kind::Slot ? wc.values[in.slot] : in.constant_si);
         double v = cur.expr->evaluate(inputs.data());
         if (!std::isfinite(v)) {
-          diag.error(cur.source->mark, fmt::format("'{}' evaluates to {} for {}", cur.source->text, v, slot_name(cur.slot)));
+          diag.error(cur.source->mark, fmt::format("'{}' for {} has no finite value: {}", cur.source->text, slot_name(cur.slot),
+                                                   nonfinite_reason(v)));
           cur.state = 3;
         } else {
           wc.values[cur.slot] = v + cur.add;
@@ -426,6 +427,10 @@ void compile_parameters(CompileState& st, const CompileOptions& options, std::ve
                                     did_you_mean(name, st.parameter_names())));
       continue;
     }
+    if (std::string why = nonfinite_number(text); !why.empty()) {
+      st.diag.error({}, fmt::format("--set {}={}: expected a finite number: {}", name, text, why));
+      continue;
+    }
     Scalar s;
     s.text = text;
     s.present = true;
@@ -486,7 +491,7 @@ std::optional<double> CompileState::number_now(const Scalar& s, Dim dim, std::st
   }
   double r = expr->evaluate(values.data());
   if (!std::isfinite(r)) {
-    diag.error(s.mark, fmt::format("{} '{}' evaluates to {}, not a finite number", what, s.text, r));
+    diag.error(s.mark, fmt::format("{} '{}' has no finite value: {}", what, s.text, nonfinite_reason(r)));
     return std::nullopt;
   }
   return r;
@@ -744,8 +749,8 @@ void compile_values(CompileState& st) {
 void check_length(CompileState& st, uint32_t slot, SourceMark mark, std::string_view what, std::string_view object) {
   double v = st.wc.values[slot];
   if (std::abs(v) <= kMaxLengthSi) return;
-  st.diag.error(mark, fmt::format("{} of '{}' is {:g} m, beyond the {:g} m (1000 km) sscs places and sizes things within",
-                                  what, object, v, kMaxLengthSi));
+  st.diag.error(mark, fmt::format("{} of '{}' is {} m, beyond the {:g} m (1000 km) sscs places and sizes things within",
+                                  what, object, number_text(v), kMaxLengthSi));
   st.slot_failed[slot] = true;
 }
 
@@ -764,8 +769,8 @@ void check_values(CompileState& st) {
       const uint32_t slot = obj.first_slot + kOrientationSlot + d;
       if (std::abs(st.wc.values[slot]) > kMaxAngleDeg * std::numbers::pi / 180) {
         st.diag.error(o.orientation[d].present ? o.orientation[d].mark : o.mark,
-                      fmt::format("{} of '{}' is {:g} deg, beyond the ±{:g} deg sscs turns things by", kRot[d], obj.name,
-                                  st.wc.values[slot] * 180 / std::numbers::pi, kMaxAngleDeg));
+                      fmt::format("{} of '{}' is {} deg, beyond the ±{:g} deg sscs turns things by", kRot[d], obj.name,
+                                  number_text(st.wc.values[slot] * 180 / std::numbers::pi), kMaxAngleDeg));
         st.slot_failed[slot] = true;
       }
     }

@@ -283,4 +283,9 @@ std::optional<MarginTree> split_for_margin(std::string_view text) {
   return MarginTree{op, std::string(lhs), std::string(rhs), {}};
 }
 
+std::string nonfinite_reason(double result) {
+  return std::isnan(result) ? "a value in it is not a number (0/0, the square root of a negative, ...)"
+                            : "a value in it is infinite (a division by zero, an overflow, ...)";
+}
+
 }  // namespace sscs

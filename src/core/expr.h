@@ -43,6 +43,10 @@ class Expression {
   std::string text_;
 };
 
+/// What a non-finite result of Expression::evaluate means, for messages: a value met on the way
+/// (any branch of it that was evaluated) was infinite or not a number.
+std::string nonfinite_reason(double result);
+
 /// Splits a boolean expression at its top-level `||`, `&&` or comparison, so that a check can
 /// report a margin: for `L < R` the margin is R - L; for `A && B` the smaller, for `A || B` the
 /// larger, for `!(A)` minus A's. Returns nullopt where no margin is defined (a ternary, a bare value).

@@ -89,32 +89,54 @@ std::optional<double> parse_number(std::string_view text) {
   return value;
 }
 
-bool looks_like_nonfinite(std::string_view text) {
+namespace {
+
+/// The length of the number at the start of `text` (sign, digits, point, exponent), without a
+/// dangling exponent ("1e" before "ex"), 0 when it starts with none.
+size_t number_prefix(std::string_view text) {
+  size_t i = !text.empty() && (text.front() == '+' || text.front() == '-') ? 1 : 0;
+  const size_t start = i;
+  while (i < text.size() && ((text[i] >= '0' && text[i] <= '9') || text[i] == '.' || text[i] == 'e' || text[i] == 'E' ||
+                             ((text[i] == '-' || text[i] == '+') && i > start && (text[i - 1] == 'e' || text[i - 1] == 'E'))))
+    ++i;
+  while (i > start && (text[i - 1] == 'e' || text[i - 1] == 'E' || text[i - 1] == '-' || text[i - 1] == '+')) --i;
+  return i > start ? i : 0;
+}
+
+}  // namespace
+
+std::string nonfinite_number(std::string_view text) {
   text = trim(text);
-  if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
+  std::string_view bare = text;
+  if (!bare.empty() && (bare.front() == '+' || bare.front() == '-')) bare.remove_prefix(1);
   for (std::string_view w : {".nan", ".NaN", ".NAN", "nan", "NaN", "NAN", ".inf", ".Inf", ".INF", "inf", "Inf",
                              "INF", "infinity", "Infinity"})
-    if (text == w) return true;
-  // A number too large for a double ("1e999") overflows to inf.
+    if (bare == w) return "it is not a finite number";
+  // A number, alone or before one word (a unit), that a double cannot hold.
+  const size_t n = number_prefix(text);
+  if (n == 0) return "";
+  std::string_view rest = trim(text.substr(n));
+  if (!std::all_of(rest.begin(), rest.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '/' || c == '%'; }))
+    return "";
+  std::string_view number = text.substr(0, n);
+  if (number.front() == '+') number.remove_prefix(1);
   double v = 0;
-  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  return ec == std::errc::result_out_of_range && ptr == text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(number.data(), number.data() + number.size(), v);
+  if (ec != std::errc::result_out_of_range || ptr != number.data() + number.size()) return "";
+  // Out of range: beyond the largest double, or closer to zero than the smallest (an exponent
+  // far below zero).
+  const size_t e = number.find_first_of("eE");
+  const bool tiny = e != std::string_view::npos && e + 1 < number.size() && number[e + 1] == '-';
+  return tiny ? fmt::format("{} is too close to zero for a number (the smallest is about 2.2e-308); write 0 if that is meant", number)
+              : fmt::format("{} is beyond the range of numbers (about ±1.8e308)", number);
 }
 
 std::optional<Quantity> parse_quantity(std::string_view text, std::string* unknown_unit) {
   text = trim(text);
   if (auto n = parse_number(text)) return Quantity{*n, Dim::None, false};
   // Split the longest numeric prefix from the unit word.
-  std::string_view rest = text;
-  if (!rest.empty() && (rest.front() == '+' || rest.front() == '-')) rest.remove_prefix(1);
-  size_t i = 0;
-  while (i < rest.size() && ((rest[i] >= '0' && rest[i] <= '9') || rest[i] == '.' || rest[i] == 'e' ||
-                             rest[i] == 'E' || ((rest[i] == '-' || rest[i] == '+') && i > 0 &&
-                                                (rest[i - 1] == 'e' || rest[i - 1] == 'E'))))
-    ++i;
-  // "1e" followed by a unit such as "1 ex" is not a number: back off a dangling exponent.
-  while (i > 0 && (rest[i - 1] == 'e' || rest[i - 1] == 'E' || rest[i - 1] == '-' || rest[i - 1] == '+')) --i;
-  size_t number_len = (text.size() - rest.size()) + i;
+  size_t number_len = number_prefix(text);
+  if (number_len == 0) return std::nullopt;
   auto number = parse_number(text.substr(0, number_len));
   if (!number) return std::nullopt;
   std::string_view word = trim(text.substr(number_len));

@@ -45,8 +45,10 @@ struct Quantity {
 /// Parses a plain number ("1.5", "-2e3"). Rejects anything else, including inf and nan.
 std::optional<double> parse_number(std::string_view text);
 
-/// True when `text` looks like a number (finite or not): used to say "numbers must be finite".
-bool looks_like_nonfinite(std::string_view text);
+/// Why `text` is a number no double holds: "" when it is not one. `.inf`, `nan` and the like
+/// ("it is not a finite number"), and a number, alone or before a unit word ("1e999 m",
+/// "1e-400"), beyond a double's range or too close to zero for one.
+std::string nonfinite_number(std::string_view text);
 
 /// Parses "1.5", "300 mm", "90deg", "50%". A plain number has Dim::None and its value unchanged;
 /// the caller converts it with file_unit_to_si once it knows the dimension. nullopt when the text

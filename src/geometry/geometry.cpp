@@ -322,8 +322,8 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
     Eigen::Vector3d far = g.X_world_object.translation().cwiseAbs();
     if (!g.bbox_world.isEmpty()) far = g.bbox_world.max().cwiseAbs().cwiseMax(g.bbox_world.min().cwiseAbs());
     if (!far.allFinite() || far.maxCoeff() > kMaxLengthSi)
-      diag.error(o.mark, fmt::format("'{}' reaches {:g} m from the origin (its parents' locations added), beyond the "
-                                     "{:g} m (1000 km) sscs places things within", o.name, far.maxCoeff(), kMaxLengthSi));
+      diag.error(o.mark, fmt::format("'{}' reaches {} m from the origin (its parents' locations added), beyond the "
+                                     "{:g} m (1000 km) sscs places things within", o.name, number_text(far.maxCoeff()), kMaxLengthSi));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
     std::vector<int> chain;
     for (int k = o.type; k >= 0; k = wc.types[k].base) chain.insert(chain.begin(), k);

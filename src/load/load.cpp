@@ -112,8 +112,8 @@ Scalar scalar(yaml::Node node, std::string_view what, Diagnostics& diag) {
   }
   s.text = std::string(node.text());
   s.quoted = node.quoted();
-  if (!s.quoted && looks_like_nonfinite(s.text))
-    diag.error(s.mark, fmt::format("expected a finite number for {}, found '{}'", what, s.text));
+  if (std::string why = s.quoted ? "" : nonfinite_number(s.text); !why.empty())
+    diag.error(s.mark, fmt::format("expected a finite number for {}, found '{}': {}", what, s.text, why));
   return s;
 }
 

@@ -58,11 +58,17 @@ TEST(Units, NonFiniteNumbersAreRejected) {
   EXPECT_FALSE(parse_number("nan"));
   EXPECT_FALSE(parse_number("inf"));
   EXPECT_FALSE(parse_number("1e999"));
-  EXPECT_TRUE(looks_like_nonfinite(".nan"));
-  EXPECT_TRUE(looks_like_nonfinite("-.inf"));
-  EXPECT_TRUE(looks_like_nonfinite("1e999"));
-  EXPECT_FALSE(looks_like_nonfinite("1e99"));
-  EXPECT_FALSE(looks_like_nonfinite("banana"));
+  EXPECT_EQ(nonfinite_number(".nan"), "it is not a finite number");
+  EXPECT_EQ(nonfinite_number("-.inf"), "it is not a finite number");
+  EXPECT_EQ(nonfinite_number("1e999"), "1e999 is beyond the range of numbers (about ±1.8e308)");
+  EXPECT_EQ(nonfinite_number("-1e999 m"), "-1e999 is beyond the range of numbers (about ±1.8e308)");
+  EXPECT_EQ(nonfinite_number("+1e999km"), "1e999 is beyond the range of numbers (about ±1.8e308)");
+  EXPECT_EQ(nonfinite_number("1e-400 mm"),
+            "1e-400 is too close to zero for a number (the smallest is about 2.2e-308); write 0 if that is meant");
+  EXPECT_EQ(nonfinite_number("1e99"), "");
+  EXPECT_EQ(nonfinite_number("1e99 m"), "");
+  EXPECT_EQ(nonfinite_number("1e999 * x"), "");  // an expression: its evaluation says what is wrong
+  EXPECT_EQ(nonfinite_number("banana"), "");
 }
 
 TEST(Units, FileUnitsAreDegreesForAngles) {
