@@ -133,15 +133,6 @@ std::string pick_format(const CheckArgs& a) {
 
 int run_check(const Common& common, const CheckArgs& args) {
   std::string format = pick_format(args);
-  std::optional<Baseline> baseline;
-  if (!args.baseline.empty()) {
-    std::string error;
-    baseline = read_baseline(args.baseline, &error);
-    if (!baseline) {
-      std::cerr << "sscs: error: " << error << "\n";
-      return kInputError;
-    }
-  }
   CompileOptions options;
   if (!common.apply(options, args.vaults)) return kInputError;
   Sources sources;
@@ -158,8 +149,13 @@ int run_check(const Common& common, const CheckArgs& args) {
     }
     if (diag.full()) break;
   }
-  if (diag.has_errors()) {
+  // Inputs in the order they are named: the vaults, then the baseline; every error of both.
+  std::optional<Baseline> baseline;
+  std::string baseline_error;
+  if (!args.baseline.empty()) baseline = read_baseline(args.baseline, &baseline_error);
+  if (diag.has_errors() || !baseline_error.empty()) {
     std::cerr << diag.format(sources, common.color_for(stderr));
+    if (!baseline_error.empty()) std::cerr << "sscs: error: " << baseline_error << "\n";
     return kInputError;  // nothing written
   }
   StageTimer timer;

@@ -340,9 +340,7 @@ std::string dir_of(const std::string& path) {
 }
 
 std::string resolve_path(const std::string& base_file, const std::string& rel) {
-  fs::path p(rel);
-  if (p.is_absolute()) return p.string();
-  return (fs::path(dir_of(base_file)) / p).lexically_normal().string();
+  return join_path(dir_of(base_file), rel);
 }
 
 /// Stores a written value into `slot`: a number now, an expression for later.

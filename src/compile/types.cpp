@@ -231,7 +231,9 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       loaded.push_back(real);
     }
     if (!fs::is_directory(dir, ec)) {
-      diag.error(where, fmt::format("type library folder '{}' does not exist", dir));
+      const bool exists = fs::exists(dir, ec);
+      diag.error(where, fmt::format("type library folder '{}' {}", dir,
+                                    exists ? "is not a folder (a library is a folder holding types/)" : "does not exist"));
       continue;
     }
     // A folder a vault names (where is valid), and each type file in it, stay inside the project.

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -62,6 +63,16 @@ void confine_reads(const std::vector<std::string>& roots) {
   c.roots.clear();
   for (const std::string& r : roots)
     if (!r.empty()) c.roots.push_back(resolved(r));
+}
+
+std::string join_path(const std::string& dir, const std::string& rel) {
+  fs::path r(rel);
+  if (r.is_absolute()) return r.string();
+  const fs::path joined = (dir.empty() ? fs::path(".") : fs::path(dir)) / r;
+  const fs::path normal = joined.lexically_normal();
+  // Without a ".." no symbolic link can make the lexical form differ.
+  if (std::find(joined.begin(), joined.end(), fs::path("..")) == joined.end()) return normal.string();
+  return resolved(joined) == resolved(normal) ? normal.string() : joined.string();
 }
 
 std::string outside_roots(const std::string& path) {

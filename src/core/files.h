@@ -40,6 +40,12 @@ std::string outside_roots(const std::string& path);
 /// Why a file named in an input file cannot be read: outside_roots(), else not_a_file().
 std::string not_a_readable_reference(const std::string& path);
 
+/// `rel` (a path written in an input file) against the folder `dir`, as the system resolves it:
+/// `rel` itself when absolute; lexically normal ("a/./b/../c" -> "a/c") when that names the same
+/// file; else joined as written, for a symbolic link before a ".." leads elsewhere than the
+/// lexical form ("sec/../x" with sec -> /srv/sec is /srv/x).
+std::string join_path(const std::string& dir, const std::string& rel);
+
 /// The project root of a file (or folder) named on the command line: the top of the git work tree
 /// holding it (the folder with `.git`), else its own folder (the folder itself).
 std::string project_root_of(const std::string& file);

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <charconv>
@@ -66,15 +67,25 @@ std::string unfit_mesh_file(const std::string& path) {
   if (!ec && size > max_bytes)
     return fmt::format("it is {:.0f} MB, above the {:.0f} MB limit of a mesh file (raise it with SSCS_MAX_MESH_MB)",
                        size / 1e6, max_bytes / 1e6);
+  if (!ec && size == 0) return "the file is empty";
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".stl" && size >= 84) {
+  if (ext == ".stl" && !ec) {
     // A binary STL says how many triangles it holds (84 + 50 bytes each): refused before reading.
+    // A file that is neither that nor ASCII ("solid" first) is named as such, as assimp tells
+    // the two apart.
     std::ifstream in(path, std::ios::binary);
     unsigned char h[84] = {};
     in.read(reinterpret_cast<char*>(h), sizeof h);
     const uint32_t n = uint32_t(h[80]) | uint32_t(h[81]) << 8 | uint32_t(h[82]) << 16 | uint32_t(h[83]) << 24;
-    if (size == 84 + 50 * uintmax_t(n)) return too_many_triangles(n);
+    if (size >= 84 && size == 84 + 50 * uintmax_t(n)) return too_many_triangles(n);
+    size_t first = 0;
+    while (first < sizeof h && std::isspace(h[first])) ++first;
+    if (first + 5 > sizeof h || std::memcmp(h + first, "solid", 5) != 0) {
+      if (size < 84) return fmt::format("it is neither an ASCII STL (which starts with 'solid') nor a binary STL (at least 84 bytes; it has {})", size);
+      return fmt::format("it is neither an ASCII STL (which starts with 'solid') nor a binary STL: its header promises {} triangles "
+                         "({} bytes), the file has {} bytes (truncated or corrupt)", n, 84 + 50 * uintmax_t(n), size);
+    }
   }
   if (ext == ".glb") {
     // Header: magic "glTF", version 2, total length; then a JSON chunk (length, "JSON").

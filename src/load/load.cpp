@@ -21,10 +21,11 @@ namespace sscs {
 std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
   fs::path p(rel);
   if (p.is_absolute()) return p.string();
-  fs::path beside = fs::path(type_file).parent_path() / p;
+  const fs::path folder = fs::path(type_file).parent_path();
+  std::string beside = join_path(folder.string(), rel);
   std::error_code ec;
-  if (fs::exists(beside, ec)) return beside.lexically_normal().string();
-  return (fs::path(type_file).parent_path().parent_path() / p).lexically_normal().string();
+  if (fs::exists(beside, ec)) return beside;
+  return join_path(folder.parent_path().string(), rel);
 }
 
 

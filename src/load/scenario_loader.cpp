@@ -192,7 +192,7 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
   sc.vault = load::scalar(root.require("vault"), "vault", diag);
   if (sc.vault.present && !sc.vault.null) {
     fs::path p(sc.vault.text);
-    sc.vault_path = p.is_absolute() ? p.string() : (fs::path(sc.path).parent_path() / p).lexically_normal().string();
+    sc.vault_path = join_path(fs::path(sc.path).parent_path().string(), p.string());
     if (std::string why = outside_roots(sc.vault_path); !why.empty())
       diag.error(sc.vault.mark, fmt::format("vault file '{}' {}", sc.vault.text, why));
   }

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "core/files.h"
 #include "core/yaml_tree.h"
 #include "load/load.h"
 #include "load/reader.h"
@@ -18,8 +19,7 @@ using load::MapReader;
 namespace {
 
 std::string beside(const std::string& file, const std::string& rel) {
-  fs::path p(rel);
-  return p.is_absolute() ? p.string() : (fs::path(file).parent_path() / p).lexically_normal().string();
+  return join_path(fs::path(file).parent_path().string(), rel);
 }
 
 VarySpec read_vary(yaml::Node key, yaml::Node value, Diagnostics& diag) {

@@ -98,12 +98,12 @@ class Converter {
       return std::nullopt;
     }
     fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
-    if (p.is_relative()) p = fs::path(urdf_path_).parent_path() / p;
+    if (p.is_relative()) p = join_path(fs::path(urdf_path_).parent_path().string(), p.string());
     if (std::string why = not_a_readable_reference(p.string()); !why.empty()) {
-      error(fmt::format("mesh '{}' {} ({})", uri, why, p.lexically_normal().string()));
+      error(fmt::format("mesh '{}' {} ({})", uri, why, p.string()));
       return std::nullopt;
     }
-    return fs::absolute(p).lexically_normal().string();
+    return join_path(fs::current_path().string(), p.string());
   }
 
   std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) const {

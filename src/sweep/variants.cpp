@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "core/files.h"
+
 namespace fs = std::filesystem;
 
 namespace sscs {
@@ -115,7 +117,7 @@ std::optional<Axis> list_axis(const VarySpec& v, const std::string& sweep_path, 
     }
     if (v.files()) {
       fs::path p(s.text);
-      value.set_text = p.is_absolute() ? p.string() : (fs::path(sweep_path).parent_path() / p).lexically_normal().string();
+      value.set_text = join_path(fs::path(sweep_path).parent_path().string(), p.string());
       value.column = s.text;
       value.label = label_of(p.stem().string());
       axis.values.push_back(value);

@@ -55,4 +55,11 @@ mkfifo "$dir/fifo/lib/types/buffer.bin"
 timeout 60 "$sscs" check "$dir/fifo/v.yaml" >/dev/null 2>"$dir/err"; code=$?
 [ $code = 2 ] && grep -q "it refers to '.*buffer.bin', which is a FIFO (named pipe), not a file" "$dir/err" ||
   fail "exit $code: a glTF buffer that is a FIFO must be refused"
+# "sec/../x" goes where the system goes: through sec, a link to another folder of the project,
+# then up from there (read lexically it named a file that does not exist).
+mkdir -p "$dir/dots/real/sub" "$dir/dots/real/lib/types"
+cp "$dir/project/lib/types/mydrum.yaml" "$dir/dots/real/lib/types/"
+ln -s real/sub "$dir/dots/sec"
+printf 'sscs: 1\nvault: D\nlibrary: [sec/../lib]\nobjects:\n  - {type: mydrum, name: D}\n' > "$dir/dots/v.yaml"
+"$sscs" check "$dir/dots/v.yaml" >/dev/null 2>"$dir/err" || fail "sec/../lib through a link must be found where the system finds it"
 echo "project root: the input's folder, its git work tree, --root, --library, --allow-outside-root and symlinks as documented"
