@@ -123,10 +123,26 @@ std::vector<int> pair_side(CompileState& st, const SelectorSpec& sel, std::strin
   return o < 0 ? std::vector<int>{} : std::vector<int>{o};
 }
 
+/// The largest tolerance of a spatial check (m): more would pass real violations unseen (an
+/// allowance is a clearance's or inside's `min`, and shows in the margin).
+constexpr double kMaxSpatialEpsSi = 0.1;
+
 void spatial_eps(CompileState& st, const Scalar& eps, SpatialCheck& sc) {
   if (!eps.present) return;
   sc.eps_si = st.number_now(eps, Dim::Length, "eps").value_or(sc.eps_si);
   if (sc.eps_si < 0) st.diag.error(eps.mark, "eps must not be negative");
+  if (sc.eps_si > kMaxSpatialEpsSi)
+    st.diag.error(eps.mark, fmt::format("eps of a spatial check is at most {:g} m, found {} m: a larger tolerance would pass "
+                                        "real violations unseen (an allowance belongs in min)", kMaxSpatialEpsSi, number_text(sc.eps_si)));
+}
+
+/// `min` of a clearance or inside: a distance kept, never negative (that would pass overlaps).
+double spatial_min(CompileState& st, const Scalar& min, const char* what) {
+  double v = st.number_now(min, Dim::Length, what).value_or(0);
+  if (v < 0)
+    st.diag.error(min.mark, fmt::format("{} must not be negative, found {} m: it is a distance kept, and a negative one would "
+                                        "pass overlapping objects", what, number_text(v)));
+  return v;
 }
 
 /// `faces:` of an inside constraint: all (default), walls, or a list of x- x+ y- y+ z- z+.
@@ -287,6 +303,10 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
   if (b.eps.present) {
     check.eps_si = st.number_now(b.eps, check.dim, "eps").value_or(1e-9);
     if (check.eps_si < 0) st.diag.error(b.eps.mark, "eps must not be negative");
+    // As large as any size sscs takes (1e6 in SI units): beyond it every bound would hold.
+    if (check.eps_si > kMaxLengthSi)
+      st.diag.error(b.eps.mark, fmt::format("eps is at most {:g} (SI units), found {}: every comparison would hold", kMaxLengthSi,
+                                            number_text(check.eps_si)));
   }
   add_subjects(c.subjects, {check.lhs, check.rhs});
   c.body = std::move(check);
@@ -472,7 +492,7 @@ void compile_constraints(CompileState& st) {
         sc.objects = pair_side(st, *cl->a, "clearance a");
         sc.others = pair_side(st, *cl->b, "clearance b");
       }
-      if (cl->min.present) sc.min_si = st.number_now(cl->min, Dim::Length, "clearance min").value_or(0);
+      if (cl->min.present) sc.min_si = spatial_min(st, cl->min, "clearance min");
       spatial_eps(st, cl->eps, sc);
       c.subjects = sc.objects;
       c.subjects.insert(c.subjects.end(), sc.others.begin(), sc.others.end());
@@ -492,7 +512,7 @@ void compile_constraints(CompileState& st) {
       sc.container = object_ref(st, in->container, "inside container");
       // The container is never checked against itself.
       sc.objects.erase(std::remove(sc.objects.begin(), sc.objects.end(), sc.container), sc.objects.end());
-      if (in->min.present) sc.min_si = st.number_now(in->min, Dim::Length, "inside min").value_or(0);
+      if (in->min.present) sc.min_si = spatial_min(st, in->min, "inside min");
       spatial_eps(st, in->eps, sc);
       sc.faces = inside_faces(st, *in);
       c.subjects = sc.objects;
