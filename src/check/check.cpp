@@ -456,6 +456,19 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     if (ik.status == IkResult::Status::Rejected && !rc.match_orientation)
       ik = reach_by_approach(chain, X_root_world * X_world_target, seed, opt, accept, ik);
     if (ik.ok() && ik.position_error < 1e-9) ik.position_error = 0;  // rounding: keep reports stable
+    // A search the time backstop cut short proves nothing: no verdict, an error result.
+    if (!ik.ok() && ik.timed_out) {
+      CheckResult r;
+      r.constraint = index;
+      r.subjects = {rc.device};
+      if (t.object >= 0) r.subjects.push_back(t.object);
+      r.status = Status::Error;
+      r.message = fmt::format("the search for joint values that reach {} ran out of its {:g} s time limit after {} of {} attempts, "
+                              "so whether {} reaches it is not known (a machine this loaded, or a chain this long?)",
+                              t.text, opt.time_limit, ik.attempts, opt.max_attempts, o.name);
+      out.push_back(std::move(r));
+      continue;
+    }
     CheckResult r;
     r.constraint = index;
     r.subjects = {rc.device};

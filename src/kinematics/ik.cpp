@@ -161,7 +161,10 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
   int extra_left = opt.extra_attempts;
 
   for (int attempt = 0; attempt < attempts; ++attempt) {
-    if (attempt > 0 && Clock::now() > deadline) break;
+    if (attempt > 0 && Clock::now() > deadline) {
+      result.timed_out = true;
+      break;
+    }
     ++result.attempts;
     if (attempt == 0) {
       q = start;

@@ -73,6 +73,9 @@ struct IkResult {
   double angle_error = 0;         ///< rad, at q (0 in position-only mode)
   int iterations = 0;
   int attempts = 0;
+  /// The time backstop, not the iteration budget, ended the search: a target not reached may
+  /// still be reachable, so no verdict rests on it.
+  bool timed_out = false;
   bool ok() const { return status == Status::Reached; }
 };
 

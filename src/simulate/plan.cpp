@@ -326,7 +326,10 @@ class Planner {
     IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
     if (!r.ok()) {
       fail(start, "unreachable", index, d,
-           fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name, stable(r.position_error)),
+           fmt::format("{} cannot reach the move_to target: best position error {:g} m{}", wc_.objects[d].name, stable(r.position_error),
+                       r.timed_out ? fmt::format(" (the search stopped at its {:g} s time limit after {} attempts: the target may be "
+                                                 "reachable)", ik_options().time_limit, r.attempts)
+                                   : ""),
            r.position_error);
       return start;
     }

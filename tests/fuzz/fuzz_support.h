@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "compile/compile.h"
+#include "core/files.h"
 #include "load/load.h"
 
 namespace sscs::fuzz {
@@ -38,6 +39,14 @@ inline std::string write_scratch(const std::string& name, const uint8_t* data, s
   std::string path = (scratch() / name).string();
   std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), size);
   return path;
+}
+
+/// Reads confined to scratch(), as `sscs check` confines them to the vault's project root: the
+/// files an input names (library folders, plugin folders, meshes, URDFs) go through the checks
+/// of confinement too. Call once, after standard_library() (which lies outside it).
+inline void confine_to_scratch() {
+  static const bool done = (confine_reads({scratch().string()}), true);
+  (void)done;
 }
 
 /// The standard library (SSCS_LIBRARY_DIR), loaded and resolved once per process.

@@ -7,6 +7,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace sscs;
   static const auto library = fuzz::standard_library();
+  fuzz::confine_to_scratch();
   Sources sources;
   Diagnostics diag;
   uint32_t file = sources.add((fuzz::scratch() / "vault.yaml").string(), std::string(reinterpret_cast<const char*>(data), size));

@@ -207,6 +207,14 @@ TEST_F(Kinematics, UnreachableAndSingularTargetsReturnPromptly) {
   opt.max_attempts = 3;
   r = solve_ik(chain, edge, Eigen::VectorXd::Zero(6), opt);
   EXPECT_EQ(r.attempts, 3);
+  EXPECT_FALSE(r.timed_out);  // the budget, not the clock, ended it: a verdict may rest on it
+  // The clock backstop ending a search is said, so no "unreachable" verdict rests on it.
+  opt.time_limit = 0;
+  opt.max_attempts = 200;
+  r = solve_ik(chain, edge, Eigen::VectorXd::Zero(6), opt);
+  EXPECT_EQ(r.status, IkResult::Status::Unreachable);
+  EXPECT_TRUE(r.timed_out);
+  EXPECT_EQ(r.attempts, 1);
 }
 
 TEST_F(Kinematics, JointLimitsBoundTheSolution) {
