@@ -131,6 +131,14 @@ std::string pick_format(const CheckArgs& a) {
   return "text";
 }
 
+/// Writes the diagnostics to stderr, warnings then errors; true when there were errors (the
+/// command then stops, having written nothing).
+bool report_diagnostics(const Diagnostics& diag, const Sources& sources, const Common& common) {
+  if (!diag.has_errors() && diag.warnings().empty()) return false;
+  std::cerr << diag.format(sources, common.color_for(stderr));
+  return diag.has_errors();
+}
+
 int run_check(const Common& common, const CheckArgs& args) {
   std::string format = pick_format(args);
   CompileOptions options;
@@ -153,8 +161,7 @@ int run_check(const Common& common, const CheckArgs& args) {
   std::optional<Baseline> baseline;
   std::string baseline_error;
   if (!args.baseline.empty()) baseline = read_baseline(args.baseline, &baseline_error);
-  if (diag.has_errors() || !baseline_error.empty()) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
+  if (report_diagnostics(diag, sources, common) || !baseline_error.empty()) {
     if (!baseline_error.empty()) std::cerr << "sscs: error: " << baseline_error << "\n";
     return kInputError;  // nothing written
   }
@@ -300,6 +307,11 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
     dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
     dj["driven"] = device->kinematic ? "kinematic" : "motors";
     dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
+    dj["srdf"] = device->srdf.present ? nlohmann::ordered_json(device->srdf.text) : nullptr;
+    if (device->urdf.present) dj["joint_limits"] = device->hard_limits ? "hard" : "soft";
+    auto allowed = nlohmann::ordered_json::array();
+    for (const DeviceSpec::AllowedCollision& a : device->allowed_collisions) allowed.push_back({a.a, a.b});
+    dj["allowed_collisions"] = std::move(allowed);
     dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
                                  : nlohmann::ordered_json(nullptr);
     j["device"] = std::move(dj);
@@ -315,10 +327,7 @@ int run_types(const Common& common, const std::string& format) {
   PluginSet plugins;
   for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
   std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths, plugins.types());
-  if (diag.has_errors()) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
-    return kInputError;
-  }
+  if (report_diagnostics(diag, sources, common)) return kInputError;
   // One instance of each type at its defaults shows where its frames, bounds and reach are.
   auto library = std::make_shared<const std::vector<ObjectType>>(types);
   CompileOptions instance_options;
@@ -391,8 +400,15 @@ int run_types(const Common& common, const std::string& format) {
       std::vector<std::string> parts;
       for (const PartSpec& p : d->parts)
         parts.push_back(p.joint && p.joint->type != JointType::Fixed ? fmt::format("{}({})", p.name, p.joint->name) : p.name);
-      std::cout << fmt::format("  parts: {}; tool: {}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
-                               d->kinematic ? "; driven: kinematic" : "", d->urdf.present ? "; urdf: " + d->urdf.text : "");
+      std::cout << fmt::format("  parts: {}; tool: {}{}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
+                               d->kinematic ? "; driven: kinematic" : "",
+                               d->urdf.present ? fmt::format("; urdf: {} ({} limits)", d->urdf.text, d->hard_limits ? "hard" : "soft") : "",
+                               d->srdf.present ? "; srdf: " + d->srdf.text : "");
+      if (!d->allowed_collisions.empty()) {
+        std::vector<std::string> pairs;
+        for (const DeviceSpec::AllowedCollision& a : d->allowed_collisions) pairs.push_back(a.a + "/" + a.b);
+        std::cout << fmt::format("  allowed collisions: {}\n", fmt::join(pairs, ", "));
+      }
     }
   }
   std::cout << fmt::format("constraint kinds: {}\n", fmt::join(kKinds, ", "));
@@ -413,10 +429,7 @@ int run_export(const Common& common, const std::string& vault, const std::string
   auto wc = compile_file(vault, options, sources, diag);
   GeometryModel geometry;
   if (wc) geometry = build_geometry(*wc, diag);
-  if (diag.has_errors()) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
-    return kInputError;
-  }
+  if (report_diagnostics(diag, sources, common)) return kInputError;
   if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
     std::cerr << "sscs: error: " << err << "\n";
     return kInputError;
@@ -476,10 +489,7 @@ int run_render(const Common& common, const RenderArgs& args) {
   auto wc = compile_file(args.vault, options, sources, diag);
   GeometryModel geometry;
   if (wc) geometry = build_geometry(*wc, diag);
-  if (diag.has_errors()) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
-    return kInputError;
-  }
+  if (report_diagnostics(diag, sources, common)) return kInputError;
   // A named camera of the vault, compiled like a scenario's keyframe.
   std::optional<CameraPath> named;
   if (!args.camera.empty()) {
@@ -494,7 +504,7 @@ int run_render(const Common& common, const RenderArgs& args) {
     }
     named = compile_cameras({it->second}, *wc, diag);
     if (diag.has_errors()) {
-      std::cerr << diag.format(sources, common.color_for(stderr));
+      std::cerr << diag.format_errors(sources, common.color_for(stderr));  // its warnings were shown
       return kInputError;
     }
   }
@@ -545,6 +555,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
     return kInputError;
   }
+  report_diagnostics(ps.diag, ps.sources, common);  // warnings
   const Workcell& wc = *ps.wc;
   const Plan& plan = *ps.plan;
   RenderOptions ro;
@@ -648,6 +659,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
     return kInputError;
   }
+  report_diagnostics(ps.diag, ps.sources, common);  // warnings
   const auto& spec = ps.spec;
   const auto& wc = ps.wc;
   const auto& plan = ps.plan;
@@ -836,10 +848,7 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
     InterruptGuard interrupts;
     outcome = run_sweep(args.sweep, options, sources, diag);
   }
-  if (diag.has_errors()) {
-    std::cerr << diag.format(sources, common.color_for(stderr));
-    return kInputError;
-  }
+  if (report_diagnostics(diag, sources, common)) return kInputError;
   return report_sweep(outcome, "swept");
 }
 

@@ -518,7 +518,10 @@ void expand_objects(CompileState& st) {
     // A type whose files are broken is an error where it is used (once), its base's problems too.
     for (int k = type; k >= 0; k = st.wc.types[k].base)
       if (st.reported_types.insert(k).second)
-        for (const Diagnostic& d : st.wc.types[k].problems) st.diag.error(d.mark, d.message);
+        for (const Diagnostic& d : st.wc.types[k].problems) {
+          if (d.warning) st.diag.warning(d.mark, d.message);
+          else st.diag.error(d.mark, d.message);
+        }
     auto add = [&](std::string name, SourceMark mark, std::array<int, 3> index, std::array<double, 3> offset) {
       Object obj;
       obj.name = std::move(name);

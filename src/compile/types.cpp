@@ -211,6 +211,22 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
       diag.error(p.color.mark, fmt::format("expected a colour \"#RRGGBB\" for part '{}', found '{}'", p.name, p.color.text));
   }
   if (!d.parts.empty() && !root) diag.error(d.parts[0].mark, fmt::format("device '{}' has no root part (one part without a parent)", type.name));
+  // Allowed collisions name two different parts of this device (an SRDF of another robot, or a
+  // typo, would otherwise leave a real self-collision unchecked or a listed pair meaningless).
+  // An SRDF's are reported where the type is used, as the URDF's problems are.
+  for (const DeviceSpec::AllowedCollision& pair : d.allowed_collisions) {
+    const bool from_srdf = d.srdf.present && pair.mark.file != d.srdf.mark.file;
+    auto report = [&](std::string message) {
+      if (from_srdf) deferred.push_back({pair.mark, std::move(message)});
+      else diag.error(pair.mark, std::move(message));
+    };
+    for (const std::string* name : {&pair.a, &pair.b})
+      if (!name->empty() && !parts.count(*name))
+        report(fmt::format("{} names '{}', which is no {} of '{}'{}", from_srdf ? "this <disable_collisions>" : "allowed_collisions", *name,
+                           from_srdf ? "link" : "part", type.name, from_srdf ? " (is the SRDF another robot's?)" : did_you_mean(*name, names)));
+    if (!pair.a.empty() && pair.a == pair.b)
+      report(fmt::format("an allowed collision pairs two different parts, found '{}' twice", pair.a));
+  }
   if (!d.tool_part.empty() && !parts.count(d.tool_part))
     diag.error(d.tool_mark, fmt::format("tool part '{}' is not a part of '{}'{}", d.tool_part, type.name, did_you_mean(d.tool_part, names)));
   check_pose(d.tool_pose, type, "tool", diag);
@@ -331,12 +347,17 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
         t.attributes[existing] = std::move(a);  // an override of the inherited default or limits
       }
     }
-    if (spec.device) add_joint_attributes(spec, t, diag);
+    // A device whose URDF or SRDF could not be imported has no parts to check its tool, home and
+    // joints against: its import problems are what a vault using it is told.
+    const bool imported = !spec.device || std::none_of(spec.device->import_problems.begin(), spec.device->import_problems.end(),
+                                                       [](const Diagnostic& d) { return !d.warning; });
+    if (spec.device && imported) add_joint_attributes(spec, t, diag);
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
     check_geometry(spec.geometry, t, spec.path, diag, t.problems);
     for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), diag);
-    if (spec.device) check_device(*spec.device, t, spec.path, diag, t.problems);
+    if (spec.device && imported) check_device(*spec.device, t, spec.path, diag, t.problems);
+    if (spec.device) t.problems.insert(t.problems.end(), spec.device->import_problems.begin(), spec.device->import_problems.end());
     state[i] = 2;
     return true;
   };

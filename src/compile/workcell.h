@@ -40,7 +40,8 @@ struct ObjectType {
   bool device = false;
   std::vector<AttributeDef> attributes;
   std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
-  /// Errors in the files the type names (a mesh that cannot be read): reported when a vault uses
+  /// Errors in the files the type names (a mesh that cannot be read), and warnings of what its
+  /// import skipped (a degenerate URDF shape): reported when a vault uses
   /// the type (or one extending it), so one broken type does not break its whole folder.
   std::vector<Diagnostic> problems;
   int find_attribute(std::string_view name) const;

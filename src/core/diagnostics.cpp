@@ -36,31 +36,53 @@ void Diagnostics::error(SourceMark mark, std::string message) {
   if (errors_.size() < limit_) errors_.push_back({mark, std::move(message)});
 }
 
-std::string Diagnostics::format(const Sources& sources, bool color) const {
+void Diagnostics::warning(SourceMark mark, std::string message) {
+  for (const Diagnostic& w : warnings_)  // a type used by many objects warns once
+    if (w.mark.file == mark.file && w.mark.line == mark.line && w.mark.column == mark.column && w.message == message) return;
+  if (warnings_.size() < limit_) warnings_.push_back({mark, std::move(message), true});
+}
+
+namespace {
+
+/// One diagnostic: `file:line:col: error: message`, the source line and a caret under the column.
+std::string format_one(const Diagnostic& d, const Sources& sources, bool color) {
   const char* bold = color ? "\033[1m" : "";
-  const char* red = color ? "\033[1;31m" : "";
+  const char* word_colour = color ? (d.warning ? "\033[1;33m" : "\033[1;31m") : "";
   const char* green = color ? "\033[1;32m" : "";
   const char* reset = color ? "\033[0m" : "";
+  const char* word = d.warning ? "warning" : "error";
   std::string out;
-  for (const Diagnostic& d : errors_) {
-    if (d.mark.valid()) {
-      out += fmt::format("{}{}:{}:{}:{} {}error:{} {}\n", bold, sources.path(d.mark.file), d.mark.line,
-                         d.mark.column, reset, red, reset, printable(within_window(d.message), true));
-      std::string_view line = sources.line(d.mark);
-      if (!line.empty() && line.size() < 300) {
-        out += fmt::format("  {}\n", printable(line));
-        std::string caret(d.mark.column > 0 ? d.mark.column - 1 : 0, ' ');
-        for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
-          if (line[i] == '\t') caret[i] = '\t';
-        out += fmt::format("  {}{}^{}\n", caret, green, reset);
-      }
-    } else {
-      out += fmt::format("{}sscs:{} {}error:{} {}\n", bold, reset, red, reset, printable(within_window(d.message), true));
+  if (d.mark.valid()) {
+    out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(d.mark.file), d.mark.line, d.mark.column, reset, word_colour,
+                       word, reset, printable(within_window(d.message), true));
+    std::string_view line = sources.line(d.mark);
+    if (!line.empty() && line.size() < 300) {
+      out += fmt::format("  {}\n", printable(line));
+      std::string caret(d.mark.column > 0 ? d.mark.column - 1 : 0, ' ');
+      for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
+        if (line[i] == '\t') caret[i] = '\t';
+      out += fmt::format("  {}{}^{}\n", caret, green, reset);
     }
+  } else {
+    out += fmt::format("{}sscs:{} {}{}:{} {}\n", bold, reset, word_colour, word, reset, printable(within_window(d.message), true));
   }
+  return out;
+}
+
+}  // namespace
+
+std::string Diagnostics::format_errors(const Sources& sources, bool color) const {
+  std::string out;
+  for (const Diagnostic& d : errors_) out += format_one(d, sources, color);
   if (count_ > errors_.size())
     out += fmt::format("sscs: {} more errors not shown (limit {})\n", count_ - errors_.size(), limit_);
   return out;
+}
+
+std::string Diagnostics::format(const Sources& sources, bool color) const {
+  std::string out;
+  for (const Diagnostic& d : warnings_) out += format_one(d, sources, color);
+  return out + format_errors(sources, color);
 }
 
 }  // namespace sscs

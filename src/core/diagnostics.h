@@ -18,6 +18,7 @@ std::string within_window(std::string_view text, size_t max = 2000);
 struct Diagnostic {
   SourceMark mark;
   std::string message;
+  bool warning = false;  ///< something skipped or assumed that the user should know; not an error
 };
 
 /// Collects input errors with their source marks. After `limit` errors further ones are counted
@@ -28,19 +29,27 @@ class Diagnostics {
   explicit Diagnostics(size_t limit = kDefaultLimit) : limit_(limit) {}
 
   void error(SourceMark mark, std::string message);
+  /// Something the input does that sscs skips or works around (a degenerate shape in a vendor's
+  /// URDF): shown on stderr, never fails the command. Kept up to the same limit, once each.
+  void warning(SourceMark mark, std::string message);
+  const std::vector<Diagnostic>& warnings() const { return warnings_; }
   bool has_errors() const { return count_ > 0; }
   size_t count() const { return count_; }
   bool full() const { return count_ >= limit_; }
   const std::vector<Diagnostic>& errors() const { return errors_; }
 
-  /// `file:line:col: error: message`, the source line and a caret under the column, for each error;
-  /// then a line saying how many were not shown when the limit was reached.
+  /// `file:line:col: warning: message` for each warning, then `file:line:col: error: message` for
+  /// each error, each with the source line and a caret under the column; then a line saying how
+  /// many errors were not shown when the limit was reached.
   std::string format(const Sources& sources, bool color = false) const;
+  /// format() without the warnings.
+  std::string format_errors(const Sources& sources, bool color = false) const;
 
  private:
   size_t limit_;
   size_t count_ = 0;
   std::vector<Diagnostic> errors_;
+  std::vector<Diagnostic> warnings_;
 };
 
 /// An error that must stop the current stage at once (a file that cannot be read as YAML).

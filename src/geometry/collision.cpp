@@ -486,7 +486,7 @@ struct CollisionWorld::Impl {
     for (size_t i = 0; i < shapes.size(); ++i)
       for (size_t k = i + 1; k < shapes.size(); ++k) {
         int a = shapes[i].first, b = shapes[k].first;
-        if (a == b || d.adjacent(a, b)) continue;
+        if (a == b || d.may_touch(a, b)) continue;
         if (!shapes[i].second->getAABB().overlap(shapes[k].second->getAABB())) continue;
         double depth = penetration(shapes[i].second.get(), shapes[k].second.get());
         if (depth <= kTouchTolerance) continue;

@@ -44,8 +44,8 @@ class CollisionWorld {
   /// of them has no geometry.
   std::optional<double> distance(int a, int b);
 
-  /// Pairs of non-adjacent parts of device `object` that interpenetrate at its instance's
-  /// joint values (self-collision).
+  /// Pairs of parts of device `object` that may not touch (Device::may_touch) and interpenetrate
+  /// at its instance's joint values (self-collision).
   std::vector<Collision> self_collisions(int object);
 
   /// The deepest collision of device `object` with its parts placed at `X_world_part` (one pose

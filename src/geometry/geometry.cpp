@@ -220,6 +220,12 @@ class Builder {
         d->parts[p].joint.q = d->dof();
         d->joint_parts.push_back(p);
       }
+    for (const DeviceSpec::AllowedCollision& pair : ds.allowed_collisions) {
+      int a = d->find_part(pair.a), b = d->find_part(pair.b);
+      if (a >= 0 && b >= 0 && a != b) d->allowed.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(d->allowed.begin(), d->allowed.end());
+    d->allowed.erase(std::unique(d->allowed.begin(), d->allowed.end()), d->allowed.end());
     if (!ds.tool_part.empty()) {
       d->tool_part = d->find_part(ds.tool_part);
       d->X_part_tool = eval_.pose(ds.tool_pose, obj);

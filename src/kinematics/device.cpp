@@ -1,5 +1,7 @@
 #include "kinematics/device.h"
 
+#include <algorithm>
+
 namespace sscs {
 
 Eigen::Isometry3d joint_transform(const Joint& j, double value) {
@@ -15,6 +17,11 @@ int Device::find_part(std::string_view name) const {
   for (size_t i = 0; i < parts.size(); ++i)
     if (parts[i].name == name) return static_cast<int>(i);
   return -1;
+}
+
+bool Device::may_touch(int a, int b) const {
+  if (adjacent(a, b)) return true;
+  return std::binary_search(allowed.begin(), allowed.end(), std::pair(std::min(a, b), std::max(a, b)));
 }
 
 Eigen::VectorXd Device::joint_values(const double* attribute_values) const {

@@ -58,6 +58,11 @@ struct Device {
   /// Whether parts a and b are joined directly (one is the other's parent): such parts touch by
   /// design and are not checked against each other for self-collision.
   bool adjacent(int a, int b) const { return parts[a].parent == b || parts[b].parent == a; }
+  /// Pairs of parts the type allows to touch (allowed_collisions, an SRDF's disabled pairs),
+  /// each (smaller index, larger), sorted.
+  std::vector<std::pair<int, int>> allowed;
+  /// Whether a and b may touch without a self-collision: adjacent, or an allowed pair.
+  bool may_touch(int a, int b) const;
   /// Per part: whether it belongs to the tool: the tool's part, every part rigidly attached to it
   /// through fixed joints (either way: the flange a tool0 frame hangs off), and the parts those
   /// carry. These may touch what the tool holds or reaches for.

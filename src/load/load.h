@@ -38,8 +38,13 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
 
 /// Fills a device's parts from its URDF file (`device.urdf`, named in type file `type_file`):
 /// links become parts, joints joints, inertials masses, collision (else visual) shapes geometry.
-/// Problems are reported at the `urdf:` key.
-void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
-               Diagnostics& diag);
+/// Problems (errors, and warnings of what was skipped) go to `device.import_problems`, at the
+/// `urdf:` key: reported where the type is used, so one broken robot does not break its folder.
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths);
+
+/// Adds the collisions a MoveIt SRDF (`device.srdf`, beside the URDF) disables to the device's
+/// allowed collisions; the file is read into `sources`, so its problems are located in it. They
+/// go to `device.import_problems`, like the URDF's.
+void load_srdf(DeviceSpec& device, const std::string& type_file, Sources& sources);
 
 }  // namespace sscs

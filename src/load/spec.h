@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/diagnostics.h"
 #include "core/source.h"
 
 namespace sscs {
@@ -118,6 +119,20 @@ struct DeviceSpec {
   SourceMark home_mark;
   bool kinematic = false;  ///< `driven: kinematic`
   Scalar urdf;             ///< as written; its contents fill `parts`
+  /// `joint_limits: soft` (default): a URDF joint's <safety_controller> soft limits, within its
+  /// <limit>, bound it, as MoveIt and TRAC-IK take them; `hard`: its <limit> alone.
+  bool hard_limits = false;
+  /// Pairs of parts that may touch in any pose (the vendor's model overlaps them): never a
+  /// self-collision. From `allowed_collisions: [[a, b], ...]` and the SRDF's <disable_collisions>.
+  struct AllowedCollision {
+    std::string a, b;
+    SourceMark mark;  ///< the pair in the type file, or the element in the SRDF file
+  };
+  std::vector<AllowedCollision> allowed_collisions;
+  Scalar srdf;  ///< as written: a MoveIt SRDF beside the URDF (its disabled collision pairs)
+  /// What went wrong in the URDF and SRDF imports (errors), and what they skipped (warnings:
+  /// degenerate shapes): reported where the type is used.
+  std::vector<Diagnostic> import_problems;
 };
 
 struct TypeSpec {

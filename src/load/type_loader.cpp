@@ -123,6 +123,26 @@ DeviceSpec read_device(MapReader& root, Diagnostics& diag) {
     if (word == "kinematic") d.kinematic = true;
     else if (word != "motors") load::expected(diag, driven, "motors or kinematic", "driven");
   }
+  yaml::Node limits = root.take("joint_limits");
+  if (limits.valid()) {
+    std::string word = load::text(limits, "joint_limits", diag);
+    if (word == "hard") d.hard_limits = true;
+    else if (word != "soft") load::expected(diag, limits, "soft or hard", "joint_limits");
+    if (!d.urdf.present) diag.error(limits.mark(), "'joint_limits' chooses between a URDF's soft and hard limits: it needs 'urdf'");
+  }
+  yaml::Node allowed = root.take("allowed_collisions");
+  if (allowed.valid() && !allowed.is_sequence()) load::expected(diag, allowed, "a sequence of part pairs [a, b]", "allowed_collisions");
+  else if (allowed.valid())
+    for (size_t i = 0; i < allowed.size(); ++i) {
+      yaml::Node pair = allowed.item(i);
+      if (!pair.is_sequence() || pair.size() != 2) {
+        load::expected(diag, pair, "a pair of part names [a, b]", "allowed_collisions");
+        continue;
+      }
+      d.allowed_collisions.push_back({load::name(pair.item(0), "a part", diag), load::name(pair.item(1), "a part", diag), pair.mark()});
+    }
+  d.srdf = load::scalar(root.take("srdf"), "srdf", diag);
+  if (d.srdf.present && !d.urdf.present) diag.error(d.srdf.mark, "an SRDF describes a URDF robot: 'srdf' needs 'urdf'");
   return d;
 }
 
@@ -177,11 +197,13 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   t.color = load::scalar(root.take("color"), "color", diag);
   if (device) {
     t.device = read_device(root, diag);
-    if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths, diag);
+    if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths);
+    if (t.device->srdf.present && !t.device->srdf.null) load_srdf(*t.device, path, sources);
   } else {
-    for (const char* key : {"parts", "tool", "home", "driven", "urdf"})
+    static const char* kDeviceKeys[] = {"parts", "tool", "home", "driven", "urdf", "srdf", "joint_limits", "allowed_collisions"};
+    for (const char* key : kDeviceKeys)
       if (root.has(key)) diag.error(root.node().find(key).mark(), fmt::format("'{}' is only allowed with kind: device", key));
-    for (const char* key : {"parts", "tool", "home", "driven", "urdf"}) root.take(key);
+    for (const char* key : kDeviceKeys) root.take(key);
   }
   root.finish();
   return t;

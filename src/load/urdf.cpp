@@ -7,7 +7,10 @@
 #include <sstream>
 
 #include <console_bridge/console.h>
+#include <map>
+#include <optional>
 #include <set>
+#include <tinyxml.h>
 
 #include <fmt/format.h>
 #include <urdf_parser/urdf_parser.h>
@@ -46,10 +49,36 @@ class CapturedLog : public console_bridge::OutputHandler {
   std::vector<std::string> messages_;
 };
 
+/// The <safety_controller> soft limits a joint's element writes (each optional: urdfdom reads an
+/// attribute that is absent as 0, which would pin the joint at 0).
+struct SoftLimits {
+  std::optional<double> lower, upper;
+};
+
+/// Per joint name, the soft limits written in the URDF file (read again with tinyxml, which
+/// urdfdom reads it with, to tell a written 0 from an absent attribute).
+std::map<std::string, SoftLimits> read_soft_limits(const std::string& urdf_path) {
+  std::map<std::string, SoftLimits> out;
+  TiXmlDocument doc;
+  if (!doc.LoadFile(urdf_path.c_str(), TIXML_ENCODING_UTF8) || !doc.RootElement()) return out;
+  for (const TiXmlElement* j = doc.RootElement()->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const TiXmlElement* safety = j->FirstChildElement("safety_controller");
+    const char* name = j->Attribute("name");
+    if (!safety || !name) continue;
+    SoftLimits s;
+    double v = 0;
+    if (safety->QueryDoubleAttribute("soft_lower_limit", &v) == TIXML_SUCCESS) s.lower = v;
+    if (safety->QueryDoubleAttribute("soft_upper_limit", &v) == TIXML_SUCCESS) s.upper = v;
+    out[name] = s;
+  }
+  return out;
+}
+
 class Converter {
  public:
-  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, Diagnostics& diag)
-      : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), diag_(diag) {}
+  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths,
+            std::vector<Diagnostic>& problems)
+      : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), problems_(problems) {}
 
   Scalar number(double v, const char* unit = "") const {
     Scalar s;
@@ -68,7 +97,15 @@ class Converter {
     return out;
   }
 
-  void error(const std::string& what) const { diag_.error(at_.mark, fmt::format("{}: {}", urdf_path_, what)); }
+  /// An error of the import, at the type file's `urdf:` line, naming the URDF file and, while a
+  /// link is converted, the link.
+  void error(const std::string& what) const {
+    problems_.push_back({at_.mark, fmt::format("{}: {}{}", urdf_path_, link_.empty() ? "" : fmt::format("link '{}': ", link_), what)});
+  }
+  /// Something the import skips, reported (as a warning) where the type is used.
+  void warn(const std::string& what) const {
+    problems_.push_back({at_.mark, fmt::format("{}: link '{}': {}", urdf_path_, link_, what), true});
+  }
 
   /// `package://pkg/path` through --package-path (and ROS_PACKAGE_PATH), `file://` absolute,
   /// anything else relative to the URDF file.
@@ -106,8 +143,39 @@ class Converter {
     return join_path(fs::current_path().string(), p.string());
   }
 
-  std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) const {
+  /// A <visual> or <collision> shape (`element` names which); nullopt when absent, unreadable
+  /// (an error) or degenerate: a shape with no volume (Franka's zero-length cylinder on
+  /// panda_mount) is skipped with a warning, for it is no solid to check or draw.
+  std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* element) const {
     if (!g) return std::nullopt;
+    auto degenerate = [&](const char* shape, const std::string& what) {
+      warn(fmt::format("its <{}> {} has {}: skipped, for it has no volume", element, shape, what));
+      return std::nullopt;
+    };
+    auto not_positive = [](double v) { return !(v > 0); };
+    switch (g->type) {
+      case urdf::Geometry::BOX: {
+        const urdf::Vector3& d = static_cast<const urdf::Box*>(g.get())->dim;
+        if (not_positive(d.x) || not_positive(d.y) || not_positive(d.z))
+          return degenerate("box", fmt::format("size {} {} {}", d.x, d.y, d.z));
+        break;
+      }
+      case urdf::Geometry::CYLINDER: {
+        auto* c = static_cast<const urdf::Cylinder*>(g.get());
+        if (not_positive(c->length)) return degenerate("cylinder", fmt::format("length {}", c->length));
+        if (not_positive(c->radius)) return degenerate("cylinder", fmt::format("radius {}", c->radius));
+        break;
+      }
+      case urdf::Geometry::SPHERE:
+        if (double r = static_cast<const urdf::Sphere*>(g.get())->radius; not_positive(r))
+          return degenerate("sphere", fmt::format("radius {}", r));
+        break;
+      case urdf::Geometry::MESH: {
+        const urdf::Vector3& k = static_cast<const urdf::Mesh*>(g.get())->scale;
+        if (k.x == 0 || k.y == 0 || k.z == 0) return degenerate("mesh", fmt::format("scale {} {} {}", k.x, k.y, k.z));
+        break;
+      }
+    }
     GeometrySpec out;
     out.mark = at_.mark;
     out.pose = pose(origin);
@@ -146,13 +214,14 @@ class Converter {
     p.mark = at_.mark;
     if (!is_valid_name(link.name))
       error(fmt::format("link name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", link.name));
+    link_ = link.name;
     // Collision shapes are what the checker needs; a link with only visuals uses those.
     if (!link.collision_array.empty()) {
       for (const auto& c : link.collision_array)
-        if (auto g = geometry(c->geometry, c->origin)) p.geometry.push_back(std::move(*g));
+        if (auto g = geometry(c->geometry, c->origin, "collision")) p.geometry.push_back(std::move(*g));
     } else {
       for (const auto& v : link.visual_array)
-        if (auto g = geometry(v->geometry, v->origin)) p.geometry.push_back(std::move(*g));
+        if (auto g = geometry(v->geometry, v->origin, "visual")) p.geometry.push_back(std::move(*g));
     }
     for (const auto& v : link.visual_array)
       if (v->material && p.color.text.empty()) {
@@ -169,10 +238,13 @@ class Converter {
       in.inertia = {number(i.ixx), number(i.ixy), number(i.ixz), number(i.iyy), number(i.iyz), number(i.izz)};
       p.inertial = std::move(in);
     }
+    link_.clear();
     return p;
   }
 
-  std::optional<JointSpec> joint(const urdf::Joint& j) const {
+  /// A joint; `soft` holds the <safety_controller> soft limits the file writes for it (urdfdom
+  /// reads an absent one as 0), which narrow its <limit>, as MoveIt reads them.
+  std::optional<JointSpec> joint(const urdf::Joint& j, const SoftLimits& soft) const {
     JointSpec out;
     out.name = j.name;
     out.mark = at_.mark;
@@ -201,8 +273,17 @@ class Converter {
           error(fmt::format("joint '{}' has its lower limit {} above its upper limit {}", j.name, j.limits->lower, j.limits->upper));
           return std::nullopt;
         }
-        out.min = number(j.limits->lower, unit);
-        out.max = number(j.limits->upper, unit);
+        double lower = j.limits->lower, upper = j.limits->upper;
+        if (soft.lower) lower = std::max(lower, *soft.lower);
+        if (soft.upper) upper = std::min(upper, *soft.upper);
+        if (!(lower <= upper)) {
+          error(fmt::format("joint '{}' has soft limits [{}, {}] that leave nothing of its limits [{}, {}] (joint_limits: hard "
+                            "ignores the soft limits)", j.name, soft.lower.value_or(-INFINITY), soft.upper.value_or(INFINITY),
+                            j.limits->lower, j.limits->upper));
+          return std::nullopt;
+        }
+        out.min = number(lower, unit);
+        out.max = number(upper, unit);
       }
       if (j.limits->velocity > 0) out.velocity = number(j.limits->velocity, unit);
       if (j.limits->effort > 0) out.effort = number(j.limits->effort);
@@ -214,17 +295,17 @@ class Converter {
   const Scalar& at_;
   std::string urdf_path_;
   const std::vector<std::string>& package_paths_;
-  Diagnostics& diag_;
+  std::vector<Diagnostic>& problems_;
+  mutable std::string link_;  ///< the link being converted, for messages
 };
 
 }  // namespace
 
-void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
-               Diagnostics& diag) {
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths) {
   const Scalar& at = device.urdf;
   const std::string urdf_path = resolve_mesh_path(type_file, at.text);
   if (std::string why = not_a_readable_reference(urdf_path); !why.empty()) {
-    diag.error(at.mark, fmt::format("URDF file '{}' {} ({})", at.text, why, urdf_path));
+    device.import_problems.push_back({at.mark, fmt::format("URDF file '{}' {} ({})", at.text, why, urdf_path)});
     return;
   }
   urdf::ModelInterfaceSharedPtr model;
@@ -244,10 +325,12 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
     }
   } release{model};
   if (!model || !model->getRoot()) {
-    diag.error(at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log));
+    device.import_problems.push_back(
+        {at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log)});
     return;
   }
-  Converter convert(at, urdf_path, package_paths, diag);
+  Converter convert(at, urdf_path, package_paths, device.import_problems);
+  const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(urdf_path);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};
   std::set<const urdf::Link*> seen = {model->getRoot().get()};
@@ -255,9 +338,10 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
     for (const auto& child : order[i]->child_links) {
       // A joint whose parent is its child (or a loop of joints) made this walk grow for ever.
       if (!seen.insert(child.get()).second) {
-        diag.error(at.mark, fmt::format("URDF file '{}': link '{}' is reached twice from the root (joint '{}' closes a "
-                                        "loop, or a joint's parent is its child): a device is a tree",
-                                        at.text, child->name, child->parent_joint ? child->parent_joint->name : "?"));
+        device.import_problems.push_back(
+            {at.mark, fmt::format("URDF file '{}': link '{}' is reached twice from the root (joint '{}' closes a loop, or a "
+                                  "joint's parent is its child): a device is a tree",
+                                  at.text, child->name, child->parent_joint ? child->parent_joint->name : "?")});
         return;
       }
       order.push_back(child);
@@ -267,7 +351,9 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
     if (auto j = link->parent_joint) {
       p.parent = j->parent_link_name;
       p.parent_mark = at.mark;
-      p.joint = convert.joint(*j);
+      SoftLimits none;
+      auto soft = device.hard_limits ? soft_limits.end() : soft_limits.find(j->name);
+      p.joint = convert.joint(*j, soft == soft_limits.end() ? none : soft->second);
       if (!p.joint) {  // reported; made fixed, so its children still load
         p.joint.emplace();
         p.joint->name = j->name;

@@ -116,6 +116,8 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
       continue;
     }
     resolver.copy(spec.path, "library/types/" + fs::path(spec.path).filename().string());
+    if (spec.device && spec.device->srdf.present)
+      resolver.copy_type_relative(spec.path, spec.device->srdf.text, resolve_mesh_path(spec.path, spec.device->srdf.text));
     if (spec.device && spec.device->urdf.present) {
       std::string urdf = resolve_mesh_path(spec.path, spec.device->urdf.text);
       urdfs.insert(urdf);

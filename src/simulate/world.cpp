@@ -172,7 +172,7 @@ struct PhysicsWorld::Impl {
     if (t1.object == t2.object) {
       // One object: only a device's non-adjacent parts meet (self-collision).
       const ObjectGeometry& g = geometry.objects[t1.object];
-      if (!g.device || t1.part == t2.part || g.device->adjacent(t1.part, t2.part)) return;
+      if (!g.device || t1.part == t2.part || g.device->may_touch(t1.part, t2.part)) return;
     }
     if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;  // joined parts
     if (gripping(t1, t2)) return;

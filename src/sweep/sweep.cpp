@@ -336,7 +336,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   GeometryModel geometry;
   if (wc) geometry = build_geometry(*wc, diag, &meshes_);
   if (!wc || diag.has_errors()) {
-    row.message = "the vault does not compile with these values: " + first_line(diag.format(sources_));
+    row.message = "the vault does not compile with these values: " + first_line(diag.format_errors(sources_));
     return row;
   }
   CheckReport report = check(*wc, geometry);
@@ -351,7 +351,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
     auto plan = plan_scenario(*c.scenario, *wc, geometry, diag);
     if (!plan || diag.has_errors()) {
       row.status = "error";
-      row.message = "the scenario cannot run with these values: " + first_line(diag.format(sources_));
+      row.message = "the scenario cannot run with these values: " + first_line(diag.format_errors(sources_));
       return row;
     }
     RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_);

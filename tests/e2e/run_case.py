@@ -1251,7 +1251,7 @@ def schemas(sscs, root):
     for kind, doc in docs.items():
         walk(doc, kind)
     load = yaml_loader()
-    good = [f for pattern in ("library/**/*.yaml", "scenarios/**/*.yaml", "tests/data/good/**/*.yaml", "tests/data/plugins/*.yaml", "tests/data/sweeps/*.yaml")
+    good = [f for pattern in ("library/**/*.yaml", "scenarios/**/*.yaml", "tests/data/good/**/*.yaml", "tests/data/vendor/**/*.yaml", "tests/data/plugins/*.yaml", "tests/data/sweeps/*.yaml")
             for f in glob.glob(os.path.join(root, pattern), recursive=True)]
     if len(good) < 40:
         fail(f"only {len(good)} good files found")

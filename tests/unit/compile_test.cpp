@@ -147,6 +147,27 @@ TEST_F(Compile, ABrokenTypeFailsOnlyTheVaultsThatUseIt) {
   EXPECT_EQ(diag.count(), 1u) << diag.format(sources);
 }
 
+TEST_F(Compile, ARobotWhoseUrdfOrSrdfIsBrokenFailsOnlyTheVaultsThatUseIt) {
+  // A vendor robot whose URDF names a mesh that is not there, and one whose SRDF is not XML,
+  // beside a good type: the good type's vaults compile; the robots' errors come where used.
+  std::string dir = type_dir({{"good", "sscs: 1\ntype: good\ngeometry:\n  - box: {size: [1, 1, 1]}\n"},
+                              {"nomesh", "sscs: 1\ntype: nomesh\nkind: device\nurdf: nomesh.urdf\ntool: {part: tool0}\n"},
+                              {"badsrdf", "sscs: 1\ntype: badsrdf\nkind: device\nurdf: box.urdf\nsrdf: bad.srdf\n"}});
+  std::ofstream(dir + "/nomesh.urdf") << "<robot name=\"r\"><link name=\"base\"><collision><geometry><mesh filename=\"base.stl\"/>"
+                                         "</geometry></collision></link></robot>\n";
+  std::ofstream(dir + "/box.urdf") << "<robot name=\"r\"><link name=\"base\"><collision><geometry><box size=\"1 1 1\"/>"
+                                      "</geometry></collision></link></robot>\n";
+  std::ofstream(dir + "/bad.srdf") << "<robot name=\"r\">\n  <disable_collisions link1=\"a\"\n</robot>\n";
+  options.library_dirs = {dir};
+  EXPECT_TRUE(compile_text("objects:\n  - {type: good, name: G}\n")) << diag.format(sources);
+  diag = Diagnostics{};
+  std::string e = first_error("objects:\n  - {type: nomesh, name: R}\n");
+  EXPECT_NE(e.find("nomesh.urdf: link 'base': mesh 'base.stl' does not exist"), std::string::npos) << e;
+  diag = Diagnostics{};
+  e = first_error("objects:\n  - {type: badsrdf, name: R}\n");
+  EXPECT_NE(e.find("cannot read SRDF file 'bad.srdf': "), std::string::npos) << e;
+}
+
 TEST_F(Compile, ManyErrorsAreReportedInOnePass) {
   compile_text(
       "objects:\n  - {type: drumm, name: A}\n  - {type: drum, name: B, diamter: 1}\n  - {type: room, name: C}\n");

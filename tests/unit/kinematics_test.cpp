@@ -2,6 +2,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
+
 #include "geometry/collision.h"
 #include "geometry/geometry.h"
 #include "kinematics/ik.h"
@@ -322,6 +324,113 @@ TEST_F(Urdf, LinksJointsInertiasAndMeshesImport) {
   EXPECT_TRUE(g.objects[0].frame("tool")->translation().isApprox(Eigen::Vector3d(0, 0.45, 0.3), 1e-12));
   // The mesh (a 0.1 m cube) is in the object's bounds there.
   EXPECT_NEAR(g.objects[0].bbox_world.max().y(), 0.5, 1e-9);
+}
+
+
+// Robots as vendors ship them (issue 19): tests/data/vendor holds a URDF in the ROS-Industrial
+// layout (tool0 on fixed joints, a forearm that overlaps the wrist in every pose, soft limits, a
+// continuous joint, a mimic finger) and the MoveIt SRDF that disables the overlapping pair.
+class Vendor : public Kinematics {
+ public:
+  const std::string data = std::string(SSCS_TEST_DATA) + "/vendor";
+  const std::string urdf = data + "/acme_rx6_support/urdf/rx6.urdf";
+  const std::string srdf = data + "/acme_rx6_moveit_config/config/rx6.srdf";
+  /// A type file for the vendor's URDF, with `extra` lines (srdf:, joint_limits:).
+  std::string rx6_type(const std::string& extra) {
+    return "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\ntool: {part: tool0}\n" + extra;
+  }
+  /// The self-collisions of R at joint values `q` (radians, joints in file order).
+  std::vector<Collision> self_collisions_at(const std::string& library, const std::string& joints) {
+    options.library_dirs = {library};
+    wc_ = must_compile("objects:\n  - {type: rx6, name: R" + joints + "}\n");
+    geometry_ = build_geometry(wc_, diag);
+    EXPECT_FALSE(diag.has_errors()) << diag.format(sources);
+    CollisionWorld world(geometry_);
+    return world.self_collisions(wc_.find_object("R"));
+  }
+};
+
+TEST_F(Vendor, TheSrdfsDisabledPairsAreAllowedCollisions) {
+  auto d = device("  - {type: rx6, name: R}\n", data + "/library");
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->parts[d->tool_part].name, "tool0");
+  EXPECT_EQ(d->dof(), 8);  // six axes and two fingers (the mimic one imported as its own joint)
+  const int l4 = d->find_part("link_4"), l6 = d->find_part("link_6");
+  EXPECT_TRUE(d->may_touch(l4, l6));
+  EXPECT_TRUE(d->may_touch(l6, l4));
+  EXPECT_FALSE(d->may_touch(d->find_part("link_2"), l6));
+  EXPECT_FALSE(d->adjacent(l4, l6));
+}
+
+TEST_F(Vendor, WithoutTheSrdfTheOverlapIsASelfCollisionInEveryPoseWithItNever) {
+  const std::string with = data + "/library";
+  const std::string without = type_dir({{"rx6", rx6_type("")}});
+  std::srand(19);
+  for (int i = 0; i < 20; ++i) {
+    // Wrist joints anywhere in their limits: the forearm (link_4) always holds the wrist (link_6).
+    double j4 = 3.1 * (2.0 * std::rand() / RAND_MAX - 1), j5 = 2.0 * (2.0 * std::rand() / RAND_MAX - 1);
+    std::string joints = fmt::format(", joint_4: {} rad, joint_5: {} rad", j4, j5);
+    auto hits = self_collisions_at(without, joints);
+    bool pair = std::any_of(hits.begin(), hits.end(), [&](const Collision& c) {
+      const Device& d = *geometry_.objects[wc_.find_object("R")].device;
+      return d.parts[c.part].name == "link_4" && d.parts[c.other_part].name == "link_6";
+    });
+    EXPECT_TRUE(pair) << joints;
+    for (const Collision& c : self_collisions_at(with, joints)) {
+      const Device& d = *geometry_.objects[wc_.find_object("R")].device;
+      EXPECT_FALSE(d.parts[c.part].name == "link_4" && d.parts[c.other_part].name == "link_6") << joints;
+    }
+  }
+}
+
+TEST_F(Vendor, SoftLimitsBoundTheJointsUnlessHardIsChosen) {
+  auto soft = device("  - {type: rx6, name: R}\n", data + "/library");
+  ASSERT_TRUE(soft);
+  EXPECT_DOUBLE_EQ(soft->joint(0).lower, -2.5);  // <safety_controller> within <limit> ±2.967
+  EXPECT_DOUBLE_EQ(soft->joint(0).upper, 2.5);
+  EXPECT_DOUBLE_EQ(soft->joint(1).upper, 1.6);  // no safety controller: the hard limit
+  EXPECT_TRUE(std::isinf(soft->joint(5).upper));  // continuous
+  auto hard = device("  - {type: rx6, name: R}\n", type_dir({{"rx6", rx6_type("joint_limits: hard\n")}}));
+  ASSERT_TRUE(hard);
+  EXPECT_DOUBLE_EQ(hard->joint(0).lower, -2.967);
+  EXPECT_DOUBLE_EQ(hard->joint(0).upper, 2.967);
+  // A joint value between the soft and hard limits is refused under the soft ones, as any value
+  // beyond a joint's limits.
+  options.library_dirs = {data + "/library"};
+  EXPECT_NE(first_error("objects:\n  - {type: rx6, name: R, joint_1: 2.7 rad}\n").find("joint_1"), std::string::npos);
+}
+
+TEST_F(Vendor, AnSrdfOfAnotherRobotIsAnErrorInTheSrdf) {
+  auto dir = std::filesystem::path(type_dir({}));
+  std::ofstream(dir / "other.srdf") << "<robot name=\"other\">\n  <disable_collisions link1=\"link_4\" link2=\"forearm\" reason=\"Never\"/>\n</robot>\n";
+  std::ofstream(dir / "rx6.yaml") << rx6_type("srdf: other.srdf\n");
+  options.library_dirs = {dir.string()};
+  std::string e = first_error("objects:\n  - {type: rx6, name: R}\n");
+  EXPECT_EQ(e, "this <disable_collisions> names 'forearm', which is no link of 'rx6' (is the SRDF another robot's?)");
+  ASSERT_FALSE(diag.errors().empty());
+  EXPECT_EQ(sources.path(diag.errors()[0].mark.file), (dir / "other.srdf").string());
+  EXPECT_EQ(diag.errors()[0].mark.line, 2u);
+}
+
+TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
+  auto dir = std::filesystem::path(type_dir({}));
+  std::string text;
+  {
+    std::ifstream in(urdf);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // Franka's panda-gazebo.urdf: a zero-length cylinder on a link.
+  const std::string base = "<link name=\"base_link\">";
+  text.replace(text.find(base), base.size(),
+               base + "\n    <collision><geometry><cylinder radius=\"0.1\" length=\"0\"/></geometry></collision>");
+  std::ofstream(dir / "rx6.urdf") << text;
+  std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: rx6.urdf\ntool: {part: tool0}\n";
+  auto d = device("  - {type: rx6, name: R}\n", dir.string());
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 1u) << diag.format(sources);
+  EXPECT_EQ(diag.warnings()[0].message,
+            (dir / "rx6.urdf").string() + ": link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
+  EXPECT_EQ(d->parts[d->find_part("base_link")].shapes.size(), 1u);  // the vendor's own cylinder stays
 }
 
 }  // namespace
