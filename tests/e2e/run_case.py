@@ -1425,6 +1425,41 @@ def tutorials(sscs, root):
         if p.returncode != 0 or summary.get("status") != "ok" or not all(k in kinds for k in ("grasp", "release", "at_rest")) or \
                 len(landed) != 1 or landed[0]["on"] != "Rack_A":
             fail(f"simulation tutorial step 3: {[e for e in events if e['kind'] not in ('step_start', 'step_end')]}", p)
+
+    # docs/devices.md: "Tutorial: using a vendor's robot package" (issue 19).
+    dev = section(open(os.path.join(root, "docs", "devices.md")).read(), "## Tutorial: using a vendor's robot package")
+    blocks = fenced_blocks(dev)
+    type_yaml, vault_yaml = [b for lang, b in blocks if lang == "yaml"][:2]
+    sessions = [b for lang, b in blocks if lang == "" and b.startswith("$ sscs")]
+    with tempfile.TemporaryDirectory() as tmp:
+        # 1. The packages as they come, 2. the type, 3. the vault.
+        for pkg in ("acme_rx6_support", "acme_rx6_moveit_config"):
+            shutil.copytree(os.path.join(root, "tests", "data", "vendor", pkg), os.path.join(tmp, "vendor", pkg))
+        type_path = os.path.join(tmp, "library", "types", "rx6.yaml")
+        os.makedirs(os.path.dirname(type_path))
+        open(type_path, "w").write(type_yaml)
+        open(os.path.join(tmp, "cell.yaml"), "w").write(vault_yaml)
+
+        def session(text, step):
+            for chunk in re.split(r"^\$ ", text, flags=re.M)[1:]:
+                command, *expected = chunk.splitlines()
+                p = run(sscs, tmp, shlex.split(command)[1:])
+                if p.stdout.splitlines() != expected:
+                    fail(f"devices.md tutorial step {step}: {command} prints\n{p.stdout}\nthe text shows\n" + "\n".join(expected), p)
+
+        # 4. It passes; without the srdf: line the forearm/wrist overlap fails both checks.
+        session(sessions[0], 4)
+        open(type_path, "w").write("".join(l for l in type_yaml.splitlines(True) if not l.startswith("srdf:")))
+        session(sessions[1], "4 without the SRDF")
+        # 2. joint_1 has its soft limits, ±2.5 rad; joint_limits: hard gives the hard ±2.967 rad.
+        def joint_1(text):
+            open(type_path, "w").write(text)
+            p = run(sscs, tmp, ["types", "--library", "library"])
+            return ([l for l in p.stdout.splitlines() if l.strip().startswith("joint_1 ")] + [""])[0]
+        if "[-143.239448783, 143.239448783]" not in joint_1(type_yaml):
+            fail(f"devices.md tutorial step 2: joint_1 should have its soft limits: {joint_1(type_yaml)}")
+        if "[-169.996577815, 169.996577815]" not in joint_1(type_yaml + "joint_limits: hard\n"):
+            fail(f"devices.md tutorial step 2: joint_limits: hard: {joint_1(type_yaml + 'joint_limits: hard' + chr(10))}")
     print("ok tutorials")
 
 
