@@ -115,6 +115,15 @@ Eigen::Matrix<double, 6, 1> pose_error(const Eigen::Isometry3d& current, const E
 /// The largest damping (error energy, m²) of a step: above it steps go nearly Gauss-Newton.
 constexpr double kMaxDamping = 10;
 
+namespace {
+/// A converged solution whose error is at most this (m, rad) is polished to rounding.
+constexpr double kRounding = 1e-9;
+/// Attempts spent looking for a solution that polishes to rounding when the first did not.
+constexpr int kUncleanAttempts = 8;
+/// Most polish steps (each one forward kinematics): a few near a singularity, one or two else.
+constexpr int kPolishSteps = 40;
+}  // namespace
+
 IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eigen::VectorXd& seed,
                   const IkOptions& opt, const std::function<bool(const Eigen::VectorXd&)>& accept) {
   using Clock = std::chrono::steady_clock;
@@ -147,6 +156,10 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
   double best_cost = INFINITY;  // of the best unconverged configuration
   bool found = false, rejected = false;
   double found_distance = INFINITY;
+  // Whether the solution found polished to rounding. One that did not (pressed against a joint
+  // limit on its branch of solutions) is kept, but a few more attempts look for one that does.
+  bool found_clean = false;
+  int unclean_attempts_left = kUncleanAttempts;
 
   Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, n);
   Eigen::MatrixXd H(n, n);
@@ -197,31 +210,44 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
       if (converged(pos, ang)) {
         // Polish: a few more steps take the error from "within tolerance" to rounding, so the
         // reported error (and a reach margin) does not depend on where the iterate happened to land.
-        for (int k = 0; k < 6 && n > 0 && (pos > 1e-12 || ang > 1e-12); ++k) {
+        // Levenberg-Marquardt steps whose damping adapts: a Gauss-Newton step (almost no
+        // damping) converges quadratically; near a singularity, where it overshoots, the damping
+        // grows until a step goes downhill and shrinks again after each success.
+        double damping = 1e-9;
+        for (int k = 0; k < kPolishSteps && n > 0 && (pos > kRounding * 1e-3 || ang > kRounding * 1e-3); ++k) {
           auto Jr = J.topRows(rows);
           H.noalias() = Jr.transpose() * Jr;
-          H.diagonal().array() += 1e-9;
           g.noalias() = Jr.transpose() * e.head(rows);
-          Eigen::VectorXd polished = q + H.ldlt().solve(g);
+          const double scale = std::max(1e-12, H.diagonal().mean());
+          Eigen::MatrixXd Hd = H;
+          Hd.diagonal().array() += damping * scale;
+          Eigen::VectorXd polished = q + Hd.ldlt().solve(g);
           clamp(polished);
           Eigen::Isometry3d Tp = chain.forward(polished, J);
           Eigen::Matrix<double, 6, 1> ep = pose_error(Tp, target);
           double pp, ap;
           errors(ep, pp, ap);
-          if (pp + ap >= pos + ang) {
+          if (pp + ap < pos + ang) {
+            q = polished;
+            e = ep;
+            pos = pp;
+            ang = ap;
+            damping = std::max(1e-12, damping * 0.1);
+          } else {
             chain.forward(q, J);  // keep J consistent with q
-            break;
+            damping *= 10;
+            if (damping > 1e3) break;  // no step goes downhill: a limit holds it
           }
-          q = polished;
-          e = ep;
-          pos = pp;
-          ang = ap;
         }
         Eigen::VectorXd solution = q;
         nearest_turn(solution);
         double distance = (solution - seed).norm();
-        if (distance < found_distance && (!accept || accept(solution))) {
+        const bool clean = pos <= kRounding && ang <= kRounding;
+        // Better: polished to rounding where the one found is not, else nearer the seed.
+        const bool better = !found || (clean && !found_clean) || (clean == found_clean && distance < found_distance);
+        if (better && (!accept || accept(solution))) {
           found = true;
+          found_clean = clean;
           found_distance = distance;
           result.q = solution;
           result.position_error = pos;
@@ -255,7 +281,8 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
       }
       previous = cost;
     }
-    if (found && extra_left-- <= 0) break;
+    if (found && found_clean && extra_left-- <= 0) break;
+    if (found && !found_clean && unclean_attempts_left-- <= 0) break;
   }
   result.status = found ? IkResult::Status::Reached : rejected ? IkResult::Status::Rejected : IkResult::Status::Unreachable;
   return result;

@@ -104,7 +104,7 @@ TEST_F(Kinematics, InverseKinematicsRoundTripsRandomReachablePoses) {
   opt.position_tol = 1e-6;
   opt.angle_tol = 1e-6;
   std::srand(7);
-  int solved = 0;
+  int solved = 0, rounding = 0;
   const int n = 300;
   Eigen::VectorXd nominal = Eigen::VectorXd::Zero(6);
   for (int i = 0; i < n; ++i) {
@@ -123,8 +123,13 @@ TEST_F(Kinematics, InverseKinematicsRoundTripsRandomReachablePoses) {
     Eigen::Matrix<double, 6, 1> e = pose_error(chain.forward(r.q), target);
     EXPECT_LE(e.head<3>().norm(), 1e-6);
     EXPECT_LE(e.tail<3>().norm(), 1e-6);
+    // The reported error is the solution's, and polished: rounding, but within a hair of a
+    // singularity (docs/devices.md), where it still holds the tolerance.
+    EXPECT_NEAR(r.position_error, e.head<3>().norm(), 1e-12);
+    rounding += r.position_error <= 1e-9 && r.angle_error <= 1e-9;
   }
   EXPECT_GE(solved, n - 1);
+  EXPECT_GE(rounding, solved - 1) << "of " << solved << " solutions";
 }
 
 TEST_F(Kinematics, SolutionNearestTheSeed) {
