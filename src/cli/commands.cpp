@@ -428,7 +428,7 @@ int run_export(const Common& common, const std::string& vault, const std::string
   Diagnostics diag;
   auto wc = compile_file(vault, options, sources, diag);
   GeometryModel geometry;
-  if (wc) geometry = build_geometry(*wc, diag);
+  if (wc) geometry = build_geometry(*wc, diag, nullptr, {.visuals = true});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
     std::cerr << "sscs: error: " << err << "\n";
@@ -488,7 +488,7 @@ int run_render(const Common& common, const RenderArgs& args) {
   Diagnostics diag;
   auto wc = compile_file(args.vault, options, sources, diag);
   GeometryModel geometry;
-  if (wc) geometry = build_geometry(*wc, diag);
+  if (wc) geometry = build_geometry(*wc, diag, nullptr, {.visuals = true});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   // A named camera of the vault, compiled like a scenario's keyframe.
   std::optional<CameraPath> named;

@@ -33,7 +33,7 @@ struct PreparedScenario {
     overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
     options.overrides = overrides;
     wc = compile_file(spec->vault_path, options, sources, diag);
-    if (wc) geometry = build_geometry(*wc, diag);
+    if (wc) geometry = build_geometry(*wc, diag, nullptr, {.visuals = true});  // frames draw what devices look like
     if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
     std::vector<CameraKeySpec> keys = spec->cameras;
     if (!camera_file.empty())

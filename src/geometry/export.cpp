@@ -128,6 +128,14 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
           part_material[{i, static_cast<int>(p)}] = static_cast<unsigned>(materials.size());
           materials.emplace_back(wc.objects[i].name + "." + d->parts[p].name, d->parts[p].color);
         }
+  // Shapes with a colour of their own (a URDF visual's material): a material per object and colour.
+  std::map<std::pair<size_t, std::string>, unsigned> shape_material;
+  for (size_t i = 0; i < n; ++i)
+    for (const Shape& s : geometry.objects[i].drawn_shapes())
+      if (!s.color.empty() && !shape_material.count({i, s.color})) {
+        shape_material[{i, s.color}] = static_cast<unsigned>(materials.size());
+        materials.emplace_back(fmt::format("{}.{}", wc.objects[i].name, s.color.substr(1)), s.color);
+      }
   scene.mNumMaterials = static_cast<unsigned>(materials.size());
   scene.mMaterials = new aiMaterial*[scene.mNumMaterials];
   for (unsigned i = 0; i < scene.mNumMaterials; ++i) {
@@ -144,12 +152,14 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
     node->mTransformation = to_ai(geometry.objects[i].X_world_object);
     node->mParent = scene.mRootNode;
     std::vector<unsigned> own;
-    for (const Shape& s : geometry.objects[i].shapes) {
+    for (const Shape& s : geometry.objects[i].drawn_shapes()) {
       TriangleMesh tm = tessellate(s);
       auto* mesh = new aiMesh();
       mesh->mName = aiString(wc.objects[i].name);  // OBJ groups are named after meshes
       auto part = part_material.find({i, s.part});
-      mesh->mMaterialIndex = part != part_material.end() ? part->second : static_cast<unsigned>(i);
+      mesh->mMaterialIndex = !s.color.empty()           ? shape_material.at({i, s.color})
+                             : part != part_material.end() ? part->second
+                                                           : static_cast<unsigned>(i);
       mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
       mesh->mNumVertices = static_cast<unsigned>(tm.vertices.size());
       mesh->mVertices = new aiVector3D[mesh->mNumVertices];

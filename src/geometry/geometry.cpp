@@ -155,12 +155,14 @@ class Builder {
             }
           },
           gs.shape);
+      s.color = gs.color;
       if (s.kind != Shape::Kind::Mesh || s.mesh) out.push_back(std::move(s));
     }
     return out;
   }
 
   std::shared_ptr<TriangleMesh const> mesh(const std::string& path, SourceMark where) { return meshes_.load(path, where, diag_); }
+  bool visuals = false;  ///< build the parts' visual shapes too
   Eigen::Isometry3d pose(const PoseSpec& p, int obj) { return eval_.pose(p, obj); }
 
   /// The kinematic model of device object `obj`, whose type (or an ancestor) `t` has the parts.
@@ -182,6 +184,7 @@ class Builder {
       part.name = ps->name;
       part.parent = ps->parent.empty() ? -1 : d->find_part(ps->parent);
       part.shapes = shapes(ps->geometry, spec.path, obj);
+      if (visuals) part.visual_shapes = shapes(ps->visual, spec.path, obj);
       part.mass = eval_.value(ps->mass, Dim::Mass, obj, 0);
       part.color = ps->color.text;
       if (ps->inertial) {
@@ -262,11 +265,12 @@ const TypeSpec* device_spec(const Workcell& wc, int t) {
 
 }  // namespace
 
-GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes) {
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes, const GeometryOptions& options) {
   GeometryModel model;
   model.objects.resize(wc.objects.size());
   MeshCache own;
   Builder build(wc, diag, meshes ? *meshes : own);
+  build.visuals = options.visuals;
   // Local poses first; world poses follow the parent chain (parents may come later in the file).
   std::vector<Eigen::Isometry3d> local(wc.objects.size());
   for (size_t i = 0; i < wc.objects.size(); ++i) {
@@ -312,13 +316,20 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       const Device& d = *device;
       g.X_object_part = d.part_poses(d.joint_values(&wc.values[o.first_slot + kFirstAttributeSlot]));
       const std::vector<Eigen::Isometry3d>& X = g.X_object_part;
+      bool any_visual = false;
+      for (const Part& part : d.parts) any_visual = any_visual || !part.visual_shapes.empty();
       for (size_t p = 0; p < d.parts.size(); ++p) {
-        for (const Shape& ps : d.parts[p].shapes) {
-          Shape s = ps;
-          s.X_object_shape = X[p] * ps.X_object_shape;
-          s.part = static_cast<int>(p);
-          g.shapes.push_back(std::move(s));
-        }
+        auto place = [&](const std::vector<Shape>& from, std::vector<Shape>& to) {
+          for (const Shape& ps : from) {
+            Shape s = ps;
+            s.X_object_shape = X[p] * ps.X_object_shape;
+            s.part = static_cast<int>(p);
+            to.push_back(std::move(s));
+          }
+        };
+        place(d.parts[p].shapes, g.shapes);
+        // Drawn: the part's visual shapes, or its collision shapes where it has none.
+        if (any_visual) place(d.parts[p].visual_shapes.empty() ? d.parts[p].shapes : d.parts[p].visual_shapes, g.visual_shapes);
         device_frames.emplace_back(d.parts[p].name, g.X_world_object * X[p]);
       }
       device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);

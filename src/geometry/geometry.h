@@ -37,6 +37,7 @@ struct Shape {
   std::shared_ptr<const TriangleMesh> mesh;
   Eigen::Isometry3d X_object_shape = Eigen::Isometry3d::Identity();
   int part = -1;  ///< the device part it belongs to; -1 for objects that are not devices
+  std::string color;  ///< "#rrggbb" of this shape alone (a URDF visual's material), "" for its part's or object's
 };
 
 struct Device;
@@ -51,6 +52,10 @@ struct ObjectGeometry {
   /// The kinematic model, for devices, and its parts' poses at the instance's joint values.
   std::shared_ptr<const Device> device;
   std::vector<Eigen::Isometry3d> X_object_part;
+  /// What is drawn, when it differs from `shapes` (built with GeometryOptions::visuals): each
+  /// device part's visual shapes, or its collision shapes where it has none. Empty: draw `shapes`.
+  std::vector<Shape> visual_shapes;
+  const std::vector<Shape>& drawn_shapes() const { return visual_shapes.empty() ? shapes : visual_shapes; }
   /// The world pose of frame `name`; nullptr when the type has no such frame.
   const Eigen::Isometry3d* frame(std::string_view name) const;
   /// The world pose of a target frame: `origin`, a named frame, or `top` (the type's `top`
@@ -86,7 +91,12 @@ Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_
 /// finite or not positive, are input errors at the line that names them. `meshes`, when given,
 /// keeps the meshes read for later builds (a sweep reads each mesh file once).
 class MeshCache;
-GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes = nullptr);
+struct GeometryOptions {
+  /// Also build what devices look like (URDF <visual> shapes, read with their meshes): for
+  /// render, frames and export. Checks and sweeps leave it off and read no visual mesh.
+  bool visuals = false;
+};
+GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes = nullptr, const GeometryOptions& options = {});
 
 /// A bounding-box operand's value (SI) from Operand::slot = corner * 3 + axis (corner 0 min,
 /// 1 max, 2 size); NaN when the object has no geometry.

@@ -30,6 +30,7 @@ struct Part {
   int parent = -1;  ///< parts come after their parent
   Joint joint;      ///< how it hangs on its parent; Fixed for the root
   std::vector<Shape> shapes;  ///< in the part's frame
+  std::vector<Shape> visual_shapes;  ///< in the part's frame: what it looks like (GeometryOptions::visuals)
   double mass = 0;
   /// Centre of mass and inertia about it, in the part's frame, when the type gives them (URDF).
   std::optional<Eigen::Vector3d> com;

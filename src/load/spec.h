@@ -73,6 +73,7 @@ struct GeometrySpec {
   std::variant<BoxSpec, CylinderSpec, SphereSpec, MeshSpec> shape;
   PoseSpec pose;
   SourceMark mark;
+  std::string color;  ///< "#rrggbb" of this shape alone (a URDF <visual>'s material), "" for none
 };
 
 struct FrameSpec {
@@ -105,6 +106,9 @@ struct PartSpec {
   SourceMark parent_mark;
   std::optional<JointSpec> joint;
   std::vector<GeometrySpec> geometry;
+  /// What the part looks like where that differs from `geometry` (a URDF link's <visual>
+  /// shapes, with their materials): drawn by render, frames and export; checks use `geometry`.
+  std::vector<GeometrySpec> visual;
   Scalar mass;
   Scalar color;
   std::optional<InertialSpec> inertial;

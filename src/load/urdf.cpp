@@ -208,6 +208,13 @@ class Converter {
     return out;
   }
 
+  /// Whether a material gives a colour (one named only for its texture reads as transparent black).
+  static bool has_color(const urdf::Material& m) { return m.color.a > 0 || m.color.r > 0 || m.color.g > 0 || m.color.b > 0; }
+  static std::string hex(const urdf::Color& c) {
+    auto byte = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
+    return fmt::format("#{:02x}{:02x}{:02x}", byte(c.r), byte(c.g), byte(c.b));
+  }
+
   PartSpec part(const urdf::Link& link) const {
     PartSpec p;
     p.name = link.name;
@@ -215,20 +222,25 @@ class Converter {
     if (!is_valid_name(link.name))
       error(fmt::format("link name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", link.name));
     link_ = link.name;
-    // Collision shapes are what the checker needs; a link with only visuals uses those.
+    // Collision shapes are what the checker needs; a link with only visuals uses those. The
+    // visuals, each with its material's colour, are what the link looks like.
+    std::vector<GeometrySpec> visual;
+    for (const auto& v : link.visual_array)
+      if (auto g = geometry(v->geometry, v->origin, "visual")) {
+        if (v->material && has_color(*v->material)) g->color = hex(v->material->color);
+        visual.push_back(std::move(*g));
+      }
     if (!link.collision_array.empty()) {
       for (const auto& c : link.collision_array)
         if (auto g = geometry(c->geometry, c->origin, "collision")) p.geometry.push_back(std::move(*g));
+      p.visual = std::move(visual);
     } else {
-      for (const auto& v : link.visual_array)
-        if (auto g = geometry(v->geometry, v->origin, "visual")) p.geometry.push_back(std::move(*g));
+      p.geometry = std::move(visual);
     }
     for (const auto& v : link.visual_array)
-      if (v->material && p.color.text.empty()) {
-        const urdf::Color& c = v->material->color;
-        auto byte = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
+      if (v->material && has_color(*v->material) && p.color.text.empty()) {
         p.color = number(0);
-        p.color.text = fmt::format("#{:02x}{:02x}{:02x}", byte(c.r), byte(c.g), byte(c.b));
+        p.color.text = hex(v->material->color);
       }
     if (link.inertial) {
       p.mass = number(link.inertial->mass);

@@ -322,7 +322,7 @@ struct Renderer::Impl {
     for (size_t o = 0; o < geometry.objects.size(); ++o) {
       const ObjectGeometry& g = geometry.objects[o];
       bounds.extend(g.bbox_world);
-      for (const Shape& s : g.shapes) {
+      for (const Shape& s : g.drawn_shapes()) {
         Shape local = s;
         local.X_object_shape.setIdentity();
         std::string key = fmt::format("{}|{}|{}|{}|{}|{}", static_cast<int>(s.kind), fmt::join(s.box_size, ","), s.radius,
@@ -334,8 +334,9 @@ struct Renderer::Impl {
         item.mesh = it->second;
         item.part = g.device ? s.part : -1;
         item.X_anchor_shape = item.part >= 0 ? g.X_object_part[item.part].inverse() * s.X_object_shape : s.X_object_shape;
+        // The shape's own colour (a URDF visual's material), else its part's, else its object's.
         const std::string& part_color = item.part >= 0 ? g.device->parts[item.part].color : std::string();
-        item.albedo = color_of(part_color.empty() ? wc.objects[o].color : part_color);
+        item.albedo = color_of(!s.color.empty() ? s.color : part_color.empty() ? wc.objects[o].color : part_color);
         item.inside = container[o];
         items.push_back(item);
       }

@@ -70,8 +70,10 @@ std::vector<const GeometrySpec*> mesh_specs(const TypeSpec& t) {
   std::vector<const GeometrySpec*> out;
   for (const GeometrySpec& g : t.geometry) out.push_back(&g);
   if (t.device)
-    for (const PartSpec& p : t.device->parts)
+    for (const PartSpec& p : t.device->parts) {
       for (const GeometrySpec& g : p.geometry) out.push_back(&g);
+      for (const GeometrySpec& g : p.visual) out.push_back(&g);  // frames of a rerun draw them
+    }
   std::erase_if(out, [](const GeometrySpec* g) { return !std::holds_alternative<MeshSpec>(g->shape); });
   return out;
 }

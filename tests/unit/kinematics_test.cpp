@@ -417,6 +417,37 @@ TEST_F(Vendor, AnSrdfOfAnotherRobotIsAnErrorInTheSrdf) {
   EXPECT_EQ(diag.errors()[0].mark.line, 2u);
 }
 
+TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes) {
+  options.library_dirs = {data + "/library"};
+  Workcell wc = must_compile("objects:\n  - {type: rx6, name: R}\n");
+  GeometryModel checked = build_geometry(wc, diag);
+  GeometryModel drawn = build_geometry(wc, diag, nullptr, {.visuals = true});
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  const ObjectGeometry& c = checked.objects[0];
+  const ObjectGeometry& v = drawn.objects[0];
+  EXPECT_TRUE(c.visual_shapes.empty());  // checks and sweeps build no visuals
+  EXPECT_EQ(v.shapes.size(), c.shapes.size());
+  const Device& d = *v.device;
+  const int l1 = d.find_part("link_1"), l3 = d.find_part("link_3");
+  auto of_part = [](const std::vector<Shape>& shapes, int part) {
+    std::vector<const Shape*> out;
+    for (const Shape& s : shapes)
+      if (s.part == part) out.push_back(&s);
+    return out;
+  };
+  // link_1: one collision hull; drawn as its two visuals, each in its own material's colour.
+  ASSERT_EQ(of_part(v.shapes, l1).size(), 1u);
+  auto visuals = of_part(v.drawn_shapes(), l1);
+  ASSERT_EQ(visuals.size(), 2u);
+  EXPECT_EQ(visuals[0]->kind, Shape::Kind::Box);
+  EXPECT_EQ(visuals[0]->color, "#f57800");
+  EXPECT_EQ(visuals[1]->kind, Shape::Kind::Cylinder);
+  EXPECT_EQ(visuals[1]->color, "#4d4d4d");
+  // link_3 has no visual: drawn as its collision sphere.
+  ASSERT_EQ(of_part(v.drawn_shapes(), l3).size(), 1u);
+  EXPECT_EQ(of_part(v.drawn_shapes(), l3)[0]->kind, Shape::Kind::Sphere);
+}
+
 TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
   auto dir = std::filesystem::path(type_dir({}));
   std::string text;
