@@ -122,7 +122,7 @@ class Builder {
   Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), eval_(wc), meshes_(meshes) {}
 
   /// The shapes of a geometry list written in `spec_path`, evaluated for object `obj`.
-  std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj) {
+  std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj, bool split_colours = false) {
     std::vector<Shape> out;
     const Object& o = wc_.objects[obj];
     auto check_positive = [&](double v, const Scalar& s, const char* what) {
@@ -156,9 +156,40 @@ class Builder {
           },
           gs.shape);
       s.color = gs.color;
-      if (s.kind != Shape::Kind::Mesh || s.mesh) out.push_back(std::move(s));
+      if (s.kind == Shape::Kind::Mesh && !s.mesh) continue;
+      // What is drawn: a mesh whose file colours its materials (a vendor's DAE) becomes a shape
+      // per colour, in that colour (the file's colours win over a URDF material's).
+      if (split_colours && s.kind == Shape::Kind::Mesh && !s.mesh->triangle_rgb.empty()) {
+        for (const auto& [rgb, piece] : coloured_pieces(s.mesh)) {
+          Shape p = s;
+          p.mesh = piece;
+          if (rgb) p.color = fmt::format("#{:06x}", rgb & 0xffffffu);
+          out.push_back(std::move(p));
+        }
+        continue;
+      }
+      out.push_back(std::move(s));
     }
     return out;
+  }
+
+  /// A mesh's triangles grouped by the colour its file gives them (0: none), each group a mesh
+  /// of its own; once per mesh file.
+  const std::vector<std::pair<uint32_t, std::shared_ptr<const TriangleMesh>>>& coloured_pieces(const std::shared_ptr<const TriangleMesh>& mesh) {
+    auto [it, fresh] = pieces_.try_emplace(mesh.get());
+    if (!fresh) return it->second;
+    std::map<uint32_t, std::shared_ptr<TriangleMesh>> by_colour;
+    for (size_t t = 0; t < mesh->triangles.size(); ++t) {
+      auto& piece = by_colour[mesh->triangle_rgb[t]];
+      if (!piece) {
+        piece = std::make_shared<TriangleMesh>();
+        piece->path = mesh->path;
+        piece->vertices = mesh->vertices;
+      }
+      piece->triangles.push_back(mesh->triangles[t]);
+    }
+    for (auto& [rgb, piece] : by_colour) it->second.emplace_back(rgb, std::move(piece));
+    return it->second;
   }
 
   std::shared_ptr<TriangleMesh const> mesh(const std::string& path, SourceMark where) { return meshes_.load(path, where, diag_); }
@@ -184,7 +215,7 @@ class Builder {
       part.name = ps->name;
       part.parent = ps->parent.empty() ? -1 : d->find_part(ps->parent);
       part.shapes = shapes(ps->geometry, spec.path, obj);
-      if (visuals) part.visual_shapes = shapes(ps->visual, spec.path, obj);
+      if (visuals) part.visual_shapes = shapes(ps->visual, spec.path, obj, /*split_colours=*/true);
       part.mass = eval_.value(ps->mass, Dim::Mass, obj, 0);
       part.color = ps->color.text;
       if (ps->inertial) {
@@ -239,6 +270,7 @@ class Builder {
   }
 
  private:
+  std::map<const TriangleMesh*, std::vector<std::pair<uint32_t, std::shared_ptr<const TriangleMesh>>>> pieces_;
   /// Without a `tool`, the tool is the end of the longest chain (the first such part).
   static int deepest_part(const Device& d) {
     std::vector<int> depth(d.parts.size(), 0);

@@ -22,6 +22,9 @@ struct TriangleMesh {
   /// direction as in the other (two for a single solid). A closed mesh is a solid (what lies
   /// inside it overlaps it); an open one is a surface.
   bool closed = false;
+  /// Per triangle, the diffuse colour the file gives its material (0x1RRGGBB), 0 for none; empty
+  /// when the file gives no colours (assimp's default material is none).
+  std::vector<uint32_t> triangle_rgb;
 };
 
 /// Whether a triangle soup is watertight (see TriangleMesh::closed).

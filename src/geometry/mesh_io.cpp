@@ -105,8 +105,22 @@ std::string unfit_mesh_file(const std::string& path) {
 struct RawMesh {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> triangles;
+  std::vector<uint32_t> triangle_rgb;  ///< as TriangleMesh::triangle_rgb
   std::string error;  ///< non-empty: the file could not be read
 };
+
+/// The diffuse colour of a material as 0x1RRGGBB; 0 for assimp's default material (a format
+/// without materials) or a material without one.
+uint32_t material_rgb(const aiScene* scene, unsigned index) {
+  if (index >= scene->mNumMaterials) return 0;
+  const aiMaterial* m = scene->mMaterials[index];
+  aiString name;
+  if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME) return 0;
+  aiColor4D c;
+  if (aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) != AI_SUCCESS) return 0;
+  auto byte = [](float x) { return static_cast<uint32_t>(std::lround(std::clamp(std::isfinite(x) ? x : 0.0f, 0.0f, 1.0f) * 255)); };
+  return 0x1000000u | byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
+}
 
 /// assimp's file access, confined: a file a mesh refers to (a glTF buffer, an OBJ's .mtl) must lie
 /// where the mesh itself may (outside_roots) and be a regular file (a FIFO would block for ever).
@@ -154,18 +168,31 @@ RawMesh read_with_assimp(const std::string& path) {
     for (unsigned f = 0; f < scene->mMeshes[m]->mNumFaces; ++f)
       triangles += std::max(2u, scene->mMeshes[m]->mFaces[f].mNumIndices) - 2;
   if (out.error = too_many_triangles(triangles); !out.error.empty()) return out;
+  // assimp turns a Collada file's up axis (Z_UP in ROS packages) into its own Y up; sscs's
+  // world is Z up, so a .dae file's Y up is turned back into Z up: (x, y, z) -> (x, -z, y).
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool y_up = ext == ".dae";
+  bool coloured = false;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) coloured = coloured || material_rgb(scene, scene->mMeshes[m]->mMaterialIndex) != 0;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
+    const uint32_t rgb = material_rgb(scene, am->mMaterialIndex);
     auto base = static_cast<int>(out.vertices.size());
-    for (unsigned v = 0; v < am->mNumVertices; ++v)
-      out.vertices.emplace_back(as_written(am->mVertices[v].x), as_written(am->mVertices[v].y), as_written(am->mVertices[v].z));
+    for (unsigned v = 0; v < am->mNumVertices; ++v) {
+      const aiVector3D& p = am->mVertices[v];
+      if (y_up) out.vertices.emplace_back(as_written(p.x), -as_written(p.z), as_written(p.y));
+      else out.vertices.emplace_back(as_written(p.x), as_written(p.y), as_written(p.z));
+    }
     for (unsigned f = 0; f < am->mNumFaces; ++f) {
       const aiFace& face = am->mFaces[f];
       auto index_ok = [&](unsigned k) { return face.mIndices[k] < am->mNumVertices; };
       for (unsigned k = 2; k < face.mNumIndices; ++k)
-        if (index_ok(0) && index_ok(k - 1) && index_ok(k))
+        if (index_ok(0) && index_ok(k - 1) && index_ok(k)) {
           out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[k - 1]),
                                      base + static_cast<int>(face.mIndices[k]));
+          if (coloured) out.triangle_rgb.push_back(rgb);
+        }
     }
   }
   return out;
@@ -185,10 +212,11 @@ bool write_all(int fd, const void* data, size_t size) {
 }
 
 void send(int fd, const RawMesh& mesh) {
-  uint64_t counts[3] = {mesh.error.size(), mesh.vertices.size(), mesh.triangles.size()};
+  uint64_t counts[4] = {mesh.error.size(), mesh.vertices.size(), mesh.triangles.size(), mesh.triangle_rgb.size()};
   write_all(fd, counts, sizeof counts) && write_all(fd, mesh.error.data(), mesh.error.size()) &&
       write_all(fd, mesh.vertices.data(), mesh.vertices.size() * sizeof(Eigen::Vector3d)) &&
-      write_all(fd, mesh.triangles.data(), mesh.triangles.size() * sizeof(Eigen::Vector3i));
+      write_all(fd, mesh.triangles.data(), mesh.triangles.size() * sizeof(Eigen::Vector3i)) &&
+      write_all(fd, mesh.triangle_rgb.data(), mesh.triangle_rgb.size() * sizeof(uint32_t));
 }
 
 /// Reads the child's answer from `fd`; false if it ended early (the child died).
@@ -201,11 +229,12 @@ bool receive(int fd, RawMesh& mesh) {
     if (n <= 0) break;
     bytes.append(buf, static_cast<size_t>(n));
   }
-  uint64_t counts[3];
+  uint64_t counts[4];
   if (bytes.size() < sizeof counts) return false;
   std::memcpy(counts, bytes.data(), sizeof counts);
-  const uint64_t need = sizeof counts + counts[0] + counts[1] * sizeof(Eigen::Vector3d) + counts[2] * sizeof(Eigen::Vector3i);
-  if (bytes.size() != need) return false;
+  const uint64_t need = sizeof counts + counts[0] + counts[1] * sizeof(Eigen::Vector3d) + counts[2] * sizeof(Eigen::Vector3i) +
+                        counts[3] * sizeof(uint32_t);
+  if (bytes.size() != need || (counts[3] != 0 && counts[3] != counts[2])) return false;
   const char* p = bytes.data() + sizeof counts;
   mesh.error.assign(p, counts[0]);
   p += counts[0];
@@ -214,6 +243,9 @@ bool receive(int fd, RawMesh& mesh) {
   p += counts[1] * sizeof(Eigen::Vector3d);
   mesh.triangles.resize(counts[2]);
   if (counts[2] > 0) std::memcpy(static_cast<void*>(mesh.triangles.data()), p, counts[2] * sizeof(Eigen::Vector3i));
+  p += counts[2] * sizeof(Eigen::Vector3i);
+  mesh.triangle_rgb.resize(counts[3]);
+  if (counts[3] > 0) std::memcpy(static_cast<void*>(mesh.triangle_rgb.data()), p, counts[3] * sizeof(uint32_t));
   return true;
 }
 
@@ -301,6 +333,7 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
     mesh->path = path;
     mesh->vertices = std::move(raw.vertices);
     mesh->triangles = std::move(raw.triangles);
+    mesh->triangle_rgb = std::move(raw.triangle_rgb);
     mesh->closed = is_closed(mesh->vertices, mesh->triangles);
     auto bad = std::find_if(mesh->vertices.begin(), mesh->vertices.end(), [](const Eigen::Vector3d& v) {
       return !v.allFinite() || v.cwiseAbs().maxCoeff() > kMaxLengthSi;

@@ -235,7 +235,8 @@ class Converter {
         if (auto g = geometry(c->geometry, c->origin, "collision")) p.geometry.push_back(std::move(*g));
       p.visual = std::move(visual);
     } else {
-      p.geometry = std::move(visual);
+      p.geometry = visual;  // checked as what it looks like
+      p.visual = std::move(visual);
     }
     for (const auto& v : link.visual_array)
       if (v->material && has_color(*v->material) && p.color.text.empty()) {

@@ -199,6 +199,25 @@ TEST_F(Geometry, MeshFormatsLoadAlike) {
     for (const auto& v : mesh->vertices) b.extend(v);
     EXPECT_TRUE(b.max().isApprox(Eigen::Vector3d(1, 2, 3), 1e-6)) << ext << " " << b.max().transpose();
   }
+  // Formats without materials give no colours (assimp's default material is none).
+  EXPECT_TRUE(obj->triangle_rgb.empty());
+}
+
+TEST_F(Geometry, ColladaMeshesKeepTheirUpAxisAndMaterialColours) {
+  // A vendor's visual mesh (Z_UP, as ROS packages write them; assimp turns it to Y up): the upper
+  // arm stands along z, 0.6 m, its sides orange and its end caps dark, as the file says.
+  MeshCache cache;
+  auto mesh = cache.load(std::string(SSCS_TEST_DATA) + "/vendor/acme_rx6_support/meshes/visual/link_2.dae", {}, diag);
+  ASSERT_TRUE(mesh) << diag.format(sources);
+  Eigen::AlignedBox3d b;
+  for (const auto& v : mesh->vertices) b.extend(v);
+  EXPECT_TRUE(b.min().isApprox(Eigen::Vector3d(-0.05, -0.05, 0), 1e-9)) << b.min().transpose();
+  EXPECT_TRUE(b.max().isApprox(Eigen::Vector3d(0.05, 0.05, 0.6), 1e-9)) << b.max().transpose();
+  ASSERT_EQ(mesh->triangles.size(), 12u);
+  ASSERT_EQ(mesh->triangle_rgb.size(), 12u);
+  EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x1f57800u), 8);
+  EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x11a1a1au), 4);
+  EXPECT_TRUE(mesh->closed);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -443,6 +444,11 @@ TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes
   EXPECT_EQ(visuals[0]->color, "#f57800");
   EXPECT_EQ(visuals[1]->kind, Shape::Kind::Cylinder);
   EXPECT_EQ(visuals[1]->color, "#4d4d4d");
+  // link_2's visual is a DAE whose materials colour it: a shape per colour, in the file's colours.
+  auto arm = of_part(v.drawn_shapes(), d.find_part("link_2"));
+  ASSERT_EQ(arm.size(), 2u);
+  std::set<std::string> colours = {arm[0]->color, arm[1]->color};
+  EXPECT_EQ(colours, (std::set<std::string>{"#1a1a1a", "#f57800"}));
   // link_3 has no visual: drawn as its collision sphere.
   ASSERT_EQ(of_part(v.drawn_shapes(), l3).size(), 1u);
   EXPECT_EQ(of_part(v.drawn_shapes(), l3)[0]->kind, Shape::Kind::Sphere);
@@ -459,6 +465,8 @@ TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
   const std::string base = "<link name=\"base_link\">";
   text.replace(text.find(base), base.size(),
                base + "\n    <collision><geometry><cylinder radius=\"0.1\" length=\"0\"/></geometry></collision>");
+  const std::string dae = "../meshes/visual/link_2.dae";  // relative to the vendor's urdf/ folder
+  text.replace(text.find(dae), dae.size(), data + "/acme_rx6_support/meshes/visual/link_2.dae");
   std::ofstream(dir / "rx6.urdf") << text;
   std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: rx6.urdf\ntool: {part: tool0}\n";
   auto d = device("  - {type: rx6, name: R}\n", dir.string());
