@@ -1,6 +1,7 @@
 // A MoveIt SRDF beside a vendor's URDF: the link pairs it disables collision checking for
 // (<disable_collisions link1= link2= reason=/>) become the device's allowed collisions. The rest
-// of the file (groups, end effectors, virtual joints, passive joints) is read past.
+// of the file is read past (virtual and passive joints, group states), but for the tool of a type
+// that names none: the SRDF's one end effector's parent link, else its one chain's tip link.
 #include <tinyxml.h>
 
 #include <fmt/format.h>
@@ -41,6 +42,24 @@ void load_srdf(DeviceSpec& device, const std::string& type_file, Sources& source
       continue;
     }
     device.allowed_collisions.push_back({a, b, where});
+  }
+  // A type without `tool:` takes the link the SRDF names as its tool: its one end effector's
+  // parent link, else the tip of its one chain group.
+  if (device.tool_part.empty()) {
+    std::vector<std::pair<std::string, SourceMark>> effectors, tips;
+    auto mark_of = [&](const TiXmlElement* e) {
+      return SourceMark{file, static_cast<uint32_t>(std::max(1, e->Row())), static_cast<uint32_t>(std::max(1, e->Column()))};
+    };
+    for (const TiXmlElement* e = robot->FirstChildElement("end_effector"); e; e = e->NextSiblingElement("end_effector"))
+      if (const char* link = e->Attribute("parent_link")) effectors.emplace_back(link, mark_of(e));
+    for (const TiXmlElement* g = robot->FirstChildElement("group"); g; g = g->NextSiblingElement("group"))
+      for (const TiXmlElement* c = g->FirstChildElement("chain"); c; c = c->NextSiblingElement("chain"))
+        if (const char* tip = c->Attribute("tip_link")) tips.emplace_back(tip, mark_of(c));
+    const auto& from = effectors.size() == 1 ? effectors : tips;
+    if (from.size() == 1) {
+      device.tool_part = from[0].first;
+      device.tool_mark = from[0].second;
+    }
   }
   keep();
 }

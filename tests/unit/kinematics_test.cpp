@@ -389,6 +389,17 @@ TEST_F(Vendor, WithoutTheSrdfTheOverlapIsASelfCollisionInEveryPoseWithItNever) {
   }
 }
 
+TEST_F(Vendor, WithoutAToolTheSrdfsEndEffectorNamesIt) {
+  auto d = device("  - {type: rx6, name: R}\n",
+                  type_dir({{"rx6", "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\nsrdf: " + srdf + "\n"}}));
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->parts[d->tool_part].name, "tool0");  // <end_effector parent_link="tool0">
+  // Without the SRDF: the end of the longest chain (a finger here), as for any device.
+  auto bare = device("  - {type: rx6, name: R}\n", type_dir({{"rx6", "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\n"}}));
+  ASSERT_TRUE(bare);
+  EXPECT_NE(bare->parts[bare->tool_part].name, "tool0");
+}
+
 TEST_F(Vendor, SoftLimitsBoundTheJointsUnlessHardIsChosen) {
   auto soft = device("  - {type: rx6, name: R}\n", data + "/library");
   ASSERT_TRUE(soft);

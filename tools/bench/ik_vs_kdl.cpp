@@ -89,8 +89,8 @@ struct Stats {
     double mean = 0;
     for (double x : t) mean += x;
     mean /= t.size();
-    std::printf("  %-22s success %6.2f%%   mean %8.4f ms   p50 %8.4f ms   p99 %8.4f ms\n", who, 100.0 * ok / t.size(),
-                mean * 1e3, t[t.size() / 2] * 1e3, t[std::min(t.size() - 1, t.size() * 99 / 100)] * 1e3);
+    std::printf("  %-22s success %6.2f%%   mean %8.4f ms   p50 %8.4f ms   p99 %8.4f ms   max %8.4f ms\n", who, 100.0 * ok / t.size(),
+                mean * 1e3, t[t.size() / 2] * 1e3, t[std::min(t.size() - 1, t.size() * 99 / 100)] * 1e3, t.back() * 1e3);
   }
   double mean() const {
     double m = 0;
