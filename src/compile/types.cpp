@@ -227,8 +227,13 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
     if (!pair.a.empty() && pair.a == pair.b)
       report(fmt::format("an allowed collision pairs two different parts, found '{}' twice", pair.a));
   }
-  if (!d.tool_part.empty() && !parts.count(d.tool_part))
-    diag.error(d.tool_mark, fmt::format("tool part '{}' is not a part of '{}'{}", d.tool_part, type.name, did_you_mean(d.tool_part, names)));
+  if (!d.tool_part.empty() && !parts.count(d.tool_part)) {
+    if (d.srdf.present && d.tool_mark.file != d.srdf.mark.file)  // the SRDF's end effector or chain tip
+      deferred.push_back({d.tool_mark, fmt::format("the tool this SRDF names, '{}', is no link of '{}' (is the SRDF another robot's?)",
+                                                   d.tool_part, type.name)});
+    else
+      diag.error(d.tool_mark, fmt::format("tool part '{}' is not a part of '{}'{}", d.tool_part, type.name, did_you_mean(d.tool_part, names)));
+  }
   check_pose(d.tool_pose, type, "tool", diag);
 }
 

@@ -178,17 +178,24 @@ class Builder {
   const std::vector<std::pair<uint32_t, std::shared_ptr<const TriangleMesh>>>& coloured_pieces(const std::shared_ptr<const TriangleMesh>& mesh) {
     auto [it, fresh] = pieces_.try_emplace(mesh.get());
     if (!fresh) return it->second;
-    std::map<uint32_t, std::shared_ptr<TriangleMesh>> by_colour;
+    // Each piece keeps only its own vertices (a textured mesh may have many colours).
+    std::map<uint32_t, std::pair<std::shared_ptr<TriangleMesh>, std::map<int, int>>> by_colour;
     for (size_t t = 0; t < mesh->triangles.size(); ++t) {
-      auto& piece = by_colour[mesh->triangle_rgb[t]];
+      auto& [piece, index] = by_colour[mesh->triangle_rgb[t]];
       if (!piece) {
         piece = std::make_shared<TriangleMesh>();
         piece->path = mesh->path;
-        piece->vertices = mesh->vertices;
+        piece->images = mesh->images;
       }
-      piece->triangles.push_back(mesh->triangles[t]);
+      Eigen::Vector3i triangle;
+      for (int k = 0; k < 3; ++k) {
+        auto [at, fresh] = index.try_emplace(mesh->triangles[t][k], static_cast<int>(piece->vertices.size()));
+        if (fresh) piece->vertices.push_back(mesh->vertices[static_cast<size_t>(mesh->triangles[t][k])]);
+        triangle[k] = at->second;
+      }
+      piece->triangles.push_back(triangle);
     }
-    for (auto& [rgb, piece] : by_colour) it->second.emplace_back(rgb, std::move(piece));
+    for (auto& [rgb, piece] : by_colour) it->second.emplace_back(rgb, std::move(piece.first));
     return it->second;
   }
 

@@ -25,6 +25,8 @@ struct TriangleMesh {
   /// Per triangle, the diffuse colour the file gives its material (0x1RRGGBB), 0 for none; empty
   /// when the file gives no colours (assimp's default material is none).
   std::vector<uint32_t> triangle_rgb;
+  /// The image files its textures were read from (inputs of a run, as the mesh file is).
+  std::vector<std::string> images;
 };
 
 /// Whether a triangle soup is watertight (see TriangleMesh::closed).

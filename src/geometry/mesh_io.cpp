@@ -4,6 +4,7 @@
 #include "core/files.h"
 #include "core/limits.h"
 #include "core/units.h"
+#include "geometry/texture.h"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/IOStream.hpp>
@@ -107,6 +108,8 @@ struct RawMesh {
   std::vector<Eigen::Vector3i> triangles;
   std::vector<uint32_t> triangle_rgb;  ///< as TriangleMesh::triangle_rgb
   std::string error;  ///< non-empty: the file could not be read
+  std::string warning;  ///< non-empty: read, but something in it is not drawn as the file says
+  std::vector<std::string> images;  ///< as TriangleMesh::images
 };
 
 /// The diffuse colour of a material as 0x1RRGGBB; 0 for assimp's default material (a format
@@ -120,6 +123,82 @@ uint32_t material_rgb(const aiScene* scene, unsigned index) {
   if (aiGetMaterialColor(m, AI_MATKEY_COLOR_DIFFUSE, &c) != AI_SUCCESS) return 0;
   auto byte = [](float x) { return static_cast<uint32_t>(std::lround(std::clamp(std::isfinite(x) ? x : 0.0f, 0.0f, 1.0f) * 255)); };
   return 0x1000000u | byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
+}
+
+/// The textures of one file's materials, each read once. A texture that cannot be read leaves its
+/// triangles in their material's colour, with a warning; one outside the allowed folders is an
+/// error (as every file a mesh refers to).
+class Textures {
+ public:
+  Textures(const aiScene* scene, std::filesystem::path folder) : scene_(scene), folder_(std::move(folder)) {}
+
+  /// The diffuse (glTF: base colour) texture of material `index`, or nullptr.
+  const Texture* of_material(unsigned index, RawMesh& out) {
+    if (index >= scene_->mNumMaterials) return nullptr;
+    const aiMaterial* m = scene_->mMaterials[index];
+    aiString name;
+    if (m->GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS && m->GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS)
+      return nullptr;
+    auto [it, fresh] = read_.try_emplace(name.C_Str());
+    if (fresh) it->second = read(name.C_Str(), out);
+    return it->second ? &*it->second : nullptr;
+  }
+
+ private:
+  std::optional<Texture> read(std::string name, RawMesh& out) {
+    std::string bytes, why;
+    if (const aiTexture* embedded = scene_->GetEmbeddedTexture(name.c_str())) {
+      if (embedded->mHeight == 0) {  // a compressed image (PNG, JPEG) of mWidth bytes
+        bytes.assign(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
+      } else {  // texels as written
+        Texture t;
+        if (double(embedded->mWidth) * embedded->mHeight > kMaxTexturePixels) {
+          if (out.warning.empty()) out.warning = fmt::format("its embedded image {} is larger than {:.0f} pixels: drawn in its material's colour", name, kMaxTexturePixels);
+          return std::nullopt;
+        }
+        t.width = static_cast<int>(embedded->mWidth);
+        t.height = static_cast<int>(embedded->mHeight);
+        for (size_t k = 0; k < size_t(embedded->mWidth) * embedded->mHeight; ++k)
+          t.rgb.insert(t.rgb.end(), {embedded->pcData[k].r, embedded->pcData[k].g, embedded->pcData[k].b});
+        return t;
+      }
+      name = "embedded image " + name;
+    } else {
+      if (name.rfind("file://", 0) == 0) name.erase(0, 7);
+      const std::string path = std::filesystem::path(name).is_absolute() ? name : (folder_ / name).lexically_normal().string();
+      if (std::string w = outside_roots(path); !w.empty()) {
+        if (out.error.empty()) out.error = fmt::format("it refers to '{}', which {}", path, w);
+        return std::nullopt;
+      }
+      std::error_code ec;
+      const uintmax_t size = std::filesystem::file_size(path, ec);
+      if (std::string w = not_a_file(path); !w.empty()) why = "it " + w;
+      else if (!ec && size > limit_bytes("SSCS_MAX_MESH_MB", kMaxMeshFileMb)) why = "it is larger than the limit of a mesh file, SSCS_MAX_MESH_MB";
+      else if (std::ifstream in{path, std::ios::binary}; !in) why = "it cannot be opened";
+      else bytes.assign(std::istreambuf_iterator<char>(in), {});
+      if (why.empty()) out.images.push_back(path);
+      name = path;
+    }
+    std::optional<Texture> t;
+    if (why.empty()) t = decode_texture(bytes, why);
+    if (!t && out.warning.empty())
+      out.warning = fmt::format("its texture '{}' cannot be used ({}): drawn in its material's colour", name, why);
+    return t;
+  }
+
+  const aiScene* scene_;
+  std::filesystem::path folder_;
+  std::map<std::string, std::optional<Texture>> read_;
+};
+
+/// The colour a textured triangle is drawn in: the texel under its centre, to 4 bits a channel
+/// (a texture's gradients and noise would otherwise make a shape per texel colour).
+uint32_t texel_under(const Texture& texture, const aiMesh* mesh, const aiFace& face) {
+  aiVector3D uv(0, 0, 0);
+  for (unsigned k = 0; k < 3; ++k) uv += mesh->mTextureCoords[0][face.mIndices[k]];
+  uint32_t rgb = texture.at(uv.x / 3, uv.y / 3);
+  auto nibble = [&](int shift) { return ((rgb >> shift & 0xffu) + 8) / 17 * 17 << shift; };
+  return 0x1000000u | nibble(16) | nibble(8) | nibble(0);
 }
 
 /// assimp's file access, confined: a file a mesh refers to (a glTF buffer, an OBJ's .mtl) must lie
@@ -173,8 +252,15 @@ RawMesh read_with_assimp(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   const bool y_up = ext == ".dae";
+  Textures textures(scene, std::filesystem::path(path).parent_path());
+  std::vector<const Texture*> texture_of(scene->mNumMeshes);  // of a mesh with texture coordinates
   bool coloured = false;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) coloured = coloured || material_rgb(scene, scene->mMeshes[m]->mMaterialIndex) != 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    if (am->HasTextureCoords(0)) texture_of[m] = textures.of_material(am->mMaterialIndex, out);
+    coloured = coloured || texture_of[m] || material_rgb(scene, am->mMaterialIndex) != 0;
+  }
+  if (!out.error.empty()) return out;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
     const uint32_t rgb = material_rgb(scene, am->mMaterialIndex);
@@ -191,7 +277,7 @@ RawMesh read_with_assimp(const std::string& path) {
         if (index_ok(0) && index_ok(k - 1) && index_ok(k)) {
           out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[k - 1]),
                                      base + static_cast<int>(face.mIndices[k]));
-          if (coloured) out.triangle_rgb.push_back(rgb);
+          if (coloured) out.triangle_rgb.push_back(texture_of[m] && face.mNumIndices == 3 ? texel_under(*texture_of[m], am, face) : rgb);
         }
     }
   }
@@ -212,8 +298,12 @@ bool write_all(int fd, const void* data, size_t size) {
 }
 
 void send(int fd, const RawMesh& mesh) {
-  uint64_t counts[4] = {mesh.error.size(), mesh.vertices.size(), mesh.triangles.size(), mesh.triangle_rgb.size()};
+  std::string images;  // NUL-separated
+  for (const std::string& i : mesh.images) images += i + '\0';
+  uint64_t counts[6] = {mesh.error.size(), mesh.vertices.size(), mesh.triangles.size(), mesh.triangle_rgb.size(), mesh.warning.size(),
+                        images.size()};
   write_all(fd, counts, sizeof counts) && write_all(fd, mesh.error.data(), mesh.error.size()) &&
+      write_all(fd, mesh.warning.data(), mesh.warning.size()) && write_all(fd, images.data(), images.size()) &&
       write_all(fd, mesh.vertices.data(), mesh.vertices.size() * sizeof(Eigen::Vector3d)) &&
       write_all(fd, mesh.triangles.data(), mesh.triangles.size() * sizeof(Eigen::Vector3i)) &&
       write_all(fd, mesh.triangle_rgb.data(), mesh.triangle_rgb.size() * sizeof(uint32_t));
@@ -229,15 +319,18 @@ bool receive(int fd, RawMesh& mesh) {
     if (n <= 0) break;
     bytes.append(buf, static_cast<size_t>(n));
   }
-  uint64_t counts[4];
+  uint64_t counts[6];
   if (bytes.size() < sizeof counts) return false;
   std::memcpy(counts, bytes.data(), sizeof counts);
-  const uint64_t need = sizeof counts + counts[0] + counts[1] * sizeof(Eigen::Vector3d) + counts[2] * sizeof(Eigen::Vector3i) +
+  const uint64_t need = sizeof counts + counts[0] + counts[4] + counts[5] + counts[1] * sizeof(Eigen::Vector3d) + counts[2] * sizeof(Eigen::Vector3i) +
                         counts[3] * sizeof(uint32_t);
   if (bytes.size() != need || (counts[3] != 0 && counts[3] != counts[2])) return false;
   const char* p = bytes.data() + sizeof counts;
   mesh.error.assign(p, counts[0]);
   p += counts[0];
+  mesh.warning.assign(p, counts[4]);
+  p += counts[4];
+  for (const char* end = p + counts[5]; p < end; p += mesh.images.back().size() + 1) mesh.images.emplace_back(p, strnlen(p, end - p));
   mesh.vertices.resize(counts[1]);
   if (counts[1] > 0) std::memcpy(static_cast<void*>(mesh.vertices.data()), p, counts[1] * sizeof(Eigen::Vector3d));
   p += counts[1] * sizeof(Eigen::Vector3d);
@@ -334,6 +427,8 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
     mesh->vertices = std::move(raw.vertices);
     mesh->triangles = std::move(raw.triangles);
     mesh->triangle_rgb = std::move(raw.triangle_rgb);
+    mesh->images = std::move(raw.images);
+    if (!raw.warning.empty()) diag.warning(where, fmt::format("mesh '{}': {}", path, printable(raw.warning)));
     mesh->closed = is_closed(mesh->vertices, mesh->triangles);
     auto bad = std::find_if(mesh->vertices.begin(), mesh->vertices.end(), [](const Eigen::Vector3d& v) {
       return !v.allFinite() || v.cwiseAbs().maxCoeff() > kMaxLengthSi;

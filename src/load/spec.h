@@ -134,6 +134,9 @@ struct DeviceSpec {
   };
   std::vector<AllowedCollision> allowed_collisions;
   Scalar srdf;  ///< as written: a MoveIt SRDF beside the URDF (its disabled collision pairs)
+  /// Each mesh reference of the URDF as written (`package://acme/meshes/a.dae`) and the file it
+  /// names: resolved/ rewrites the references a copy of the URDF cannot keep.
+  std::vector<std::pair<std::string, std::string>> urdf_mesh_refs;
   /// What went wrong in the URDF and SRDF imports (errors), and what they skipped (warnings:
   /// degenerate shapes): reported where the type is used.
   std::vector<Diagnostic> import_problems;

@@ -76,9 +76,9 @@ std::map<std::string, SoftLimits> read_soft_limits(const std::string& urdf_path)
 
 class Converter {
  public:
-  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths,
-            std::vector<Diagnostic>& problems)
-      : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), problems_(problems) {}
+  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, DeviceSpec& device)
+      : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), problems_(device.import_problems),
+        mesh_refs_(device.urdf_mesh_refs) {}
 
   Scalar number(double v, const char* unit = "") const {
     Scalar s;
@@ -197,6 +197,7 @@ class Converter {
         auto* m = static_cast<const urdf::Mesh*>(g.get());
         auto path = mesh_path(m->filename);
         if (!path) return std::nullopt;
+        mesh_refs_.emplace_back(m->filename, *path);
         MeshSpec mesh;
         mesh.file = number(0);
         mesh.file.text = *path;
@@ -309,6 +310,7 @@ class Converter {
   std::string urdf_path_;
   const std::vector<std::string>& package_paths_;
   std::vector<Diagnostic>& problems_;
+  std::vector<std::pair<std::string, std::string>>& mesh_refs_;
   mutable std::string link_;  ///< the link being converted, for messages
 };
 
@@ -342,7 +344,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
         {at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log)});
     return;
   }
-  Converter convert(at, urdf_path, package_paths, device.import_problems);
+  Converter convert(at, urdf_path, package_paths, device);
   const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(urdf_path);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};

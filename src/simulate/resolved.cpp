@@ -1,7 +1,9 @@
 #include "simulate/resolved.h"
 
 #include <filesystem>
+#include <algorithm>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -10,6 +12,7 @@
 #include "core/data_dirs.h"
 #include "core/digest.h"
 #include "core/yaml_edit.h"
+#include "geometry/mesh_io.h"
 #include "load/load.h"
 
 namespace fs = std::filesystem;
@@ -39,18 +42,48 @@ class Resolver {
     if (!copied_.insert(dest).second) return;
     out_.resolved.emplace_back("resolved/" + dest, bytes(file));
   }
+  /// Writes `text` to `dest` under resolved/, once.
+  void put(const std::string& dest, std::string text) {
+    if (copied_.insert(dest).second) out_.resolved.emplace_back("resolved/" + dest, std::move(text));
+  }
+
+  /// The image files `mesh`'s textures were read from: known from the run's geometry, else read
+  /// now (a visual mesh a run without frames never drew; if it cannot be read, the rerun will say
+  /// so where the run would have).
+  const std::vector<std::string>& images(const std::string& mesh) {
+    auto it = images_.find(mesh);
+    if (it != images_.end()) return it->second;
+    Diagnostics unused;  // the mesh was read once before, or is only drawn (see above)
+    auto read = meshes_.load(mesh, {}, unused);
+    return images_[mesh] = read ? read->images : std::vector<std::string>{};
+  }
+  void know_images(const TriangleMesh& mesh) { images_.try_emplace(mesh.path, mesh.images); }
+
+  /// The folder under library/urdf/ that holds the files below `root` (a vendor's package
+  /// folder, or the folder holding a URDF and its meshes), unique per root.
+  std::string folder_for(const fs::path& root) {
+    auto it = folders_.find(root);
+    if (it != folders_.end()) return it->second;
+    std::string base = root.filename().empty() ? std::string("files") : root.filename().string(), name = base;
+    for (int n = 2; std::count_if(folders_.begin(), folders_.end(), [&](const auto& f) { return f.second == "library/urdf/" + name; }); ++n)
+      name = fmt::format("{}-{}", base, n);
+    return folders_[root] = "library/urdf/" + name;
+  }
 
   /// A file a type file names (`rel`, resolved like resolve_mesh_path does): copied beside the
-  /// type's copy in library/types/, or in library/, wherever the original was found.
-  void copy_type_relative(const std::string& type_file, const std::string& rel, const std::string& used) {
+  /// type's copy in library/types/, or in library/, wherever the original was found. Returns
+  /// where, or nullopt when it cannot keep its relative place (listed as not copied).
+  std::optional<std::string> copy_type_relative(const std::string& type_file, const std::string& rel, const std::string& used) {
     fs::path p(rel);
     std::string normal = p.lexically_normal().generic_string();
     if (p.is_absolute() || normal.starts_with("..")) {
       out_.not_copied.push_back(used);
-      return;
+      return std::nullopt;
     }
     bool beside = fs::path(used).lexically_normal() == (fs::path(type_file).parent_path() / p).lexically_normal();
-    copy(used, (beside ? "library/types/" : "library/") + normal);
+    std::string dest = (beside ? "library/types/" : "library/") + normal;
+    copy(used, dest);
+    return dest;
   }
 
   std::string bytes(const std::string& file) {
@@ -64,7 +97,27 @@ class Resolver {
   const Sources& sources_;
   RunInputs& out_;
   std::set<std::string> copied_;
+  std::map<std::string, std::vector<std::string>> images_;
+  MeshCache meshes_;
+  std::map<fs::path, std::string> folders_;
 };
+
+/// The deepest folder holding every one of `files` (absolute paths).
+fs::path common_folder(const std::vector<std::string>& files) {
+  fs::path folder = fs::path(files.front()).parent_path();
+  for (const std::string& f : files)
+    while (inside(f, folder).empty() && folder != folder.parent_path()) folder = folder.parent_path();
+  return folder;
+}
+
+/// `text` with each `"from"` or `'from'` (an XML attribute's value) replaced by `"to"`.
+std::string replace_attribute_values(std::string text, const std::string& from, const std::string& to) {
+  for (char q : {'"', '\''}) {
+    const std::string a = q + from + q, b = '"' + to + '"';
+    for (size_t at = text.find(a); at != std::string::npos; at = text.find(a, at + b.size())) text.replace(at, a.size(), b);
+  }
+  return text;
+}
 
 std::vector<const GeometrySpec*> mesh_specs(const TypeSpec& t) {
   std::vector<const GeometrySpec*> out;
@@ -105,6 +158,10 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
                              const Workcell& wc, const GeometryModel& geometry, const Sources& sources) {
   RunInputs out;
   Resolver resolver(sources, out);
+  for (const ObjectGeometry& g : geometry.objects)
+    for (const auto* shapes : {&g.shapes, &g.visual_shapes})
+      for (const Shape& s : *shapes)
+        if (s.mesh) resolver.know_images(*s.mesh);
 
   // The types the vault's objects use, with the types they extend.
   std::set<int> used;
@@ -117,28 +174,49 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
       out.not_copied.push_back(spec.plugin);
       continue;
     }
-    resolver.copy(spec.path, "library/types/" + fs::path(spec.path).filename().string());
-    if (spec.device && spec.device->srdf.present)
-      resolver.copy_type_relative(spec.path, spec.device->srdf.text, resolve_mesh_path(spec.path, spec.device->srdf.text));
+    const std::string type_dest = "library/types/" + fs::path(spec.path).filename().string();
     if (spec.device && spec.device->urdf.present) {
-      std::string urdf = resolve_mesh_path(spec.path, spec.device->urdf.text);
+      // A vendor's files (URDF, SRDF, meshes and their images), wherever they lie, keep their
+      // layout below the folder that holds them all, in library/urdf/NAME/; the type copy names
+      // the copies, and the URDF copy's package:// and absolute mesh references become relative.
+      const DeviceSpec& d = *spec.device;
+      const std::string urdf = fs::absolute(resolve_mesh_path(spec.path, d.urdf.text)).lexically_normal().string();
       urdfs.insert(urdf);
-      resolver.copy_type_relative(spec.path, spec.device->urdf.text, urdf);
-      // Its meshes (absolute paths by now) keep their place relative to the URDF file.
-      std::string urdf_dest = fs::path(spec.device->urdf.text).lexically_normal().generic_string();
-      bool beside = fs::exists(fs::path(spec.path).parent_path() / spec.device->urdf.text);
+      std::vector<std::string> files = {urdf};
+      std::string srdf;
+      if (d.srdf.present) files.push_back(srdf = fs::absolute(resolve_mesh_path(spec.path, d.srdf.text)).lexically_normal().string());
       for (const GeometrySpec* g : mesh_specs(spec)) {
         const std::string& mesh = std::get<MeshSpec>(g->shape).file.text;
-        std::string rel = inside(mesh, fs::path(urdf).parent_path());
-        if (rel.empty() || urdf_dest.starts_with("..")) out.not_copied.push_back(mesh);
-        else resolver.copy(mesh, fmt::format("library/{}{}", beside ? "types/" : "",
-                                             (fs::path(urdf_dest).parent_path() / rel).generic_string()));
+        files.push_back(mesh);
+        for (const std::string& image : resolver.images(mesh)) files.push_back(image);
       }
+      const fs::path root = common_folder(files);
+      const std::string folder = resolver.folder_for(root);
+      auto dest = [&](const std::string& f) { return folder + "/" + inside(f, root); };
+      std::string urdf_text = resolver.bytes(urdf);
+      for (const auto& [uri, path] : d.urdf_mesh_refs)
+        if (uri.starts_with("package://") || uri.starts_with("file://") || fs::path(uri).is_absolute())
+          urdf_text = replace_attribute_values(urdf_text, uri, fs::path(dest(path)).lexically_relative(fs::path(dest(urdf)).parent_path()).generic_string());
+      resolver.put(dest(urdf), std::move(urdf_text));
+      for (size_t k = 1; k < files.size(); ++k) resolver.copy(files[k], dest(files[k]));
+      auto from_types = [&](const std::string& f) { return yaml::flow_scalar(fs::path(dest(f)).lexically_relative("library/types").generic_string()); };
+      std::vector<yaml::TopLevelChange> changes = {{"urdf", from_types(urdf)}};
+      if (d.srdf.present) changes.push_back({"srdf", from_types(srdf)});
+      resolver.put(type_dest, edited(sources, spec.path, changes));
       continue;
     }
+    resolver.copy(spec.path, type_dest);
     for (const GeometrySpec* g : mesh_specs(spec)) {
       const std::string& rel = std::get<MeshSpec>(g->shape).file.text;
-      resolver.copy_type_relative(spec.path, rel, resolve_mesh_path(spec.path, rel));
+      const std::string mesh = resolve_mesh_path(spec.path, rel);
+      const std::optional<std::string> mesh_dest = resolver.copy_type_relative(spec.path, rel, mesh);
+      if (!mesh_dest) continue;
+      // The images its textures were read from keep their place beside the mesh's copy.
+      for (const std::string& image : resolver.images(mesh)) {
+        std::string beside = inside(image, fs::path(mesh).parent_path());
+        if (beside.empty()) out.not_copied.push_back(image);
+        else resolver.copy(image, (fs::path(*mesh_dest).parent_path() / beside).generic_string());
+      }
     }
   }
   for (const Object& o : wc.objects) {
@@ -166,8 +244,12 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   // Every input: the text files in the order they were read, then URDF and mesh files.
   for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({sources.path(f), sha256_hex(sources.text(f))});
   for (const ObjectGeometry& g : geometry.objects)
-    for (const Shape& s : g.shapes)
-      if (s.mesh) meshes.insert(s.mesh->path);
+    for (const auto* shapes : {&g.shapes, &g.visual_shapes})  // what the checks used, and what frames drew
+      for (const Shape& s : *shapes)
+        if (s.mesh) {
+          meshes.insert(s.mesh->path);
+          meshes.insert(s.mesh->images.begin(), s.mesh->images.end());
+        }
   std::set<std::string> plugins(wc.plugin_files.begin(), wc.plugin_files.end());
   for (const auto* set : {&urdfs, &meshes, &plugins})
     for (const std::string& f : *set) out.files.push_back({f, sha256_hex(resolver.bytes(f))});

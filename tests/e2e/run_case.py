@@ -1460,6 +1460,42 @@ def tutorials(sscs, root):
             fail(f"devices.md tutorial step 2: joint_1 should have its soft limits: {joint_1(type_yaml)}")
         if "[-169.996577815, 169.996577815]" not in joint_1(type_yaml + "joint_limits: hard\n"):
             fail(f"devices.md tutorial step 2: joint_limits: hard: {joint_1(type_yaml + 'joint_limits: hard' + chr(10))}")
+        open(type_path, "w").write(type_yaml)
+        # 6. The render shows the visuals (DAE material colours, the wrist's texture) as the
+        # docs' picture does; the run's resolved/ holds the vendor files and reruns from anywhere.
+        session(sessions[2], 6)
+        compare_image(os.path.join(tmp, "rx6.png"), os.path.join(root, "docs", "img", "vendor-rx6.png"))
+        _, _, rows = read_png(os.path.join(tmp, "rx6.png"))
+        yellow = sum(1 for row in rows for x in range(0, len(row), 3)
+                     if row[x] > 100 and 0.7 < row[x + 1] / row[x] < 0.9 and row[x + 2] < 40)
+        if yellow < 1000:
+            fail(f"devices.md tutorial step 6: the wrist's yellow texture colour covers {yellow} pixels")
+        open(os.path.join(tmp, "move.yaml"), "w").write([b for lang, b in blocks if lang == "yaml"][2])
+        command, *expected = sessions[3][2:].splitlines()
+        p = run(sscs, tmp, shlex.split(command)[1:])
+        mask = lambda lines: [re.sub(r"cycle time [0-9.]+ s", "cycle time T s", l) for l in lines]
+        if p.returncode != 0 or mask(p.stdout.splitlines()) != mask(expected):
+            fail(f"devices.md tutorial step 6: {command} prints\n{p.stdout}\nthe text shows\n" + "\n".join(expected), p)
+        run1 = os.path.join(tmp, "run1")
+        summary = json.load(open(os.path.join(run1, "summary.json")))
+        copied = sorted(os.path.relpath(os.path.join(d, f), os.path.join(run1, "resolved"))
+                        for d, _, fs in os.walk(os.path.join(run1, "resolved")) for f in fs)
+        vendor = "library/urdf/vendor/acme_rx6_"
+        want = [vendor + f for f in ("moveit_config/config/rx6.srdf", "support/meshes/visual/link_2.dae",
+                                     "support/meshes/visual/link_3.dae", "support/meshes/visual/link_3.png",
+                                     "support/urdf/rx6.urdf")]
+        if "inputs_not_in_resolved" in summary or not all(w in copied for w in want):
+            fail(f"devices.md tutorial step 6: resolved/ holds {copied}; not copied: {summary.get('inputs_not_in_resolved')}")
+        if not any(i["path"].endswith("link_3.png") for i in summary["inputs"]):
+            fail("devices.md tutorial step 6: the texture image is no input of the run")
+        elsewhere = os.path.join(tmp, "elsewhere")
+        os.makedirs(elsewhere)
+        p = run(sscs, elsewhere, ["simulate", os.path.join(run1, "resolved", "scenario.yaml"), "--out", "run2", "--quiet", "--no-frames"])
+        if p.returncode != 0:
+            fail("devices.md tutorial step 6: the rerun from resolved/ in another folder", p)
+        for f in ["events.jsonl", "trajectories/Robot.csv", "resolved/library/types/rx6.yaml"]:
+            if open(os.path.join(run1, f), "rb").read() != open(os.path.join(elsewhere, "run2", f), "rb").read():
+                fail(f"devices.md tutorial step 6: {f} differs between the run and its rerun")
     print("ok tutorials")
 
 

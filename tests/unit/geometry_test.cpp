@@ -1,6 +1,12 @@
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <numbers>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
 
 #include "geometry/geometry.h"
 #include "vault_fixture.h"
@@ -218,6 +224,49 @@ TEST_F(Geometry, ColladaMeshesKeepTheirUpAxisAndMaterialColours) {
   EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x1f57800u), 8);
   EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x11a1a1au), 4);
   EXPECT_TRUE(mesh->closed);
+}
+
+TEST_F(Geometry, TexturedMeshesTakeTheirColoursFromTheImage) {
+  // A Collada file whose material is an image beside it (link_3.png: yellow left half, dark right
+  // half): the sides sample the yellow half, the end caps the dark half.
+  MeshCache cache;
+  auto mesh = cache.load(std::string(SSCS_TEST_DATA) + "/vendor/acme_rx6_support/meshes/visual/link_3.dae", {}, diag);
+  ASSERT_TRUE(mesh) << diag.format(sources);
+  EXPECT_EQ(diag.format(sources), "");
+  ASSERT_EQ(mesh->triangle_rgb.size(), 12u);
+  EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x1ffcc00u), 8);
+  EXPECT_EQ(std::count(mesh->triangle_rgb.begin(), mesh->triangle_rgb.end(), 0x1222222u), 4);
+  // A glTF whose base colour is a JPEG embedded in the file (a data URI): one triangle on the red
+  // half, one on the blue (JPEG's loss rounded away to 4 bits a channel).
+  auto gltf = cache.load(std::string(SSCS_TEST_DATA) + "/urdf/embedded_texture.gltf", {}, diag);
+  ASSERT_TRUE(gltf) << diag.format(sources);
+  ASSERT_EQ(gltf->triangle_rgb.size(), 2u);
+  EXPECT_EQ(gltf->triangle_rgb[0], 0x1dd0000u) << std::hex << gltf->triangle_rgb[0];
+  EXPECT_EQ(gltf->triangle_rgb[1], 0x10000ddu) << std::hex << gltf->triangle_rgb[1];
+}
+
+TEST_F(Geometry, AMissingOrBrokenTextureLeavesTheMaterialColourWithAWarning) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sscs-texture-{}", ::getpid());
+  fs::create_directories(dir);
+  std::string dae;
+  {
+    std::ifstream in(std::string(SSCS_TEST_DATA) + "/vendor/acme_rx6_support/meshes/visual/link_3.dae");
+    dae.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(dir / "wrist.dae") << dae;
+  MeshCache missing;
+  auto mesh = missing.load((dir / "wrist.dae").string(), {}, diag);
+  ASSERT_TRUE(mesh) << diag.format(sources);
+  EXPECT_THAT(diag.format(sources), ::testing::HasSubstr("link_3.png' cannot be used (it does not exist): drawn in its material's colour"));
+  EXPECT_FALSE(diag.has_errors());
+  std::ofstream(dir / "link_3.png") << "GIF89a not an image";
+  Diagnostics broken;
+  MeshCache cache;
+  mesh = cache.load((dir / "wrist.dae").string(), {}, broken);
+  ASSERT_TRUE(mesh);
+  EXPECT_THAT(broken.format(sources), ::testing::HasSubstr("(it is neither a PNG nor a JPEG image, the two sscs reads)"));
+  fs::remove_all(dir);
 }
 
 }  // namespace

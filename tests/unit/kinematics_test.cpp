@@ -429,6 +429,21 @@ TEST_F(Vendor, AnSrdfOfAnotherRobotIsAnErrorInTheSrdf) {
   EXPECT_EQ(diag.errors()[0].mark.line, 2u);
 }
 
+TEST_F(Vendor, AnSrdfToolThatIsNoLinkIsReportedWhereTheTypeIsUsed) {
+  // The SRDF's end effector names a link the URDF lacks: an error in the SRDF for a vault that
+  // uses the type; a vault of the same library folder that does not use it is unaffected.
+  auto dir = std::filesystem::path(type_dir({}));
+  std::ofstream(dir / "other.srdf") << "<robot name=\"other\">\n  <end_effector name=\"hand\" parent_link=\"hand_flange\" group=\"hand\"/>\n</robot>\n";
+  std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\nsrdf: other.srdf\n";
+  options.library_dirs = {dir.string()};
+  must_compile("objects:\n  - {type: drum, name: D}\n");
+  std::string e = first_error("objects:\n  - {type: rx6, name: R}\n");
+  EXPECT_EQ(e, "the tool this SRDF names, 'hand_flange', is no link of 'rx6' (is the SRDF another robot's?)");
+  ASSERT_FALSE(diag.errors().empty());
+  EXPECT_EQ(sources.path(diag.errors()[0].mark.file), (dir / "other.srdf").string());
+  EXPECT_EQ(diag.errors()[0].mark.line, 2u);
+}
+
 TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes) {
   options.library_dirs = {data + "/library"};
   Workcell wc = must_compile("objects:\n  - {type: rx6, name: R}\n");
@@ -460,9 +475,15 @@ TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes
   ASSERT_EQ(arm.size(), 2u);
   std::set<std::string> colours = {arm[0]->color, arm[1]->color};
   EXPECT_EQ(colours, (std::set<std::string>{"#1a1a1a", "#f57800"}));
-  // link_3 has no visual: drawn as its collision sphere.
-  ASSERT_EQ(of_part(v.drawn_shapes(), l3).size(), 1u);
-  EXPECT_EQ(of_part(v.drawn_shapes(), l3)[0]->kind, Shape::Kind::Sphere);
+  // link_3's visual is a textured DAE: the sides in the image's yellow, the end caps in its grey.
+  auto wrist = of_part(v.drawn_shapes(), l3);
+  ASSERT_EQ(wrist.size(), 2u);
+  EXPECT_EQ((std::set<std::string>{wrist[0]->color, wrist[1]->color}), (std::set<std::string>{"#222222", "#ffcc00"}));
+  EXPECT_EQ(of_part(v.shapes, l3)[0]->kind, Shape::Kind::Sphere);  // the collision shape checks use
+  // link_5 has no visual: drawn as its collision sphere.
+  const int l5 = d.find_part("link_5");
+  ASSERT_EQ(of_part(v.drawn_shapes(), l5).size(), 1u);
+  EXPECT_EQ(of_part(v.drawn_shapes(), l5)[0]->kind, Shape::Kind::Sphere);
 }
 
 TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
@@ -476,8 +497,10 @@ TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
   const std::string base = "<link name=\"base_link\">";
   text.replace(text.find(base), base.size(),
                base + "\n    <collision><geometry><cylinder radius=\"0.1\" length=\"0\"/></geometry></collision>");
-  const std::string dae = "../meshes/visual/link_2.dae";  // relative to the vendor's urdf/ folder
-  text.replace(text.find(dae), dae.size(), data + "/acme_rx6_support/meshes/visual/link_2.dae");
+  for (const std::string link : {"link_2", "link_3"}) {
+    const std::string dae = "../meshes/visual/" + link + ".dae";  // relative to the vendor's urdf/ folder
+    text.replace(text.find(dae), dae.size(), data + "/acme_rx6_support/meshes/visual/" + link + ".dae");
+  }
   std::ofstream(dir / "rx6.urdf") << text;
   std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: rx6.urdf\ntool: {part: tool0}\n";
   auto d = device("  - {type: rx6, name: R}\n", dir.string());
