@@ -5,6 +5,7 @@
 #include "kinematics/ik.h"
 
 #include <algorithm>
+#include <numbers>
 #include <set>
 #include <cmath>
 #include <functional>
@@ -379,7 +380,7 @@ IkResult reach_by_approach(const Chain& chain, const Eigen::Isometry3d& target, 
     std::vector<Eigen::Vector3d> dirs = {{0, 0, -1}};
     for (double z : {-1.0, 0.0, 1.0})
       for (int k = 0; k < 8; ++k) {
-        double a = k * 3.14159265358979323846 / 4;
+        double a = k * std::numbers::pi / 4;
         dirs.push_back(Eigen::Vector3d(std::cos(a), std::sin(a), z).normalized());
       }
     dirs.push_back({0, 0, 1});
@@ -398,7 +399,7 @@ IkResult reach_by_approach(const Chain& chain, const Eigen::Isometry3d& target, 
       R.col(0) = x;
       R.col(1) = z.cross(x);
       R.col(2) = z;
-      X.linear() = R * Eigen::AngleAxisd(roll * 3.14159265358979323846 / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      X.linear() = R * Eigen::AngleAxisd(roll * std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
       IkResult r = solve_ik(chain, X, seed, opt, accept);
       if (r.ok()) {
         r.angle_error = 0;  // the orientation was free
@@ -564,16 +565,6 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
       r.constraint = static_cast<int>(i);
       r.subjects = c.subjects;
       check_plugin(c, *pc, values, r);
-      tally(r);
-      report.results.push_back(std::move(r));
-      continue;
-    }
-    if (const auto* d = std::get_if<DeferredCheck>(&c.body)) {
-      CheckResult r;
-      r.constraint = static_cast<int>(i);
-      r.status = Status::Error;
-      r.subjects = c.subjects;
-      r.message = d->reason;
       tally(r);
       report.results.push_back(std::move(r));
       continue;

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "geometry/geometry.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 #include "kinematics/envelope.h"
 #include "load/load.h"
 

@@ -436,6 +436,7 @@ void compile_constraints(CompileState& st) {
   std::unordered_set<std::string_view> seen;
   seen.reserve(st.spec.constraints.size());
   st.wc.constraints.reserve(st.spec.constraints.size());
+  static_assert(std::variant_size_v<ConstraintKind> == 7, "every constraint kind has its branch below");
   for (const ConstraintSpec& spec : st.spec.constraints) {
     if (!seen.insert(spec.name).second)
       st.diag.error(spec.mark, fmt::format("constraint name '{}' is used twice", spec.name));
@@ -445,7 +446,6 @@ void compile_constraints(CompileState& st) {
     c.mark = spec.mark;
     c.severity = spec.severity;
     c.kind = constraint_kind_name(spec.kind);
-    c.body = DeferredCheck{"not compiled"};
     if (auto* b = std::get_if<BoundSpec>(&spec.kind)) {
       compile_bound(st, *b, c);
     } else if (auto* e = std::get_if<ExprSpec>(&spec.kind)) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include <fmt/format.h>
@@ -94,7 +95,7 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
       if (a.max_si && zero > *a.max_si) zero = *a.max_si;
       a.default_value.present = true;
       a.default_value.mark = j.mark;
-      a.default_value.text = fmt::format("{}", a.type == AttrType::Angle ? zero * 180.0 / 3.14159265358979323846 : zero);
+      a.default_value.text = fmt::format("{}", a.type == AttrType::Angle ? zero * 180.0 / std::numbers::pi : zero);
     }
     type.attributes.push_back(std::move(a));
   }

@@ -2,6 +2,7 @@
 /// The compiled model: an immutable Workcell of typed objects and constraints, all values in SI.
 /// Later stages (check, geometry, kinematics, simulation) read only this, never the spec.
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <variant>
@@ -99,12 +100,6 @@ struct ExprCheck {
   std::optional<MarginNode> margin;
 };
 
-/// A constraint whose kind needs a stage this version does not have yet (geometry, kinematics,
-/// plugins). It is reported with status `error` and this reason, never passed silently.
-struct DeferredCheck {
-  std::string reason;
-};
-
 /// plugin: a constraint class of a loaded plugin over the participating attributes.
 struct PluginCheck {
   std::shared_ptr<const PluginSet> plugins;  ///< keeps the shared object loaded
@@ -139,7 +134,7 @@ struct ReachCheck {
   bool match_orientation = false;
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  ///< composed with the target frame
   double position_tol_si = 1e-3;
-  double angle_tol_si = 0.5 * 3.14159265358979323846 / 180;
+  double angle_tol_si = 0.5 * std::numbers::pi / 180;
 };
 
 struct Constraint {
@@ -149,7 +144,7 @@ struct Constraint {
   Severity severity = Severity::Error;
   std::string kind;  ///< bound, expr, clearance, ...
   std::vector<int> subjects;  ///< objects it reads
-  std::variant<BoundCheck, ExprCheck, SpatialCheck, ReachCheck, PluginCheck, DeferredCheck> body;
+  std::variant<BoundCheck, ExprCheck, SpatialCheck, ReachCheck, PluginCheck> body;
 };
 
 struct Parameter {

@@ -15,16 +15,6 @@
 
 namespace sscs::yaml {
 
-const char* kind_name(Kind kind) {
-  switch (kind) {
-    case Kind::Null: return "nothing";
-    case Kind::Scalar: return "a scalar";
-    case Kind::Sequence: return "a sequence";
-    case Kind::Map: return "a mapping";
-  }
-  return "?";
-}
-
 // ---- Node --------------------------------------------------------------------------------------
 
 // An absent node (a key not in the file: !valid()) reads as null, with no mark, text or items,

@@ -15,7 +15,6 @@
 namespace sscs::yaml {
 
 enum class Kind : uint8_t { Null, Scalar, Sequence, Map };
-const char* kind_name(Kind kind);
 
 /// Limits that keep hostile input (alias bombs, deep nesting, huge files) from exhausting memory.
 struct Limits {
@@ -64,7 +63,6 @@ class Document {
  public:
   Node root() const { return Node(this, root_); }
   bool empty() const { return nodes_.empty(); }
-  size_t node_count() const { return nodes_.size(); }
 
   struct Rec {
     Kind kind;

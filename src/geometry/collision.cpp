@@ -14,10 +14,11 @@
 #include <filesystem>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <tuple>
 #include <unordered_map>
 
-#include "kinematics/device.h"
+#include "model/device.h"
 
 #include <fmt/format.h>
 
@@ -696,7 +697,7 @@ bool inside_mesh(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& v
     const double la = a.norm(), lb = b.norm(), lc = c.norm();
     solid_angle += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
   }
-  return std::abs(solid_angle) > 2 * M_PI;  // a winding number above one half (either orientation)
+  return std::abs(solid_angle) > 2 * std::numbers::pi;  // a winding number above one half (either orientation)
 }
 
 /// Points of a shape that decide containment: box corners and mesh vertices (exact for convex

@@ -2,7 +2,7 @@
 
 #include "core/files.h"
 #include "core/names.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/postprocess.h>

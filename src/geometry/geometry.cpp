@@ -15,7 +15,7 @@
 #include "core/expr.h"
 #include "load/load.h"
 #include "geometry/mesh_io.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 
 namespace fs = std::filesystem;
 

@@ -10,40 +10,12 @@
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
 #include "core/pose.h"
+#include "model/shape.h"
 
 namespace sscs {
 
-/// A triangle mesh in its file's units, before the shape's scale.
-struct TriangleMesh {
-  std::string path;
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<Eigen::Vector3i> triangles;
-  /// Watertight: every edge (vertices welded by position) is run by as many triangles in one
-  /// direction as in the other (two for a single solid). A closed mesh is a solid (what lies
-  /// inside it overlaps it); an open one is a surface.
-  bool closed = false;
-  /// Per triangle, the diffuse colour the file gives its material (0x1RRGGBB), 0 for none; empty
-  /// when the file gives no colours (assimp's default material is none).
-  std::vector<uint32_t> triangle_rgb;
-  /// The image files its textures were read from (inputs of a run, as the mesh file is).
-  std::vector<std::string> images;
-};
-
 /// Whether a triangle soup is watertight (see TriangleMesh::closed).
 bool is_closed(const std::vector<Eigen::Vector3d>& vertices, const std::vector<Eigen::Vector3i>& triangles);
-
-/// One primitive of an object, in SI, placed in the object's frame.
-struct Shape {
-  enum class Kind : uint8_t { Box, Cylinder, Sphere, Mesh } kind = Kind::Box;
-  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  ///< full extents
-  double radius = 0;
-  double length = 0;                                    ///< cylinder, along local z
-  Eigen::Vector3d scale = Eigen::Vector3d::Ones();      ///< mesh
-  std::shared_ptr<const TriangleMesh> mesh;
-  Eigen::Isometry3d X_object_shape = Eigen::Isometry3d::Identity();
-  int part = -1;  ///< the device part it belongs to; -1 for objects that are not devices
-  std::string color;  ///< "#rrggbb" of this shape alone (a URDF visual's material), "" for its part's or object's
-};
 
 struct Device;
 

@@ -2,7 +2,7 @@
 /// A device's reach envelope: the bounding box of its tool's positions over the joint ranges.
 #include <Eigen/Geometry>
 
-#include "kinematics/device.h"
+#include "model/device.h"
 
 namespace sscs {
 

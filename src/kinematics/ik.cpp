@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include <Eigen/Cholesky>
 
@@ -10,7 +11,7 @@ namespace sscs {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 /// SplitMix64: a tiny, well-mixed generator whose sequence is the same on every platform
 /// (std::uniform_real_distribution is not), so restarts and reports are reproducible.

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "kinematics/device.h"
+#include "model/device.h"
 
 namespace sscs {
 

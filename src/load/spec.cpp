@@ -30,7 +30,6 @@ std::optional<AttrType> attr_type_from(std::string_view word) {
   return std::nullopt;
 }
 
-const char* relop_name(RelOp op) { return kRelOps[static_cast<int>(op)].name; }
 const char* relop_symbol(RelOp op) { return kRelOps[static_cast<int>(op)].symbol; }
 
 std::optional<RelOp> relop_from(std::string_view word) {

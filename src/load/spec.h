@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/diagnostics.h"
+#include "core/joint_type.h"
 #include "core/source.h"
 
 namespace sscs {
@@ -30,7 +31,6 @@ const char* attr_type_name(AttrType t);
 std::optional<AttrType> attr_type_from(std::string_view word);
 
 enum class RelOp : uint8_t { LT, GT, EQ, LE, GE };
-const char* relop_name(RelOp op);
 const char* relop_symbol(RelOp op);
 std::optional<RelOp> relop_from(std::string_view word);
 
@@ -82,7 +82,6 @@ struct FrameSpec {
   PoseSpec pose;
 };
 
-enum class JointType : uint8_t { Revolute, Prismatic, Fixed };
 
 struct JointSpec {
   std::string name;

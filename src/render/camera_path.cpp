@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -73,7 +74,7 @@ CameraPath compile_cameras(const std::vector<CameraKeySpec>& specs, const Workce
                                        keys.back().t));
     if (s.fov.present)
       if (auto f = literal_si(s.fov, Dim::Angle, "fov", diag)) {
-        k.fov = *f * 180 / 3.14159265358979323846;
+        k.fov = *f * 180 / std::numbers::pi;
         if (!(k.fov > 1 && k.fov < 179)) diag.error(s.fov.mark, fmt::format("fov must lie between 1 and 179 degrees, found {}", s.fov.text));
       }
     k.orbit = s.orbit;

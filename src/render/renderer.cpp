@@ -4,13 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "core/names.h"
 #include "geometry/export.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 #include "render/gl.h"
 
 namespace sscs {
@@ -104,7 +105,7 @@ std::vector<float> shaded_triangles(const TriangleMesh& m) {
     face[t] = n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitZ();
     for (int k = 0; k < 3; ++k) faces_of[tri[k]].push_back(t);
   }
-  const double crease = std::cos(30 * 3.14159265358979323846 / 180);
+  const double crease = std::cos(30 * std::numbers::pi / 180);
   std::vector<float> out;
   out.reserve(nt * 18);
   for (size_t t = 0; t < nt; ++t)

@@ -3,18 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "core/pose.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 
 namespace sscs {
 
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180;
+constexpr double kDeg = std::numbers::pi / 180;
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;

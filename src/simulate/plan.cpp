@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 #include <map>
 
@@ -16,7 +17,7 @@ namespace sscs {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 // Defaults for joints whose type gives no velocity or acceleration (docs/simulation.md).
 constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint

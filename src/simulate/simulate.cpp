@@ -14,6 +14,7 @@
 #include <chrono>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include <fmt/format.h>
@@ -25,7 +26,7 @@
 #include "check/check.h"
 #include "core/units.h"
 #include "geometry/collision.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 #include "simulate/world.h"
 
 namespace fs = std::filesystem;
@@ -47,7 +48,7 @@ constexpr double kTrackingTolerance = 0.005;  // m: the tool may lag its plan by
 constexpr double kLimitTolerance = 1e-3;      // rad or m past a joint limit before it is an event
 constexpr double kSettleLimit = 5.0;          // s after the last step for released objects to settle
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
-constexpr double kRad = 180 / 3.14159265358979323846;
+constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kClearanceReach = 2.0;       // m: clearances beyond this are not tracked
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 constexpr double kTargetTouch = 0.001;        // m: the tool touching its move_to target by less is no collision

@@ -5,11 +5,12 @@
 #include <map>
 #include <deque>
 #include <mutex>
+#include <numbers>
 #include <tuple>
 
 #include <ode/ode.h>
 
-#include "kinematics/device.h"
+#include "model/device.h"
 
 namespace sscs {
 
@@ -520,7 +521,7 @@ void PhysicsWorld::step() {
       if (!rec.joint) continue;
       double now = rec.type == JointType::Revolute ? dJointGetHingeAngle(rec.joint) : dJointGetSliderPosition(rec.joint);
       double d = now - rec.raw;
-      if (rec.type == JointType::Revolute) d = std::remainder(d, 2 * 3.14159265358979323846);
+      if (rec.type == JointType::Revolute) d = std::remainder(d, 2 * std::numbers::pi);
       rec.unwrapped += d;
       rec.raw = now;
     }

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "geometry/geometry.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 #include "simulate/profile.h"
 #include "simulate/world.h"
 #include "vault_fixture.h"

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "geometry/geometry.h"
-#include "kinematics/device.h"
+#include "model/device.h"
 #include "kinematics/ik.h"
 #include "simulate/plan.h"
 #include "vault_fixture.h"

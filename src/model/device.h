@@ -1,7 +1,8 @@
 #pragma once
 /// A device instance's kinematic model: a tree of parts joined by joints, with every value of
-/// the type file evaluated at the instance's attributes (a gantry's span, an arm's link length).
-/// Built by the geometry stage; read by the checker (reach, self-collision) and the simulator.
+/// the type file evaluated at the instance's attributes (a gantry's span, an arm's link length),
+/// and its forward kinematics. The one device model: built by the geometry stage, read by
+/// collision, kinematics (IK, chains), the checker, the simulator and render.
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,8 +10,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "geometry/geometry.h"
-#include "load/spec.h"
+#include "core/joint_type.h"
+#include "model/shape.h"
 
 namespace sscs {
 

@@ -1,4 +1,4 @@
-#include "kinematics/device.h"
+#include "model/device.h"
 
 #include <algorithm>
 

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""The include layering of src/ (../shared/STYLE.md item 9): stages depend one way,
+core <- load <- plugin <- compile <- model <- geometry <- kinematics <- {check, simulate, render}
+<- report <- sweep <- cli, and the stages after compile read the compiled model, never load/ or
+compile's internals (compile/values.h, compile/compile.h).
+
+Fails on any include that goes against that order, on any stage-level cycle, and on any arrow
+into load/ or compile internals from geometry, model, kinematics, check, simulate or render that
+is not in KNOWN below. KNOWN lists the arrows that remain from before this test (issue 20 removes
+them); an entry that no longer occurs fails too, so the list only shrinks."""
+import os
+import re
+import sys
+
+ORDER = ["core", "load", "plugin", "compile", "model", "geometry", "kinematics", "check", "simulate", "render",
+         "report", "sweep", "cli"]
+# Stages at the same level may not include each other either (simulate never includes render).
+LEVEL = {"core": 0, "load": 1, "plugin": 2, "compile": 3, "model": 4, "geometry": 5, "kinematics": 6, "check": 7,
+         "simulate": 8, "render": 8, "report": 9, "sweep": 10, "cli": 11}
+# Stages that read the compiled model only.
+MODEL_READERS = {"model", "geometry", "kinematics", "check", "simulate", "render"}
+INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.*)$")
+# file -> included header: arrows that remain (issue 20, "templates compiled once").
+KNOWN = {
+    ("geometry/geometry.cpp", "compile/compile.h"),
+    ("geometry/geometry.cpp", "compile/values.h"),
+    ("geometry/geometry.cpp", "load/load.h"),
+    ("simulate/plan.cpp", "compile/values.h"),
+    ("simulate/plan.h", "load/scenario.h"),
+    ("simulate/resolved.cpp", "load/load.h"),
+    ("simulate/resolved.h", "load/scenario.h"),
+    ("render/camera_path.cpp", "compile/values.h"),
+    ("render/camera_path.h", "load/scenario.h"),
+    # The compiled model itself still holds spec structs and the plugin runtime.
+    ("compile/workcell.h", "load/spec.h"),
+    ("compile/workcell.h", "plugin/plugins.h"),
+}
+
+
+def includes(src):
+    """(file, header) for every `#include "stage/x.h"` under src/."""
+    out = []
+    for stage in sorted(os.listdir(src)):
+        folder = os.path.join(src, stage)
+        if not os.path.isdir(folder):
+            continue
+        for name in sorted(os.listdir(folder)):
+            if not name.endswith((".h", ".cpp")):
+                continue
+            for line in open(os.path.join(folder, name), encoding="utf-8"):
+                m = re.match(r'\s*#\s*include\s+"([a-z_]+/[a-z_]+\.h)"', line)
+                if m:
+                    out.append((f"{stage}/{name}", m.group(1)))
+    return out
+
+
+def main():
+    src = sys.argv[1]
+    problems = []
+    found = includes(src)
+    stages = {f.split("/")[0] for f, _ in found}
+    for s in stages:
+        if s not in LEVEL:
+            problems.append(f"src/{s}/ is no stage of the layering: add it to ORDER and LEVEL in {__file__}")
+    edges = set()
+    seen_known = set()
+    for f, h in found:
+        a, b = f.split("/")[0], h.split("/")[0]
+        if a == b or a not in LEVEL or b not in LEVEL:
+            continue
+        edges.add((a, b))
+        if LEVEL[b] >= LEVEL[a]:
+            problems.append(f"src/{f} includes {h}: {a} may not include {b} (a later or parallel stage)")
+        if (f, h) in KNOWN:
+            seen_known.add((f, h))
+        elif (a in MODEL_READERS or f == "compile/workcell.h") and INTERNALS.match(h):
+            problems.append(f"src/{f} includes {h}: {a} reads the compiled model, never load/ or compile's internals")
+    for f, h in sorted(KNOWN - seen_known):
+        problems.append(f"src/{f} no longer includes {h}: remove it from KNOWN in {__file__}")
+    # Stage-level cycles (the order check implies none; kept explicit for a clear message).
+    graph = {}
+    for a, b in edges:
+        graph.setdefault(a, set()).add(b)
+    def cycle_from(node, path):
+        for nxt in sorted(graph.get(node, ())):
+            if nxt in path:
+                return path[path.index(nxt):] + [nxt]
+            c = cycle_from(nxt, path + [nxt])
+            if c:
+                return c
+        return None
+    for s in sorted(graph):
+        c = cycle_from(s, [s])
+        if c:
+            problems.append("include cycle between stages: " + " -> ".join(c))
+            break
+    for p in problems:
+        print("FAIL:", p)
+    if problems:
+        return 1
+    print(f"ok layering: {len(found)} includes across {len(stages)} stages, {len(KNOWN)} known arrows into load/compile internals left")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
