@@ -579,19 +579,13 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     for (int n = 0; n <= static_cast<int>(recorded->duration() * plan.settings.fps + 1e-9); ++n)
       times.push_back(static_cast<double>(n) / plan.settings.fps);
   }
-  const fs::path work = temp_dir_for(args.out);
-  std::error_code ec;
-  fs::remove_all(work, ec);
-  try {
-    FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, (work / "frames").string());
+  StagedDir staging(args.out);
+  {
+    FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, staging.path() + "/frames");
     for (size_t n = 0; n < times.size(); ++n) recorder.frame(static_cast<int>(n), times[n], recorded->at(times[n]));
-    recorder.finish((work / "contact_sheet.png").string());
-  } catch (...) {
-    fs::remove_all(work, ec);
-    throw;
+    recorder.finish(staging.path() + "/contact_sheet.png");
   }
-  if (std::string err = commit_dir(work.string(), args.out); !err.empty()) {
-    fs::remove_all(work, ec);
+  if (std::string err = staging.commit(); !err.empty()) {
     std::cerr << "sscs: error: " << err << "\n";
     return kInputError;
   }
@@ -712,12 +706,14 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   }
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
   std::optional<InterruptGuard> interrupts(std::in_place);
-  run.work_dir = prepare_work_dir(run);
-  std::error_code ec;
+  // The run is assembled here; run_simulation moves it into place (and packs the bundle) when it
+  // is complete. Whatever else happens, the staging folder goes with this scope.
+  StagedDir staging(out.empty() ? bundle : out);
+  run.work_dir = staging.path();
   std::unique_ptr<FrameRecorder> recorder;
   std::string error;
   RunSummary summary;
-  try {
+  {
     if (plan->settings.frames && !no_frames) {
       RenderOptions ro;
       ro.width = plan->settings.width;
@@ -737,10 +733,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
       };
     }
     summary = run_simulation(*wc, geometry, *plan, run, &error);
-  } catch (...) {
-    recorder.reset();
-    std::filesystem::remove_all(run.work_dir, ec);
-    throw;
+    recorder.reset();  // before the staging folder it writes into goes
   }
   interrupts.reset();
   if (summary.interrupted) {

@@ -1,10 +1,12 @@
 #include "core/files.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -126,12 +128,71 @@ std::string temp_dir_for(const std::string& path) {
   return (target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), getpid())).string();
 }
 
-std::string commit_dir(const std::string& tmp, const std::string& path) {
+bool FileSystem::exists(const std::string& path) {
   std::error_code ec;
-  if (fs::exists(path, ec)) fs::remove_all(path, ec);
-  fs::rename(tmp, path, ec);
-  return ec ? fmt::format("cannot move the output into '{}': {}", path, ec.message()) : "";
+  return fs::exists(fs::symlink_status(path, ec));
 }
+std::error_code FileSystem::rename(const std::string& from, const std::string& to) {
+  std::error_code ec;
+  fs::rename(from, to, ec);
+  return ec;
+}
+std::error_code FileSystem::remove_all(const std::string& path) {
+  std::error_code ec;
+  fs::remove_all(path, ec);
+  return ec;
+}
+std::error_code FileSystem::create_directories(const std::string& path) {
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  return ec;
+}
+FileSystem& FileSystem::disk() {
+  static FileSystem real;
+  return real;
+}
+
+std::string commit_dir(const std::string& tmp, const std::string& path, FileSystem& files) {
+  std::string aside;
+  if (files.exists(path)) {
+    aside = fs::path(temp_dir_for(path)).concat(".old").string();
+    files.remove_all(aside);
+    if (std::error_code ec = files.rename(path, aside)) {
+      files.remove_all(tmp);
+      return fmt::format("cannot move the output into '{}': cannot move the earlier one aside: {}", path, ec.message());
+    }
+  }
+  if (std::error_code ec = files.rename(tmp, path)) {
+    if (!aside.empty()) files.rename(aside, path);  // the earlier output stays
+    files.remove_all(tmp);
+    return fmt::format("cannot move the output into '{}': {}", path, ec.message());
+  }
+  if (!aside.empty()) files.remove_all(aside);
+  return "";
+}
+
+StagedDir::StagedDir(std::string target, FileSystem& files) : target_(std::move(target)), staging_(temp_dir_for(target_)), fs_(files) {
+  // Staging folders of the same target whose process is gone (killed: no destructor ran).
+  const fs::path dir(staging_);
+  const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
+  const std::string name = dir.filename().string(), stem = name.substr(0, name.rfind('-') + 1);  // ".NAME.tmp-"
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(parent, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string other = it->path().filename().string();
+    if (!other.starts_with(stem)) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(other.c_str() + stem.size(), &end, 10);
+    if ((*end == '\0' || std::string_view(end) == ".old") && pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
+      fs_.remove_all(it->path().string());
+  }
+  fs_.remove_all(staging_);
+  if (std::error_code made = fs_.create_directories(staging_))
+    throw OutputError(fmt::format("cannot create '{}': {}", staging_, made.message()));
+}
+
+StagedDir::~StagedDir() { fs_.remove_all(staging_); }
+
+std::string StagedDir::commit() { return commit_dir(staging_, target_, fs_); }
 
 std::string write_file(const std::string& path, std::string_view content) {
   errno = 0;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace sscs {
@@ -61,8 +62,47 @@ std::string commit_file(const std::string& tmp, const std::string& path);
 /// made of many files are assembled there and appear with commit_dir().
 std::string temp_dir_for(const std::string& path);
 
-/// Replaces the folder `path` (if any) with `tmp`. Returns an error message or "".
-std::string commit_dir(const std::string& tmp, const std::string& path);
+/// The file-system operations outputs are committed with: the real file system, or a fake in
+/// tests (a rename that fails, a disk that fills). Ninja's DiskInterface is the model.
+class FileSystem {
+ public:
+  virtual ~FileSystem() = default;
+  virtual bool exists(const std::string& path);
+  virtual std::error_code rename(const std::string& from, const std::string& to);
+  virtual std::error_code remove_all(const std::string& path);
+  virtual std::error_code create_directories(const std::string& path);
+  /// The real one.
+  static FileSystem& disk();
+};
+
+/// Replaces the folder `path` (if any) with `tmp`: the old folder is moved aside, `tmp` renamed
+/// into place, then the old one removed; if the rename fails the old folder is put back, so
+/// `path` holds the old output or the new one, never nothing. Returns an error message or "".
+std::string commit_dir(const std::string& tmp, const std::string& path, FileSystem& files = FileSystem::disk());
+
+/// An output folder assembled in a hidden staging folder beside it (temp_dir_for) and renamed into
+/// place whole by commit(): nothing half-written ever stands under the target's name. The staging
+/// folder starts empty (the staging folders that killed sscs processes left beside the same
+/// target are removed too) and is removed when this goes unless it was committed: an error, an
+/// exception or an interrupt leaves nothing behind. The one way sscs makes an output folder.
+class StagedDir {
+ public:
+  /// Throws OutputError when the staging folder cannot be made.
+  explicit StagedDir(std::string target, FileSystem& files = FileSystem::disk());
+  ~StagedDir();
+  StagedDir(const StagedDir&) = delete;
+  StagedDir& operator=(const StagedDir&) = delete;
+
+  const std::string& path() const { return staging_; }
+  const std::string& target() const { return target_; }
+  /// Moves the staging folder to the target (commit_dir). Returns an error message or ""; on an
+  /// error the staging folder is removed.
+  std::string commit();
+
+ private:
+  std::string target_, staging_;
+  FileSystem& fs_;
+};
 
 /// Writes `content` to `path` atomically. Returns an error message or "".
 std::string write_file_atomic(const std::string& path, const std::string& content);

@@ -671,24 +671,6 @@ std::string run_work_dir(const RunOptions& options) {
   return temp_dir_for(options.out_dir.empty() ? options.bundle : options.out_dir);
 }
 
-std::string prepare_work_dir(const RunOptions& options) {
-  const fs::path dir = run_work_dir(options);
-  const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
-  const std::string stem = dir.filename().string().substr(0, dir.filename().string().rfind('-') + 1);  // ".NAME.tmp-"
-  std::error_code ec;
-  for (auto it = fs::directory_iterator(parent, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    std::string name = it->path().filename().string();
-    if (!name.starts_with(stem)) continue;
-    char* end = nullptr;
-    long pid = std::strtol(name.c_str() + stem.size(), &end, 10);
-    if (*end == '\0' && pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(it->path(), ec);
-  }
-  fs::remove_all(dir, ec);
-  fs::create_directories(dir, ec);
-  if (ec) throw OutputError(fmt::format("cannot create '{}': {}", dir.string(), ec.message()));
-  return dir.string();
-}
-
 RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
                           std::string* error) {
   Run run(wc, geometry, plan, options);

@@ -59,11 +59,8 @@ struct RunOptions {
   std::string work_dir;
 };
 
-/// The hidden temporary folder beside the run's target: ".NAME.tmp-PID".
+/// The hidden temporary folder beside the run's target: ".NAME.tmp-PID" (a StagedDir's).
 std::string run_work_dir(const RunOptions& options);
-/// Creates run_work_dir(options) empty, first removing the work folders that killed runs of the
-/// same target left behind (their process is gone). Returns its path; throws on failure.
-std::string prepare_work_dir(const RunOptions& options);
 
 /// Runs the plan and writes its outputs. Returns the summary; `error` is set when the output
 /// could not be written (then nothing is left under the requested names, and the work folder

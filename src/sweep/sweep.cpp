@@ -757,14 +757,12 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
                               "missing or unfinished?", missing.size(), first->variants, first->sweep, fmt::join(shown, ", "),
                               missing.size() > shown.size() ? ", ..." : ""));
   }
-  std::string tmp = temp_dir_for(out_dir);
-  fs::remove_all(tmp, ec);
-  fs::create_directories(tmp, ec);
+  StagedDir staging(out_dir);
+  const std::string& tmp = staging.path();
   std::vector<VariantRow> table;
   for (auto& [index, entry] : rows) {
     fs::copy(fs::path(entry.first) / entry.second.folder, fs::path(tmp) / entry.second.folder, fs::copy_options::recursive, ec);
     if (ec) {
-      fs::remove_all(tmp, ec);
       out.end = SweepOutcome::End::OutputError;
       out.message = fmt::format("cannot copy variant {} into '{}': {}", index, out_dir, ec.message());
       return out;
@@ -778,9 +776,8 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
   for (const auto& [name, content] : {std::pair{"sweep.json", manifest_json(whole)}, {"results.csv", results_csv(*header, table)},
                                       {"results.json", results_json(*header, table)}})
     if (err.empty()) err = write_file_atomic(tmp + "/" + name, content);
-  if (err.empty()) err = commit_dir(tmp, out_dir);
+  if (err.empty()) err = staging.commit();
   if (!err.empty()) {
-    fs::remove_all(tmp, ec);
     out.end = SweepOutcome::End::OutputError;
     out.message = err;
     return out;

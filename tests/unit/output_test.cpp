@@ -1,4 +1,5 @@
 // What runs write besides their logs: edited YAML in resolved/, digests of inputs, zip bundles.
+#include <algorithm>
 #include <functional>
 #include <random>
 #include <sstream>
@@ -18,6 +19,7 @@
 
 #include "core/archive.h"
 #include "core/digest.h"
+#include "core/files.h"
 #include "core/yaml_edit.h"
 
 namespace sscs {
@@ -183,6 +185,70 @@ TEST(JsonWriterProperty, WritesWhatNlohmannDumps) {
   std::string text;
   append_json_string(text, "a\xff" "b");
   EXPECT_EQ(text, "\"a\xEF\xBF\xBD" "b\"");
+}
+
+/// The disk, but renaming `refused` fails (as across devices, or when another process holds it).
+class RefusingRenames : public FileSystem {
+ public:
+  std::string refused;
+  std::error_code rename(const std::string& from, const std::string& to) override {
+    if (from == refused) return std::make_error_code(std::errc::cross_device_link);
+    return FileSystem::rename(from, to);
+  }
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(StagedDir, AFolderAppearsWholeOrNotAtAllAndAFailedCommitKeepsTheEarlierOutput) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sscs-staged-{}", getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string target = (dir / "run").string();
+  {
+    StagedDir staged(target);
+    std::ofstream(fs::path(staged.path()) / "summary.json") << "first";
+    EXPECT_FALSE(fs::exists(target));  // nothing under the name until committed
+    EXPECT_EQ(staged.commit(), "");
+  }
+  EXPECT_EQ(slurp(fs::path(target) / "summary.json"), "first");
+  // A second output whose rename fails: the first stays, the staging folder goes.
+  RefusingRenames disk;
+  std::string staging;
+  {
+    StagedDir staged(target, disk);
+    staging = disk.refused = staged.path();
+    std::ofstream(fs::path(staged.path()) / "summary.json") << "second";
+    std::string err = staged.commit();
+    EXPECT_NE(err.find("cannot move the output into '" + target + "'"), std::string::npos) << err;
+  }
+  EXPECT_EQ(slurp(fs::path(target) / "summary.json"), "first");
+  EXPECT_FALSE(fs::exists(staging));
+  // Not committed (an error or an exception on the way): nothing is left, the target unchanged.
+  try {
+    StagedDir staged(target);
+    staging = staged.path();
+    std::ofstream(fs::path(staged.path()) / "summary.json") << "third";
+    throw std::runtime_error("a render failed");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_FALSE(fs::exists(staging));
+  EXPECT_EQ(slurp(fs::path(target) / "summary.json"), "first");
+  // A staging folder a killed process left beside the same target is removed by the next one;
+  // a live process's is not.
+  const fs::path dead = dir / ".run.tmp-999999999", live = dir / fmt::format(".run.tmp-{}", getppid());
+  fs::create_directories(dead);
+  fs::create_directories(live);
+  { StagedDir staged(target); }
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{live.filename().string(), "run"}));
+  fs::remove_all(dir);
 }
 
 }  // namespace
