@@ -1,5 +1,5 @@
 #include "cli/commands.h"
-#include "cli/prepared_scenario.h"
+#include "pipeline/prepare.h"
 
 #include <unistd.h>
 
@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <iostream>
@@ -20,7 +21,7 @@
 #include "geometry/export.h"
 #include "geometry/geometry.h"
 #include "load/scenario.h"
-#include "cli/type_listing.h"
+#include "pipeline/type_listing.h"
 #include "core/pose.h"
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
@@ -150,10 +151,10 @@ int run_check(const Common& common, const CheckArgs& args) {
   cells.reserve(args.vaults.size());
   for (const std::string& path : args.vaults) {
     common.confine_to(path);  // each vault reads within its own project, not another's
-    auto wc = compile_file(path, options, sources, diag);
-    if (wc) {
-      geometry.push_back(build_geometry(*wc, diag));
-      cells.push_back(std::move(*wc));
+    PreparedVault vault = prepare_vault(path, options, sources, diag);
+    if (vault.wc) {
+      geometry.push_back(std::move(vault.geometry));
+      cells.push_back(std::move(*vault.wc));
     }
     if (diag.full()) break;
   }
@@ -219,106 +220,6 @@ int run_check(const Common& common, const CheckArgs& args) {
   return violated ? kViolations : kOk;
 }
 
-/// The device description of a type: its own, or the nearest ancestor's.
-const DeviceSpec* device_of(const ObjectType& t, const std::map<std::string, const ObjectType*>& by_name) {
-  for (const ObjectType* k = &t; k;) {
-    if (k->spec->device) return &*k->spec->device;
-    auto it = by_name.find(k->spec->extends);
-    k = it == by_name.end() ? nullptr : it->second;
-  }
-  return nullptr;
-}
-
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::Revolute: return "revolute";
-    case JointType::Prismatic: return "prismatic";
-    case JointType::Fixed: break;
-  }
-  return "fixed";
-}
-
-/// "[1.2, 0, 0.851]" (6 significant digits; inf where unbounded).
-std::string vec_text(const Eigen::Vector3d& v) {
-  return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", stable(v.x()), stable(v.y()), stable(v.z()));
-}
-nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
-  auto j = nlohmann::ordered_json::array();
-  for (int k = 0; k < 3; ++k) j.push_back(std::isfinite(v[k]) ? nlohmann::ordered_json(stable(v[k])) : nlohmann::ordered_json(nullptr));
-  return j;
-}
-/// A frame's orientation in degrees, or nothing when it is the type's own.
-std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X) {
-  Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * (180 / std::numbers::pi);
-  for (int k = 0; k < 3; ++k) rpy[k] = std::abs(rpy[k]) < 1e-9 ? 0.0 : rpy[k];
-  if (rpy.isZero(1e-9)) return std::nullopt;
-  return rpy;
-}
-
-nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device,
-                                 const TypeInstance& instance) {
-  nlohmann::ordered_json j;
-  j["name"] = t.name;
-  j["extends"] = t.base >= 0 ? types[t.base].name : "object";
-  j["kind"] = t.device ? "device" : "object";
-  j["description"] = t.description;
-  j["plugin"] = t.spec->plugin.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.spec->plugin);
-  auto attrs = nlohmann::ordered_json::array();
-  for (const AttributeDef& a : t.attributes) {
-    nlohmann::ordered_json aj;
-    aj["name"] = a.name;
-    aj["type"] = attr_type_name(a.type);
-    aj["unit"] = file_unit(a.dim);
-    aj["default"] = a.default_value.present ? nlohmann::ordered_json(a.default_value.text) : nullptr;
-    aj["min"] = a.min_si ? nlohmann::ordered_json(stable(si_to_file(*a.min_si, a.dim))) : nullptr;
-    aj["max"] = a.max_si ? nlohmann::ordered_json(stable(si_to_file(*a.max_si, a.dim))) : nullptr;
-    if (a.type == AttrType::Enum) aj["values"] = a.values;
-    aj["joint"] = a.joint;
-    aj["description"] = a.description;
-    attrs.push_back(std::move(aj));
-  }
-  j["attributes"] = std::move(attrs);
-  // Where things are, at the default attributes, in the type's frame (m, deg).
-  auto frames = nlohmann::ordered_json::array();
-  for (const auto& [name, X] : instance.frames) {
-    nlohmann::ordered_json fj = {{"name", name}, {"xyz", vec_json(X.translation())}};
-    auto rpy = frame_rpy_deg(X);
-    fj["rpy"] = rpy ? vec_json(*rpy) : vec_json(Eigen::Vector3d::Zero());
-    frames.push_back(std::move(fj));
-  }
-  j["frames"] = std::move(frames);
-  j["bounds"] = instance.bounds.isEmpty() ? nlohmann::ordered_json(nullptr)
-                                           : nlohmann::ordered_json{{"min", vec_json(instance.bounds.min())}, {"max", vec_json(instance.bounds.max())}};
-  auto meshes = nlohmann::ordered_json::array();
-  for (const TypeInstance::Mesh& m : instance.meshes) meshes.push_back({{"file", m.file}, {"closed", m.closed}});
-  j["meshes"] = std::move(meshes);
-  j["unbuilt"] = instance.unbuilt.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(instance.unbuilt);
-  if (device) {
-    nlohmann::ordered_json dj;
-    auto parts = nlohmann::ordered_json::array();
-    for (const PartSpec& p : device->parts) {
-      nlohmann::ordered_json pj;
-      pj["name"] = p.name;
-      pj["parent"] = p.parent.empty() ? nullptr : nlohmann::ordered_json(p.parent);
-      if (p.joint) pj["joint"] = {{"name", p.joint->name}, {"type", joint_type_name(p.joint->type)}};
-      parts.push_back(std::move(pj));
-    }
-    dj["parts"] = std::move(parts);
-    dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
-    dj["driven"] = device->kinematic ? "kinematic" : "motors";
-    dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
-    dj["srdf"] = device->srdf.present ? nlohmann::ordered_json(device->srdf.text) : nullptr;
-    if (device->urdf.present) dj["joint_limits"] = device->hard_limits ? "hard" : "soft";
-    auto allowed = nlohmann::ordered_json::array();
-    for (const DeviceSpec::AllowedCollision& a : device->allowed_collisions) allowed.push_back({a.a, a.b});
-    dj["allowed_collisions"] = std::move(allowed);
-    dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
-                                 : nlohmann::ordered_json(nullptr);
-    j["device"] = std::move(dj);
-  }
-  return j;
-}
-
 int run_types(const Common& common, const std::string& format) {
   Sources sources;
   Diagnostics diag;
@@ -328,96 +229,9 @@ int run_types(const Common& common, const std::string& format) {
   for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
   std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths, plugins.types());
   if (report_diagnostics(diag, sources, common)) return kInputError;
-  // One instance of each type at its defaults shows where its frames, bounds and reach are.
-  auto library = std::make_shared<const std::vector<ObjectType>>(types);
   CompileOptions instance_options;
   instance_options.package_paths = common.package_paths;
-  std::map<std::string, TypeInstance> instances;
-  for (const ObjectType& t : *library) instances[t.name] = instance_at_defaults(library, t, instance_options);
-  std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
-  // Sorting moved them: base indices refer to the old order, so look bases up by name below.
-  std::map<std::string, std::string> base_of;
-  std::map<std::string, const ObjectType*> by_name;
-  for (const ObjectType& t : types) {
-    base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
-    by_name[t.name] = &t;
-  }
-  static const char* kKinds[] = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
-  if (format == "json") {
-    nlohmann::ordered_json j;
-    j["sscs"] = 1;
-    auto arr = nlohmann::ordered_json::array();
-    for (const ObjectType& t : types) {
-      auto tj = type_json(t, types, device_of(t, by_name), instances[t.name]);
-      tj["extends"] = base_of[t.name];
-      arr.push_back(std::move(tj));
-    }
-    j["types"] = std::move(arr);
-    j["constraint_kinds"] = kKinds;
-    auto classes = nlohmann::ordered_json::array();
-    for (const ConstraintClass& c : plugins.classes())
-      classes.push_back({{"class", c.name}, {"description", c.description}, {"plugin", c.plugin},
-                         {"min_attributes", c.min_values},
-                         {"max_attributes", c.max_values == SIZE_MAX ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.max_values)}});
-    j["constraint_classes"] = std::move(classes);
-    std::cout << j.dump(2) << "\n";
-    return kOk;
-  }
-  for (const ObjectType& t : types) {
-    std::cout << fmt::format("{} ({}{}{}){}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
-                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin,
-                             t.description.empty() ? "" : " - " + t.description);
-    for (const AttributeDef& a : t.attributes) {
-      const char* unit = file_unit(a.dim);
-      std::string range;
-      if (a.min_si || a.max_si)
-        range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : "",
-                            a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : "");
-      std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
-      std::string def = a.default_value.present ? fmt::format("  default {}", a.default_value.text) : "  required";
-      std::cout << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,
-                               def, range, values, a.description.empty() ? "" : "  # " + a.description);
-    }
-    const TypeInstance& in = instances[t.name];
-    if (!in.unbuilt.empty()) {
-      std::cout << fmt::format("  at its defaults: no instance ({})\n", in.unbuilt);
-    } else {
-      std::vector<std::string> frames;
-      for (const auto& [name, X] : in.frames) {
-        auto rpy = frame_rpy_deg(X);
-        frames.push_back(fmt::format("{} {}{}", name, vec_text(X.translation()), rpy ? " rpy " + vec_text(*rpy) : ""));
-      }
-      std::cout << fmt::format("  frames at the defaults (m, deg, in the type's frame): {}\n", fmt::join(frames, "; "));
-      if (!in.bounds.isEmpty())
-        std::cout << fmt::format("  bounds at the defaults: {} to {} m\n", vec_text(in.bounds.min()), vec_text(in.bounds.max()));
-      std::vector<std::string> meshes;
-      for (const TypeInstance::Mesh& m : in.meshes) meshes.push_back(fmt::format("{} ({})", m.file, m.closed ? "closed: a solid" : "open: a surface"));
-      if (!meshes.empty()) std::cout << fmt::format("  meshes: {}\n", fmt::join(meshes, ", "));
-      if (in.reach)
-        std::cout << fmt::format("  tool reach over the joint ranges: {} to {} m\n", vec_text(in.reach->min()), vec_text(in.reach->max()));
-    }
-    if (const DeviceSpec* d = device_of(t, by_name)) {
-      std::vector<std::string> parts;
-      for (const PartSpec& p : d->parts)
-        parts.push_back(p.joint && p.joint->type != JointType::Fixed ? fmt::format("{}({})", p.name, p.joint->name) : p.name);
-      std::cout << fmt::format("  parts: {}; tool: {}{}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
-                               d->kinematic ? "; driven: kinematic" : "",
-                               d->urdf.present ? fmt::format("; urdf: {} ({} limits)", d->urdf.text, d->hard_limits ? "hard" : "soft") : "",
-                               d->srdf.present ? "; srdf: " + d->srdf.text : "");
-      if (!d->allowed_collisions.empty()) {
-        std::vector<std::string> pairs;
-        for (const DeviceSpec::AllowedCollision& a : d->allowed_collisions) pairs.push_back(a.a + "/" + a.b);
-        std::cout << fmt::format("  allowed collisions: {}\n", fmt::join(pairs, ", "));
-      }
-    }
-  }
-  std::cout << fmt::format("constraint kinds: {}\n", fmt::join(kKinds, ", "));
-  for (const ConstraintClass& c : plugins.classes())
-    std::cout << fmt::format("plugin constraint class {} - {} ({} attributes; {})\n", c.name, c.description,
-                             c.min_values == c.max_values ? fmt::format("{}", c.min_values)
-                             : c.max_values == SIZE_MAX  ? fmt::format("{} or more", c.min_values)
-                                                         : fmt::format("{} to {}", c.min_values, c.max_values),
-                             c.plugin);
+  write_type_listing(std::cout, std::move(types), plugins, instance_options, format == "json");
   return kOk;
 }
 
@@ -426,9 +240,7 @@ int run_export(const Common& common, const std::string& vault, const std::string
   if (!common.apply(options, {vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
-  auto wc = compile_file(vault, options, sources, diag);
-  GeometryModel geometry;
-  if (wc) geometry = build_geometry(*wc, diag, nullptr, {.visuals = true});  // drawn: what devices look like
+  auto [wc, geometry] = prepare_vault(vault, options, sources, diag, {.visuals = true});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
     std::cerr << "sscs: error: " << err << "\n";
@@ -486,9 +298,7 @@ int run_render(const Common& common, const RenderArgs& args) {
   if (!common.apply(options, {args.vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
-  auto wc = compile_file(args.vault, options, sources, diag);
-  GeometryModel geometry;
-  if (wc) geometry = build_geometry(*wc, diag, nullptr, {.visuals = true});  // drawn: what devices look like
+  auto [wc, geometry] = prepare_vault(args.vault, options, sources, diag, {.visuals = true});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   // A named camera of the vault, compiled like a scenario's keyframe.
   std::optional<CameraPath> named;
@@ -862,9 +672,19 @@ int run_cli(int argc, char** argv) {
     app.set_version_flag("--version", std::string("sscs ") + SSCS_VERSION);
     app.require_subcommand(1);
     Common common;
+    // The subcommands: each its options and what it runs (one of them runs).
+    struct Command {
+      CLI::App* app;
+      std::function<int()> run;
+    };
+    std::vector<Command> commands;
+    auto command = [&](const char* name, const char* help, std::function<int()> run) {
+      commands.push_back({app.add_subcommand(name, help), std::move(run)});
+      return commands.back().app;
+    };
 
     CheckArgs check_args;
-    CLI::App* check_cmd = app.add_subcommand("check", "compile each vault and check its constraints");
+    CLI::App* check_cmd = command("check", "compile each vault and check its constraints", [&] { return run_check(common, check_args); });
     check_cmd->add_option("VAULT", check_args.vaults, "vault files")->required();
     check_cmd->add_option("--format", check_args.format,
                           "text, json, junit or sarif (default: from --out's extension .json/.xml/.sarif, else text)")
@@ -876,18 +696,19 @@ int run_cli(int argc, char** argv) {
     common.add_to(check_cmd);
 
     std::string types_format = "text";
-    CLI::App* types_cmd = app.add_subcommand("types", "list the object types, devices and constraint kinds");
+    CLI::App* types_cmd = command("types", "list the object types, devices and constraint kinds", [&] { return run_types(common, types_format); });
     types_cmd->add_option("--format", types_format, "text or json")->check(CLI::IsMember({"text", "json"}));
     common.add_to(types_cmd, /*with_set=*/false);  // types reads no vault: --set would do nothing
 
     std::string export_vault, export_out;
-    CLI::App* export_cmd = app.add_subcommand("export", "the composed workcell as one 3D file (glb, gltf, obj, stl)");
+    CLI::App* export_cmd = command("export", "the composed workcell as one 3D file (glb, gltf, obj, stl)",
+                                   [&] { return run_export(common, export_vault, export_out); });
     export_cmd->add_option("VAULT", export_vault, "vault file")->required();
     export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
     common.add_to(export_cmd);
 
     SimulateArgs sim_args;
-    CLI::App* sim_cmd = app.add_subcommand("simulate", "run a scenario in ODE physics and write its logs");
+    CLI::App* sim_cmd = command("simulate", "run a scenario in ODE physics and write its logs", [&] { return run_simulate(common, sim_args); });
     sim_cmd->add_option("SCENARIO", sim_args.scenario, "scenario file")->required();
     sim_cmd->add_option("--out", sim_args.out, "output folder (default: run-<scenario> unless --bundle), replaced atomically");
     sim_cmd->add_option("--bundle", sim_args.bundle, "write the run as one zip archive too (or only, without --out)");
@@ -900,7 +721,7 @@ int run_cli(int argc, char** argv) {
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
-    CLI::App* render_cmd = app.add_subcommand("render", "one still image of a vault (PNG, offscreen OpenGL)");
+    CLI::App* render_cmd = command("render", "one still image of a vault (PNG, offscreen OpenGL)", [&] { return run_render(common, render_args); });
     render_cmd->add_option("VAULT", render_args.vault, "vault file")->required();
     render_cmd->add_option("--out", render_args.out, "output .png file")->required();
     render_cmd->add_option("--eye", render_args.eye, "camera position x,y,z (m); default: a three-quarter view framing the vault");
@@ -912,7 +733,7 @@ int run_cli(int argc, char** argv) {
     common.add_to(render_cmd);
 
     ReplayArgs replay_args;
-    CLI::App* replay_cmd = app.add_subcommand("replay", "render a recorded run's frames again, from its logs");
+    CLI::App* replay_cmd = command("replay", "render a recorded run's frames again, from its logs", [&] { return run_replay(common, replay_args); });
     replay_cmd->add_option("RUN", replay_args.run, "run folder written by sscs simulate")->required();
     replay_cmd->add_option("--out", replay_args.out, "output folder (frames/ and index.csv)")->required();
     replay_cmd->add_option("--camera", replay_args.camera, "camera file (sscs: 1, cameras: [...]); default: the run's cameras");
@@ -922,12 +743,22 @@ int run_cli(int argc, char** argv) {
 
     std::vector<std::string> compare_runs;
     std::string compare_format = "text";
-    CLI::App* compare_cmd = app.add_subcommand("compare", "summaries of simulation runs side by side");
+    CLI::App* compare_cmd = command("compare", "summaries of simulation runs side by side", [&] { return run_compare(compare_runs, compare_format); });
     compare_cmd->add_option("RUN", compare_runs, "run folders or bundles (.zip) written by sscs simulate")->required();
     compare_cmd->add_option("--format", compare_format, "text, json or csv")->check(CLI::IsMember({"text", "json", "csv"}));
 
     SweepArgs sweep_args;
-    CLI::App* sweep_cmd = app.add_subcommand("sweep", "run a parameter study: every variant checked (and simulated), one table");
+    std::string merge_out;
+    CLI::App* merge_cmd = nullptr;
+    CLI::App* sweep_cmd = command("sweep", "run a parameter study: every variant checked (and simulated), one table", [&] {
+      if (merge_cmd->parsed()) return report_sweep(merge_sweep(sweep_args.merge_dirs, merge_out), "merged");
+      if (sweep_args.sweep.empty()) {
+        std::cerr << "sscs: error: sweep needs a sweep file (sscs sweep SWEEP) or merge (sscs sweep merge DIR... --out DIR)\n";
+        return kInputError;
+      }
+      if (!sweep_args.resume) sweep_args.force = true;
+      return run_sweep_command(common, sweep_args);
+    });
     sweep_cmd->add_option("SWEEP", sweep_args.sweep, "sweep file");
     sweep_cmd->add_option("--out", sweep_args.out, "results folder (default: sweep-<name>); a rerun into it resumes");
     sweep_cmd->add_option("--jobs,-j", sweep_args.jobs, "variants at once (default: one per core)")->check(CLI::Range(1u, 4096u));
@@ -937,8 +768,7 @@ int run_cli(int argc, char** argv) {
     sweep_cmd->add_option("--variant-timeout", sweep_args.variant_timeout, "seconds a variant may take before it is stopped and recorded as error (default: no limit)");
     sweep_cmd->add_option("--variant-memory", sweep_args.variant_memory, "GB of memory a variant may take before it is recorded as error (default: the machine's memory shared by the jobs, at least 1)");
     common.add_to(sweep_cmd);
-    std::string merge_out;
-    CLI::App* merge_cmd = sweep_cmd->add_subcommand("merge", "join shard folders into one table, as one run would have written it");
+    merge_cmd = sweep_cmd->add_subcommand("merge", "join shard folders into one table, as one run would have written it");
     merge_cmd->add_option("DIR", sweep_args.merge_dirs, "shard folders (--out of each sscs sweep --shard K/N)")->required();
     merge_cmd->add_option("--out", merge_out, "the merged folder")->required();
 
@@ -960,25 +790,8 @@ int run_cli(int argc, char** argv) {
       std::cerr << "sscs: error: " << error << "\n";
       return kInputError;
     }
-    if (check_cmd->parsed()) return run_check(common, check_args);
-    if (types_cmd->parsed()) return run_types(common, types_format);
-    if (export_cmd->parsed()) return run_export(common, export_vault, export_out);
-    if (sim_cmd->parsed()) return run_simulate(common, sim_args);
-    if (compare_cmd->parsed()) return run_compare(compare_runs, compare_format);
-    if (merge_cmd->parsed()) {
-      SweepOutcome o = merge_sweep(sweep_args.merge_dirs, merge_out);
-      return report_sweep(o, "merged");
-    }
-    if (sweep_cmd->parsed()) {
-      if (sweep_args.sweep.empty()) {
-        std::cerr << "sscs: error: sweep needs a sweep file (sscs sweep SWEEP) or merge (sscs sweep merge DIR... --out DIR)\n";
-        return kInputError;
-      }
-      if (!sweep_args.resume) sweep_args.force = true;
-      return run_sweep_command(common, sweep_args);
-    }
-    if (render_cmd->parsed()) return run_render(common, render_args);
-    if (replay_cmd->parsed()) return run_replay(common, replay_args);
+    for (const Command& c : commands)
+      if (c.app->parsed()) return c.run();
     return kInputError;
   } catch (const OutputError& e) {  // a full disk, an unwritable folder: the same in every command
     std::cerr << "sscs: error: " << e.what() << "\n";

@@ -39,8 +39,7 @@ std::optional<RelOp> relop_from(std::string_view word) {
 }
 
 const char* constraint_kind_name(const ConstraintKind& kind) {
-  static constexpr const char* kNames[] = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
-  return kNames[kind.index()];
+  return kConstraintKindNames[kind.index()];
 }
 
 }  // namespace sscs

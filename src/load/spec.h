@@ -263,6 +263,9 @@ class Boxed {
 
 using ConstraintKind = std::variant<BoundSpec, ExprSpec, Boxed<PluginSpec>, Boxed<ClearanceSpec>, Boxed<NoOverlapSpec>,
                                     Boxed<InsideSpec>, Boxed<ReachSpec>>;
+/// The constraint kinds as type files write them, in ConstraintKind's order: the one list.
+inline constexpr std::array<const char*, 7> kConstraintKindNames = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
+static_assert(kConstraintKindNames.size() == std::variant_size_v<ConstraintKind>);
 const char* constraint_kind_name(const ConstraintKind& kind);
 
 struct ConstraintSpec {

@@ -238,7 +238,7 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
 }
 
 std::optional<ConstraintSpec> read_constraint(yaml::Node node, Diagnostics& diag) {
-  static const std::vector<std::string> kKinds = {"bound", "expr", "plugin", "clearance", "no_overlap", "inside", "reach"};
+  static const std::vector<std::string> kKinds(kConstraintKindNames.begin(), kConstraintKindNames.end());
   MapReader r(node, "constraint", diag);
   if (!r.ok()) return std::nullopt;
   ConstraintSpec c;

@@ -31,6 +31,8 @@ constexpr Rule kRules[] = {
     {"reach", "Reach", "A device cannot place its tool at a target within its joint limits and without collision."},
 };
 
+static_assert(std::size(kRules) == kConstraintKindNames.size(), "a rule per constraint kind");
+
 int rule_index(const std::string& kind) {
   for (int i = 0; i < static_cast<int>(std::size(kRules)); ++i)
     if (kind == kRules[i].kind) return i;

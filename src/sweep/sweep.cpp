@@ -31,6 +31,7 @@
 #include "load/load.h"
 #include "load/scenario.h"
 #include "load/sweep.h"
+#include "pipeline/prepare.h"
 #include "report/report.h"
 #include "simulate/plan.h"
 #include "simulate/resolved.h"
@@ -332,9 +333,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   for (size_t a = 0; a < set_.axes.size(); ++a)
     if (!set_.axes[a].spec->files()) options.overrides.emplace_back(set_.axes[a].spec->name, set_.value(v, a).set_text);
   Diagnostics diag;
-  auto wc = compile(*c.vault, options, sources_, diag);
-  GeometryModel geometry;
-  if (wc) geometry = build_geometry(*wc, diag, &meshes_);
+  auto [wc, geometry] = prepare_vault(*c.vault, options, sources_, diag, {}, &meshes_);
   if (!wc || diag.has_errors()) {
     row.message = "the vault does not compile with these values: " + first_line(diag.format_errors(sources_));
     return row;

@@ -1,7 +1,7 @@
 // Fuzzes a scenario file through load, compile of its vault, planning and cameras (everything
 // `sscs simulate` does before physics). Its vault is scenarios/drum-transfer/cell.yaml, copied
 // beside it as `cell.yaml`, so seeds from that folder reach the planner.
-#include "cli/prepared_scenario.h"
+#include "pipeline/prepare.h"
 #include "fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

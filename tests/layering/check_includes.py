@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The include layering of src/ (../shared/STYLE.md item 9): stages depend one way,
 core <- load <- plugin <- compile <- model <- geometry <- kinematics <- {check, simulate, render}
-<- report <- sweep <- cli, and the stages after compile read the compiled model, never load/ or
+<- {report, pipeline} <- sweep <- cli, and the stages after compile read the compiled model, never load/ or
 compile's internals (compile/values.h, compile/compile.h).
 
 Fails on any include that goes against that order, on any stage-level cycle, and on any arrow
@@ -13,10 +13,10 @@ import re
 import sys
 
 ORDER = ["core", "load", "plugin", "compile", "model", "geometry", "kinematics", "check", "simulate", "render",
-         "report", "sweep", "cli"]
+         "report", "pipeline", "sweep", "cli"]
 # Stages at the same level may not include each other either (simulate never includes render).
 LEVEL = {"core": 0, "load": 1, "plugin": 2, "compile": 3, "model": 4, "geometry": 5, "kinematics": 6, "check": 7,
-         "simulate": 8, "render": 8, "report": 9, "sweep": 10, "cli": 11}
+         "simulate": 8, "render": 8, "report": 9, "pipeline": 9, "sweep": 10, "cli": 11}
 # Stages that read the compiled model only.
 MODEL_READERS = {"model", "geometry", "kinematics", "check", "simulate", "render"}
 INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.*)$")

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "cli/prepared_scenario.h"
+#include "pipeline/prepare.h"
 #include "render/frames.h"
 #include "simulate/simulate.h"
 

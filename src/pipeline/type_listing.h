@@ -2,6 +2,7 @@
 /// What `sscs types` shows of a type beyond its file: an instance at its default attributes, so a
 /// user sees where things are (frames, bounds, the tool's reach) without reading type files.
 #include <memory>
+#include <ostream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "compile/compile.h"
+#include "plugin/plugins.h"
 
 namespace sscs {
 
@@ -29,5 +31,12 @@ struct TypeInstance {
 /// its geometry. Never fails: a type that cannot be instanced says why in `unbuilt`.
 TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<ObjectType>>& library, const ObjectType& type,
                                   const CompileOptions& options);
+
+/// Writes what `sscs types` shows: each type of the loaded library `types` (sorted by name) with
+/// its attributes, where an instance at its defaults puts its frames, bounds and meshes, a
+/// device's parts, tool and reach; then the constraint kinds and the plugins' constraint
+/// classes. Text, or JSON (`json`).
+void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const PluginSet& plugins, const CompileOptions& instance_options,
+                        bool json);
 
 }  // namespace sscs

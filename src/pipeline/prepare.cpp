@@ -1,0 +1,41 @@
+#include "pipeline/prepare.h"
+
+#include "geometry/mesh_io.h"
+
+namespace sscs {
+
+PreparedVault prepare_vault(const std::string& path, const CompileOptions& options, Sources& sources, Diagnostics& diag,
+                            const GeometryOptions& geometry, MeshCache* meshes) {
+  PreparedVault out;
+  out.wc = compile_file(path, options, sources, diag);
+  if (out.wc) out.geometry = build_geometry(*out.wc, diag, meshes, geometry);
+  return out;
+}
+
+PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& options, Sources& sources, Diagnostics& diag,
+                            const GeometryOptions& geometry, MeshCache* meshes) {
+  PreparedVault out;
+  out.wc = compile(vault, options, sources, diag);
+  if (out.wc) out.geometry = build_geometry(*out.wc, diag, meshes, geometry);
+  return out;
+}
+
+bool PreparedScenario::prepare(const std::string& path, const CompileOptions& base, const std::string& camera_file) {
+  spec = load_scenario(path, sources, diag);
+  if (!spec || diag.has_errors()) return false;
+  CompileOptions options = base;
+  for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
+  overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
+  options.overrides = overrides;
+  PreparedVault vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true});  // frames draw what devices look like
+  wc = std::move(vault.wc);
+  geometry = std::move(vault.geometry);
+  if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
+  std::vector<CameraKeySpec> keys = spec->cameras;
+  if (!camera_file.empty())
+    if (auto file = load_cameras(camera_file, sources, diag)) keys = *file;
+  if (plan && !diag.has_errors()) cameras = compile_cameras(keys, *wc, diag);
+  return plan && !diag.has_errors();
+}
+
+}  // namespace sscs

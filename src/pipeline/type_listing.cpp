@@ -1,0 +1,263 @@
+#include "pipeline/type_listing.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
+
+#include "geometry/geometry.h"
+#include "model/device.h"
+#include "kinematics/envelope.h"
+#include "load/load.h"
+#include "core/pose.h"
+#include "core/units.h"
+
+namespace sscs {
+
+TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<ObjectType>>& library, const ObjectType& type,
+                                  const CompileOptions& base) {
+  TypeInstance out;
+  Sources sources;
+  Diagnostics diag;
+  CompileOptions options = base;
+  options.library = library;
+  uint32_t file = sources.add("<types>", fmt::format("sscs: 1\nvault: types\nobjects:\n  - {{type: {}, name: Instance}}\n", type.name));
+  auto spec = load_vault(file, sources, diag);
+  std::optional<Workcell> wc;
+  if (spec && !diag.has_errors()) wc = compile(*spec, options, sources, diag);
+  GeometryModel geometry;
+  if (wc) geometry = build_geometry(*wc, diag);
+  if (!wc || diag.has_errors() || geometry.objects.empty()) {
+    out.unbuilt = diag.errors().empty() ? "it cannot be instanced" : diag.errors()[0].message;
+    return out;
+  }
+  const ObjectGeometry& g = geometry.objects[0];
+  out.bounds = g.bbox_world;  // the instance stands at the origin: world is the type's frame
+  // `top` (what a reach or move_to targets by default), then the frames the type files name.
+  out.frames.emplace_back("top", g.frame_pose("top"));
+  std::vector<std::string> named;
+  for (int k = wc->objects[0].type; k >= 0; k = wc->types[k].base)
+    for (const FrameSpec& f : wc->types[k].spec->frames) named.push_back(f.name);
+  std::sort(named.begin(), named.end());
+  named.erase(std::unique(named.begin(), named.end()), named.end());
+  for (const std::string& name : named)
+    if (const Eigen::Isometry3d* X = g.frame(name); X && name != "top") out.frames.emplace_back(name, *X);
+  const std::filesystem::path folder = std::filesystem::absolute(type.spec->path).parent_path();
+  auto add_mesh = [&](const Shape& s) {
+    if (s.kind != Shape::Kind::Mesh || !s.mesh) return;
+    std::string rel = std::filesystem::absolute(s.mesh->path).lexically_normal().lexically_relative(folder.lexically_normal()).string();
+    if (rel.empty()) rel = s.mesh->path;
+    for (const TypeInstance::Mesh& m : out.meshes)
+      if (m.file == rel) return;
+    out.meshes.push_back({rel, s.mesh->closed});
+  };
+  for (const Shape& s : g.shapes) add_mesh(s);
+  if (g.device) {
+    for (const Part& p : g.device->parts)
+      for (const Shape& s : p.shapes) add_mesh(s);
+    if (const Eigen::Isometry3d* X = g.frame("tool")) out.frames.emplace_back("tool", *X);
+    out.reach = reach_envelope(*g.device, g.device->joint_values(&wc->values[wc->objects[0].first_slot + kFirstAttributeSlot]));
+  }
+  return out;
+}
+
+namespace {
+
+/// The device description of a type: its own, or the nearest ancestor's.
+const DeviceSpec* device_of(const ObjectType& t, const std::map<std::string, const ObjectType*>& by_name) {
+  for (const ObjectType* k = &t; k;) {
+    if (k->spec->device) return &*k->spec->device;
+    auto it = by_name.find(k->spec->extends);
+    k = it == by_name.end() ? nullptr : it->second;
+  }
+  return nullptr;
+}
+
+const char* joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::Revolute: return "revolute";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Fixed: break;
+  }
+  return "fixed";
+}
+
+/// "[1.2, 0, 0.851]" (6 significant digits; inf where unbounded).
+std::string vec_text(const Eigen::Vector3d& v) {
+  return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", stable(v.x()), stable(v.y()), stable(v.z()));
+}
+nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
+  auto j = nlohmann::ordered_json::array();
+  for (int k = 0; k < 3; ++k) j.push_back(std::isfinite(v[k]) ? nlohmann::ordered_json(stable(v[k])) : nlohmann::ordered_json(nullptr));
+  return j;
+}
+/// A frame's orientation in degrees, or nothing when it is the type's own.
+std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X) {
+  Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * (180 / std::numbers::pi);
+  for (int k = 0; k < 3; ++k) rpy[k] = std::abs(rpy[k]) < 1e-9 ? 0.0 : rpy[k];
+  if (rpy.isZero(1e-9)) return std::nullopt;
+  return rpy;
+}
+
+nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device,
+                                 const TypeInstance& instance) {
+  nlohmann::ordered_json j;
+  j["name"] = t.name;
+  j["extends"] = t.base >= 0 ? types[t.base].name : "object";
+  j["kind"] = t.device ? "device" : "object";
+  j["description"] = t.description;
+  j["plugin"] = t.spec->plugin.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.spec->plugin);
+  auto attrs = nlohmann::ordered_json::array();
+  for (const AttributeDef& a : t.attributes) {
+    nlohmann::ordered_json aj;
+    aj["name"] = a.name;
+    aj["type"] = attr_type_name(a.type);
+    aj["unit"] = file_unit(a.dim);
+    aj["default"] = a.default_value.present ? nlohmann::ordered_json(a.default_value.text) : nullptr;
+    aj["min"] = a.min_si ? nlohmann::ordered_json(stable(si_to_file(*a.min_si, a.dim))) : nullptr;
+    aj["max"] = a.max_si ? nlohmann::ordered_json(stable(si_to_file(*a.max_si, a.dim))) : nullptr;
+    if (a.type == AttrType::Enum) aj["values"] = a.values;
+    aj["joint"] = a.joint;
+    aj["description"] = a.description;
+    attrs.push_back(std::move(aj));
+  }
+  j["attributes"] = std::move(attrs);
+  // Where things are, at the default attributes, in the type's frame (m, deg).
+  auto frames = nlohmann::ordered_json::array();
+  for (const auto& [name, X] : instance.frames) {
+    nlohmann::ordered_json fj = {{"name", name}, {"xyz", vec_json(X.translation())}};
+    auto rpy = frame_rpy_deg(X);
+    fj["rpy"] = rpy ? vec_json(*rpy) : vec_json(Eigen::Vector3d::Zero());
+    frames.push_back(std::move(fj));
+  }
+  j["frames"] = std::move(frames);
+  j["bounds"] = instance.bounds.isEmpty() ? nlohmann::ordered_json(nullptr)
+                                           : nlohmann::ordered_json{{"min", vec_json(instance.bounds.min())}, {"max", vec_json(instance.bounds.max())}};
+  auto meshes = nlohmann::ordered_json::array();
+  for (const TypeInstance::Mesh& m : instance.meshes) meshes.push_back({{"file", m.file}, {"closed", m.closed}});
+  j["meshes"] = std::move(meshes);
+  j["unbuilt"] = instance.unbuilt.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(instance.unbuilt);
+  if (device) {
+    nlohmann::ordered_json dj;
+    auto parts = nlohmann::ordered_json::array();
+    for (const PartSpec& p : device->parts) {
+      nlohmann::ordered_json pj;
+      pj["name"] = p.name;
+      pj["parent"] = p.parent.empty() ? nullptr : nlohmann::ordered_json(p.parent);
+      if (p.joint) pj["joint"] = {{"name", p.joint->name}, {"type", joint_type_name(p.joint->type)}};
+      parts.push_back(std::move(pj));
+    }
+    dj["parts"] = std::move(parts);
+    dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
+    dj["driven"] = device->kinematic ? "kinematic" : "motors";
+    dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
+    dj["srdf"] = device->srdf.present ? nlohmann::ordered_json(device->srdf.text) : nullptr;
+    if (device->urdf.present) dj["joint_limits"] = device->hard_limits ? "hard" : "soft";
+    auto allowed = nlohmann::ordered_json::array();
+    for (const DeviceSpec::AllowedCollision& a : device->allowed_collisions) allowed.push_back({a.a, a.b});
+    dj["allowed_collisions"] = std::move(allowed);
+    dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
+                                 : nlohmann::ordered_json(nullptr);
+    j["device"] = std::move(dj);
+  }
+  return j;
+}
+
+}  // namespace
+
+void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const PluginSet& plugins, const CompileOptions& instance_options,
+                        bool json) {
+  // One instance of each type at its defaults shows where its frames, bounds and reach are.
+  auto library = std::make_shared<const std::vector<ObjectType>>(types);
+  std::map<std::string, TypeInstance> instances;
+  for (const ObjectType& t : *library) instances[t.name] = instance_at_defaults(library, t, instance_options);
+  std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
+  // Sorting moved them: base indices refer to the old order, so look bases up by name below.
+  std::map<std::string, std::string> base_of;
+  std::map<std::string, const ObjectType*> by_name;
+  for (const ObjectType& t : types) {
+    base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
+    by_name[t.name] = &t;
+  }
+  if (json) {
+    nlohmann::ordered_json j;
+    j["sscs"] = 1;
+    auto arr = nlohmann::ordered_json::array();
+    for (const ObjectType& t : types) {
+      auto tj = type_json(t, types, device_of(t, by_name), instances[t.name]);
+      tj["extends"] = base_of[t.name];
+      arr.push_back(std::move(tj));
+    }
+    j["types"] = std::move(arr);
+    j["constraint_kinds"] = kConstraintKindNames;
+    auto classes = nlohmann::ordered_json::array();
+    for (const ConstraintClass& c : plugins.classes())
+      classes.push_back({{"class", c.name}, {"description", c.description}, {"plugin", c.plugin},
+                         {"min_attributes", c.min_values},
+                         {"max_attributes", c.max_values == SIZE_MAX ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.max_values)}});
+    j["constraint_classes"] = std::move(classes);
+    out << j.dump(2) << "\n";
+    return;
+  }
+  for (const ObjectType& t : types) {
+    out << fmt::format("{} ({}{}{}){}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
+                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin,
+                             t.description.empty() ? "" : " - " + t.description);
+    for (const AttributeDef& a : t.attributes) {
+      const char* unit = file_unit(a.dim);
+      std::string range;
+      if (a.min_si || a.max_si)
+        range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : "",
+                            a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : "");
+      std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
+      std::string def = a.default_value.present ? fmt::format("  default {}", a.default_value.text) : "  required";
+      out << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,
+                               def, range, values, a.description.empty() ? "" : "  # " + a.description);
+    }
+    const TypeInstance& in = instances[t.name];
+    if (!in.unbuilt.empty()) {
+      out << fmt::format("  at its defaults: no instance ({})\n", in.unbuilt);
+    } else {
+      std::vector<std::string> frames;
+      for (const auto& [name, X] : in.frames) {
+        auto rpy = frame_rpy_deg(X);
+        frames.push_back(fmt::format("{} {}{}", name, vec_text(X.translation()), rpy ? " rpy " + vec_text(*rpy) : ""));
+      }
+      out << fmt::format("  frames at the defaults (m, deg, in the type's frame): {}\n", fmt::join(frames, "; "));
+      if (!in.bounds.isEmpty())
+        out << fmt::format("  bounds at the defaults: {} to {} m\n", vec_text(in.bounds.min()), vec_text(in.bounds.max()));
+      std::vector<std::string> meshes;
+      for (const TypeInstance::Mesh& m : in.meshes) meshes.push_back(fmt::format("{} ({})", m.file, m.closed ? "closed: a solid" : "open: a surface"));
+      if (!meshes.empty()) out << fmt::format("  meshes: {}\n", fmt::join(meshes, ", "));
+      if (in.reach)
+        out << fmt::format("  tool reach over the joint ranges: {} to {} m\n", vec_text(in.reach->min()), vec_text(in.reach->max()));
+    }
+    if (const DeviceSpec* d = device_of(t, by_name)) {
+      std::vector<std::string> parts;
+      for (const PartSpec& p : d->parts)
+        parts.push_back(p.joint && p.joint->type != JointType::Fixed ? fmt::format("{}({})", p.name, p.joint->name) : p.name);
+      out << fmt::format("  parts: {}; tool: {}{}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
+                               d->kinematic ? "; driven: kinematic" : "",
+                               d->urdf.present ? fmt::format("; urdf: {} ({} limits)", d->urdf.text, d->hard_limits ? "hard" : "soft") : "",
+                               d->srdf.present ? "; srdf: " + d->srdf.text : "");
+      if (!d->allowed_collisions.empty()) {
+        std::vector<std::string> pairs;
+        for (const DeviceSpec::AllowedCollision& a : d->allowed_collisions) pairs.push_back(a.a + "/" + a.b);
+        out << fmt::format("  allowed collisions: {}\n", fmt::join(pairs, ", "));
+      }
+    }
+  }
+  out << fmt::format("constraint kinds: {}\n", fmt::join(kConstraintKindNames, ", "));
+  for (const ConstraintClass& c : plugins.classes())
+    out << fmt::format("plugin constraint class {} - {} ({} attributes; {})\n", c.name, c.description,
+                             c.min_values == c.max_values ? fmt::format("{}", c.min_values)
+                             : c.max_values == SIZE_MAX  ? fmt::format("{} or more", c.min_values)
+                                                         : fmt::format("{} to {}", c.min_values, c.max_values),
+                             c.plugin);
+}
+
+}  // namespace sscs
