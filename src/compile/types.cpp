@@ -89,6 +89,8 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
     auto home = std::find_if(device.home.begin(), device.home.end(), [&](const auto& h) { return h.first == j.name; });
     if (home != device.home.end()) {
       a.default_value = home->second;
+      // A number with its unit: `move_joints: home` needs the value itself, for every instance.
+      a.home_si = literal_si(home->second, a.dim, fmt::format("the home value of joint '{}'", j.name), diag).value_or(0);
     } else {
       double zero = 0;
       if (a.min_si && zero < *a.min_si) zero = *a.min_si;
@@ -96,6 +98,7 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
       a.default_value.present = true;
       a.default_value.mark = j.mark;
       a.default_value.text = fmt::format("{}", a.type == AttrType::Angle ? zero * 180.0 / std::numbers::pi : zero);
+      a.home_si = zero;
     }
     type.attributes.push_back(std::move(a));
   }

@@ -54,7 +54,7 @@ std::optional<double> literal_si(const Scalar& s, Dim dim, std::string_view what
   ParsedValue v = parse_value(s, dim, what, diag);
   if (v.kind == ParsedValue::Kind::Number) return v.si;
   if (v.kind == ParsedValue::Kind::Expression)
-    diag.error(s.mark, fmt::format("expected {} for {}, found '{}'", a_dim(dim), what, s.text));
+    diag.error(s.mark, fmt::format("expected {} for {}, found '{}': an expression; a number with its unit is needed here", a_dim(dim), what, s.text));
   return std::nullopt;
 }
 

@@ -31,6 +31,9 @@ struct AttributeDef {
   Scalar default_value;             ///< as written in the type file (may be an expression)
   SourceMark mark;
   bool joint = false;               ///< a device joint's value
+  /// A joint's home value (SI): the type's `home:` entry, else 0 (or the nearest limit).
+  /// `move_joints: home` moves there.
+  double home_si = 0;
 };
 
 /// A resolved type: its own and inherited attributes (ancestors' first).

@@ -183,13 +183,8 @@ class Planner {
     if (const auto* mj = std::get_if<MoveJointsSpec>(&step.action)) {
       Eigen::VectorXd target = st.q;
       const ObjectType& type = wc_.types[wc_.objects[d].type];
-      if (mj->home) {
-        for (int k = 0; k < m.dof(); ++k) {
-          const AttributeDef& a = type.attributes[m.joint(k).attribute];
-          Diagnostics scratch;
-          target[k] = literal_si(a.default_value, a.dim, "home", scratch).value_or(st.q[k]);
-        }
-      }
+      if (mj->home)
+        for (int k = 0; k < m.dof(); ++k) target[k] = type.attributes[m.joint(k).attribute].home_si;
       for (size_t i = 0; i < mj->joints.size(); ++i) {
         const auto& [name, value] = mj->joints[i];
         int k = -1;
