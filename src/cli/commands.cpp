@@ -535,7 +535,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
       run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
       run.on_step_end = [&](const PlannedStep& ps, double t, const ScenePose& pose) {
         std::string who = ps.device >= 0 ? " " + wc->objects[ps.device].name : "";
-        recorder->step_end(ps.index, fmt::format("{}. {}{}  t = {:.2f} s", ps.index + 1, ps.kind, who, t), t, pose);
+        recorder->step_end(ps.index, fmt::format("{}. {}{}  t = {:.2f} s", ps.index + 1, step_kind_name(ps.kind), who, t), t, pose);
       };
       run.before_write = [&] {
         recorder->finish(run.work_dir + "/contact_sheet.png");

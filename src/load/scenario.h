@@ -40,6 +40,9 @@ struct ReleaseSpec {
 struct WaitSpec {
   Scalar duration;
 };
+/// The action keys of a step, in the order of StepSpec::action's alternatives: the one list.
+inline constexpr const char* kStepActionNames[] = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
+
 struct StepSpec;
 struct ParallelSpec {
   std::vector<StepSpec> steps;
@@ -50,7 +53,7 @@ struct StepSpec {
   Scalar device;                  ///< absent for wait and parallel
   Scalar speed;                   ///< `50%` (scales limits) or a speed `0.25 m/s` for linear paths
   std::variant<MoveJointsSpec, MoveToSpec, GraspSpec, ReleaseSpec, WaitSpec, ParallelSpec> action;
-  const char* kind() const;
+  const char* kind() const { return kStepActionNames[action.index()]; }
 };
 
 struct ScenarioSpec {

@@ -17,15 +17,10 @@ namespace sscs {
 
 using load::MapReader;
 
-const char* StepSpec::kind() const {
-  static const char* kKinds[] = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
-  return kKinds[action.index()];
-}
-
 namespace {
 
 // The action keys of a step: exactly one of these per step.
-const std::vector<std::string> kActions = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
+const std::vector<std::string> kActions(std::begin(kStepActionNames), std::end(kStepActionNames));
 
 TargetSpec read_target(yaml::Node node, Diagnostics& diag) {
   TargetSpec t;

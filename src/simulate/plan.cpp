@@ -15,6 +15,8 @@
 
 namespace sscs {
 
+const char* step_kind_name(StepKind kind) { return kStepActionNames[static_cast<size_t>(kind)]; }
+
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -80,7 +82,7 @@ class Planner {
     for (size_t i = 0; i < spec.steps.size() && !plan_.failure; ++i) {
       const StepSpec& step = spec.steps[i];
       if (const auto* par = std::get_if<ParallelSpec>(&step.action)) {
-        plan_.steps.push_back({i, "parallel", step.mark, -1, -1, t, t});
+        plan_.steps.push_back({i, StepKind::Parallel, step.mark, -1, -1, t, t});
         size_t group = plan_.steps.size() - 1;
         double end = t;
         std::map<int, SourceMark> devices;
@@ -158,13 +160,13 @@ class Planner {
     return geometry_.objects[d].X_world_object * model(d).tool_pose(q);
   }
 
-  void fail(double t, const char* kind, size_t step, int d, std::string message, double error = 0) {
+  void fail(double t, EventKind kind, size_t step, int d, std::string message, double error = 0) {
     plan_.failure = PlanFailure{t, kind, step, d, std::move(message), error};
   }
 
   /// Plans one step starting at t0; returns when it ends.
   double step_at(const StepSpec& step, size_t index, double t0) {
-    PlannedStep ps{index, step.kind(), step.mark, -1, -1, t0, t0};
+    PlannedStep ps{index, static_cast<StepKind>(step.action.index()), step.mark, -1, -1, t0, t0};
     if (const auto* w = std::get_if<WaitSpec>(&step.action)) {
       auto d = literal_si(w->duration, Dim::Time, "wait", diag_);
       if (d && *d < 0) diag_.error(w->duration.mark, fmt::format("wait must not be negative, found {}", w->duration.text));
@@ -310,7 +312,7 @@ class Planner {
                       double start) {
     double miss = (chain.forward(q).translation() - target.translation()).norm();
     if (std::isfinite(miss) && miss <= kTargetTolerance) return true;
-    fail(start, "unreachable", index, d,
+    fail(start, EventKind::Unreachable, index, d,
          fmt::format("{}: the solved joint values put the tool {:g} m from the move_to target", wc_.objects[d].name, stable(miss)), miss);
     return false;
   }
@@ -321,7 +323,7 @@ class Planner {
     Eigen::Isometry3d target = geometry_.objects[d].X_world_object.inverse() * X_world;
     IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
     if (!r.ok()) {
-      fail(start, "unreachable", index, d,
+      fail(start, EventKind::Unreachable, index, d,
            fmt::format("{} cannot reach the move_to target: best position error {:g} m{}", wc_.objects[d].name, stable(r.position_error),
                        r.timed_out ? fmt::format(" (the search stopped at its {:g} s time limit after {} attempts: the target may be "
                                                  "reachable)", ik_options().time_limit, r.attempts)
@@ -344,7 +346,7 @@ class Planner {
     // The end must be reachable at all, else the failure is "unreachable", not a path problem.
     IkResult end_ik = solve_ik(chain, T1, chain.from_device(st.q), ik_options());
     if (!end_ik.ok()) {
-      fail(start, "unreachable", index, d,
+      fail(start, EventKind::Unreachable, index, d,
            fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name,
                        stable(end_ik.position_error)), end_ik.position_error);
       return start;
@@ -378,7 +380,7 @@ class Planner {
         max_rate_a = std::max(max_rate_a, step_k * n / joint_accel(j));
       }
       if (!r.ok() || jump) {
-        fail(start, "singular", index, d,
+        fail(start, EventKind::Singular, index, d,
              fmt::format("{} cannot follow the straight line: {} at {:g} % of the path (a singularity, a joint limit "
                          "or a change of arm configuration)", wc_.objects[d].name, jump ? "the joints jump" : "no continuous solution",
                          stable(100 * s)));

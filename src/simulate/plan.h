@@ -18,6 +18,7 @@
 #include "core/diagnostics.h"
 #include "geometry/geometry.h"
 #include "load/scenario.h"
+#include "simulate/events.h"
 #include "simulate/profile.h"
 
 namespace sscs {
@@ -52,9 +53,15 @@ struct Track {
   Eigen::VectorXd at(double t) const;
 };
 
+/// What a step does, in the order of StepSpec::action's alternatives.
+enum class StepKind : uint8_t { MoveJoints, MoveTo, Grasp, Release, Wait, Parallel };
+static_assert(std::variant_size_v<decltype(StepSpec::action)> == 6);
+/// The step's key as the scenario writes it (`move_joints`, `grasp`, ...).
+const char* step_kind_name(StepKind kind);
+
 struct PlannedStep {
   size_t index = 0;           ///< in the file's order; members of a parallel group follow it
-  std::string kind;
+  StepKind kind = StepKind::Wait;
   SourceMark mark;
   int device = -1;
   int object = -1;            ///< grasp / release
@@ -65,7 +72,7 @@ struct PlannedStep {
 /// A failure found while planning: `unreachable` or `singular`, at a step.
 struct PlanFailure {
   double t = 0;
-  std::string kind;
+  EventKind kind = EventKind::Unreachable;  ///< Unreachable or Singular
   size_t step = 0;
   int device = -1;
   std::string message;

@@ -59,7 +59,6 @@ std::string work_dir(const RunOptions& options) {
 }
 
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
-double r9(double x) { return std::round(x * 1e9) / 1e9; }
 
 class Run {
  public:
@@ -93,28 +92,28 @@ class Run {
         if (!started[i] && ps.start <= t + dt / 2) {
           started[i] = 1;
           current_step_ = i;
-          current_action_ = ps.device >= 0 ? fmt::format("{} {}", ps.kind, wc_.objects[ps.device].name) : ps.kind;
+          current_action_ = ps.device >= 0 ? fmt::format("{} {}", step_kind_name(ps.kind), wc_.objects[ps.device].name) : step_kind_name(ps.kind);
           if (options_.progress == RunOptions::Progress::Lines)
             std::cerr << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
-          step_event(t, "step_start", ps);
-          if (ps.kind == "grasp") {
+          step_event(t, EventKind::StepStart, ps);
+          if (ps.kind == StepKind::Grasp) {
             world_.grasp(ps.device, ps.object);
-            event(t, "grasp", {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
+            events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
             // What the load stood on when lifted is no clearance to report.
             nearby_.move(ps.object, world_.pose(ps.object));
             for (const Proximity& p : nearby_.proximity(ps.object, chain(ps.object), kSupportGap))
               supports_.insert({ps.object, p.other});
             if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
-          } else if (ps.kind == "release" && world_.held(ps.device) >= 0) {
+          } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
             world_.release(ps.device);
             released_[o] = false;
-            event(t, "release", {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
+            events_.add(t, EventKind::Release, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
           }
         }
         if (started[i] && !ended[i] && ps.end <= t + dt / 2) {
           ended[i] = 1;
-          step_event(t, "step_end", ps);
+          step_event(t, EventKind::StepEnd, ps);
           if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
         }
       }
@@ -126,8 +125,8 @@ class Run {
       if (plan_.failure && plan_.failure->t <= t + dt / 2) {
         const PlanFailure& f = *plan_.failure;
         nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
-        if (f.kind == "unreachable") fields["position_error"] = r9(f.position_error);
-        event(t, f.kind, fields);
+        if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
+        events_.add(t, f.kind, fields);
         stop(f.kind, f.message);
         break;
       }
@@ -138,14 +137,14 @@ class Run {
         if (settled || t >= settle_until) break;
       }
       if (t >= s.limit - dt / 2) {
-        event(t, "time_limit", {{"limit", s.limit}});
-        stop("time_limit", fmt::format("the run reached sim.limit ({:g} s of simulated time)", s.limit));
+        events_.add(t, EventKind::TimeLimit, {{"limit", s.limit}});
+        stop(EventKind::TimeLimit, fmt::format("the run reached sim.limit ({:g} s of simulated time)", s.limit));
         break;
       }
       if (options_.wall_limit > 0 && k % 64 == 0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > options_.wall_limit) {
-        event(t, "wall_limit", {{"limit", options_.wall_limit}});
-        stop("wall_limit", fmt::format("the run took more than --wall-limit {:g} s of wall-clock time", options_.wall_limit));
+        events_.add(t, EventKind::WallLimit, {{"limit", options_.wall_limit}});
+        stop(EventKind::WallLimit, fmt::format("the run took more than --wall-limit {:g} s of wall-clock time", options_.wall_limit));
         break;
       }
       if (options_.interrupted && *options_.interrupted) {
@@ -180,9 +179,7 @@ class Run {
       if (ec || !f) *error = fmt::format("cannot write '{}': {}", p.string(), ec ? ec.message() : std::strerror(errno));
     };
     put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
-    std::string events;
-    for (const auto& e : events_) events += fmt::format("{}\n", e.dump());
-    put("events.jsonl", events);
+    put("events.jsonl", events_.jsonl());
     for (const DeviceRun& dr : devices_) put(fmt::format("trajectories/{}.csv", wc_.objects[dr.object].name), dr.csv);
     put("objects.csv", fmt::format("t,object,x,y,z,roll,pitch,yaw\n{}", objects_csv_));
     if (options_.inputs)
@@ -222,19 +219,10 @@ class Run {
     return part >= 0 && g.device ? fmt::format("{}.{}", wc_.objects[o].name, g.device->parts[part].name) : wc_.objects[o].name;
   }
 
-  void event(double t, const std::string& kind, nlohmann::ordered_json fields = nlohmann::ordered_json::object()) {
-    nlohmann::ordered_json e;
-    e["t"] = r9(t);
-    e["kind"] = kind;
-    for (auto& [k, v] : fields.items()) e[k] = v;
-    events_.push_back(std::move(e));
-    counts_[kind]++;
-  }
-
-  void step_event(double t, const char* kind, const PlannedStep& ps) {
-    nlohmann::ordered_json f = {{"step", ps.index}, {"action", ps.kind}};
+  void step_event(double t, EventKind kind, const PlannedStep& ps) {
+    nlohmann::ordered_json f = {{"step", ps.index}, {"action", step_kind_name(ps.kind)}};
     if (ps.device >= 0) f["device"] = wc_.objects[ps.device].name;
-    event(t, kind, f);
+    events_.add(t, kind, f);
   }
 
   /// A carried load still pressing into what it was lifted from (the floor included) by less
@@ -265,7 +253,7 @@ class Run {
   int move_target(int device, double t) const {
     int target = -1;
     for (const PlannedStep& ps : plan_.steps)
-      if (ps.device == device && ps.start <= t && (ps.kind == "move_to" || ps.kind == "move_joints")) target = ps.target;
+      if (ps.device == device && ps.start <= t && (ps.kind == StepKind::MoveTo || ps.kind == StepKind::MoveJoints)) target = ps.target;
     return target;
   }
 
@@ -287,7 +275,7 @@ class Run {
       bool device_part = (c.a >= 0 && c.part_a >= 0) || (c.b >= 0 && c.part_b >= 0);
       bool carried = (c.a >= 0 && held_anywhere(c.a)) || (c.b >= 0 && held_anywhere(c.b));
       if (device_part || carried) {
-        event(t, "collision", {{"a", part_name(c.a, c.part_a)}, {"b", part_name(c.b, c.part_b)},
+        events_.add(t, EventKind::Collision, {{"a", part_name(c.a, c.part_a)}, {"b", part_name(c.b, c.part_b)},
                                {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)}});
         continue;
       }
@@ -296,7 +284,7 @@ class Run {
         if (it != released_.end() && !it->second) {
           it->second = true;
           int other = o == c.a ? c.b : c.a;
-          event(t, "landed", {{"object", wc_.objects[o].name}, {"on", part_name(other, -1)}});
+          events_.add(t, EventKind::Landed, {{"object", wc_.objects[o].name}, {"on", part_name(other, -1)}});
           supports_.insert({o, other});
         }
       }
@@ -305,7 +293,7 @@ class Run {
       if (landed && world_.at_rest(o) && !rested_.count(o)) {
         rested_.insert(o);
         const Eigen::Vector3d p = world_.pose(o).translation();
-        event(t, "at_rest", {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}}});
+        events_.add(t, EventKind::AtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}}});
       }
     for (DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
@@ -321,7 +309,7 @@ class Run {
         auto key = std::make_pair(dr.object, j);
         if (past && !over_limit_.count(key)) {
           over_limit_.insert(key);
-          event(t, "joint_limit", {{"device", wc_.objects[dr.object].name}, {"joint", jt.name}, {"value", r9(q[j])}});
+          events_.add(t, EventKind::JointLimit, {{"device", wc_.objects[dr.object].name}, {"joint", jt.name}, {"value", r9(q[j])}});
         } else if (!past) {
           over_limit_.erase(key);
         }
@@ -338,7 +326,7 @@ class Run {
       double lag = (dr.tool_prev - planned).norm();
       if (lag > kTrackingTolerance && !dr.lagging) {
         dr.lagging = true;
-        event(t, "tracking_error", {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}});
+        events_.add(t, EventKind::TrackingError, {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}});
       } else if (lag < kTrackingTolerance / 2) {
         dr.lagging = false;
       }
@@ -380,7 +368,7 @@ class Run {
     std::set<int> out;
     for (const Track& t : plan_.tracks) out.insert(t.object);
     for (const PlannedStep& ps : plan_.steps)
-      if (ps.kind == "grasp") out.insert(ps.object);
+      if (ps.kind == StepKind::Grasp) out.insert(ps.object);
     return out;
   }
 
@@ -459,8 +447,8 @@ class Run {
     int next = -1, last = -1;
     for (const PlannedStep& ps : plan_.steps) {
       if (ps.device != device || ps.object < 0) continue;
-      if (ps.kind == "grasp" && ps.start >= t - plan_.settings.timestep && next < 0) next = ps.object;
-      if (ps.kind == "release" && ps.start <= t) last = ps.object;
+      if (ps.kind == StepKind::Grasp && ps.start >= t - plan_.settings.timestep && next < 0) next = ps.object;
+      if (ps.kind == StepKind::Release && ps.start <= t) last = ps.object;
     }
     std::vector<int> out;
     for (int o : {world_.held(device), next, last})
@@ -499,7 +487,7 @@ class Run {
       if (r.margin) f["margin"] = r9(*r.margin);
       f["unit"] = file_unit(r.dim);
       f["message"] = r.message;
-      event(t, "constraint", f);
+      events_.add(t, EventKind::Constraint, f);
       if (c.severity != Severity::Warning) ++constraint_failures_;
     }
   }
@@ -533,9 +521,9 @@ class Run {
   }
 
   /// The run fails here: it stops with what it has, and says why.
-  void stop(const std::string& kind, const std::string& message) {
+  void stop(EventKind kind, const std::string& message) {
     failed_ = true;
-    stopped_by_ = kind;
+    stopped_by_ = event_kind_name(kind);
     stop_message_ = message;
   }
 
@@ -548,8 +536,8 @@ class Run {
     s.stop_message = stop_message_;
     s.simulated = t_end;
     s.events = events_.size();
-    s.collisions = counts_.count("collision") ? counts_.at("collision") : 0;
-    bool violations = s.collisions > 0 || counts_.count("joint_limit") || counts_.count("tracking_error") ||
+    s.collisions = events_.count(EventKind::Collision);
+    bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
                       constraint_failures_ > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
@@ -587,7 +575,7 @@ class Run {
     const double reached = s.stopped_by.empty() ? std::numeric_limits<double>::infinity() : s.stopped_at;
     auto when = [&](double t) { return t <= reached + 1e-9 ? nlohmann::ordered_json(r9(t)) : nullptr; };
     for (const PlannedStep& ps : plan_.steps) {
-      nlohmann::ordered_json st = {{"index", ps.index}, {"action", ps.kind}};
+      nlohmann::ordered_json st = {{"index", ps.index}, {"action", step_kind_name(ps.kind)}};
       st["device"] = ps.device >= 0 ? nlohmann::ordered_json(wc_.objects[ps.device].name) : nullptr;
       if (ps.object >= 0) st["object"] = wc_.objects[ps.object].name;
       st["start"] = when(ps.start);
@@ -616,9 +604,7 @@ class Run {
     }
     j["devices"] = std::move(devices);
     j["min_clearance"] = min_clearance_json();
-    nlohmann::ordered_json counts = nlohmann::ordered_json::object();
-    for (const auto& [kind, n] : counts_) counts[kind] = n;
-    j["events"] = std::move(counts);
+    j["events"] = events_.counts_json();
     if (options_.inputs) {
       auto inputs = nlohmann::ordered_json::array();
       for (const InputFile& f : options_.inputs->files) inputs.push_back({{"path", f.path}, {"sha256", f.sha256}});
@@ -635,8 +621,7 @@ class Run {
   const RunOptions& options_;
   PhysicsWorld world_;
   std::vector<DeviceRun> devices_;
-  std::vector<nlohmann::ordered_json> events_;
-  std::map<std::string, size_t> counts_;
+  EventLog events_;
   std::map<std::tuple<int, int, int, int>, double> last_contact_;
   std::map<int, bool> released_;  // released objects: landed yet?
   std::set<int> rested_;

@@ -93,7 +93,7 @@ TEST_F(Planning, UnreachableTargetsEndThePlanWithAFailure) {
                 "  - {device: R, move_to: {target: D.top}}\n  - wait: 1 s\n");
   ASSERT_TRUE(p) << diag.format(sources);
   ASSERT_TRUE(p->failure);
-  EXPECT_EQ(p->failure->kind, "unreachable");
+  EXPECT_EQ(p->failure->kind, EventKind::Unreachable);
   EXPECT_EQ(p->failure->step, 0u);
   EXPECT_GT(p->failure->position_error, 2.0);
 }

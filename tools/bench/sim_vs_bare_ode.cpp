@@ -41,8 +41,8 @@ void handle_steps(PhysicsWorld& world, const Plan& plan, double t, std::vector<c
     const PlannedStep& ps = plan.steps[i];
     if (done[i] || ps.start > t + dt / 2) continue;
     done[i] = 1;
-    if (ps.kind == "grasp") world.grasp(ps.device, ps.object);
-    if (ps.kind == "release" && world.held(ps.device) >= 0) world.release(ps.device);
+    if (ps.kind == StepKind::Grasp) world.grasp(ps.device, ps.object);
+    if (ps.kind == StepKind::Release && world.held(ps.device) >= 0) world.release(ps.device);
   }
 }
 
