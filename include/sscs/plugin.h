@@ -124,6 +124,11 @@ typedef struct sscs_host {
   /* Returns 0, or nonzero when the type is rejected (invalid, or its name already taken by
    * another plugin; a name the type library also defines fails when a vault is compiled). */
   int (*add_object_type)(void* context, const sscs_object_type* type);
+  /* Added after the first release (check `size` first): gives a type this plugin registered its mass, as a type
+   * file's `mass:` does: a number (kg) or an expression over its attributes ("22 + fill_mass").
+   * Without it the physics takes a `mass` attribute, else estimates from the bounds. Returns 0, or
+   * nonzero when rejected (no such type of this plugin, an invalid expression). */
+  int (*set_object_type_mass)(void* context, const char* type_name, const char* mass);
 } sscs_host;
 
 typedef uint32_t (*sscs_plugin_abi_version_fn)(void);

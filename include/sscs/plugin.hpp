@@ -155,6 +155,9 @@ struct Frame {
 /// An object type, the report's object sub-class: name, super-class, attributes, geometry.
 struct ObjectType {
   std::string name, extends, description, color;
+  /// What an instance weighs (kg) for the physics: a number or an expression over the attributes
+  /// ("22 + fill_mass"); empty: a `mass` attribute, else an estimate from the bounds.
+  std::string mass;
   std::vector<Attribute> attributes;
   std::vector<Shape> geometry;
   std::vector<Frame> frames;
@@ -208,6 +211,12 @@ class Registry {
     sscs_object_type ct{c_str(t.name), c_str(t.extends), c_str(t.description), c_str(t.color), attrs.data(), attrs.size(),
                         shapes.data(), shapes.size(), frames.data(), frames.size()};
     if (host_->add_object_type(host_->context, &ct) != 0) throw Rejected("sscs rejected object type '" + t.name + "'");
+    if (!t.mass.empty()) {
+      if (host_->size < offsetof(sscs_host, set_object_type_mass) + sizeof host_->set_object_type_mass)
+        throw std::runtime_error("this sscs does not accept the masses of object types from plugins (it is older than this header)");
+      if (host_->set_object_type_mass(host_->context, t.name.c_str(), t.mass.c_str()) != 0)
+        throw Rejected("sscs rejected the mass of object type '" + t.name + "'");
+    }
   }
 
  private:

@@ -30,5 +30,6 @@ SSCS_PLUGIN(registry) {
       sscs::plugin::Shape::cylinder("diameter/2 + 0.01", "0.02").at("0", "0", "2*height/3"),
   };
   drum.frames = {{"top", {"0", "0", "height"}}};
+  drum.mass = "22 + fill_mass";  // kg: the empty drum (a 55-gallon 1A2's 20-22 kg) and its contents
   registry.object_type(drum);
 }

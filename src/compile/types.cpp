@@ -364,6 +364,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
     check_geometry(spec.geometry, t, spec.path, diag, t.problems);
+    check_shape_value(spec.mass, Dim::Mass, t, "mass", diag);
     for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), diag);
     if (spec.device && imported) check_device(*spec.device, t, spec.path, diag, t.problems);
     if (spec.device) t.problems.insert(t.problems.end(), spec.device->import_problems.begin(), spec.device->import_problems.end());

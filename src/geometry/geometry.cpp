@@ -202,6 +202,7 @@ class Builder {
   std::shared_ptr<TriangleMesh const> mesh(const std::string& path, SourceMark where) { return meshes_.load(path, where, diag_); }
   bool visuals = false;  ///< build the parts' visual shapes too
   Eigen::Isometry3d pose(const PoseSpec& p, int obj) { return eval_.pose(p, obj); }
+  double value(const Scalar& s, Dim dim, int obj, double fallback) { return eval_.value(s, dim, obj, fallback); }
 
   /// The kinematic model of device object `obj`, whose type (or an ancestor) `t` has the parts.
   std::shared_ptr<Device> device(int obj, const TypeSpec& spec) {
@@ -374,6 +375,14 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
+    for (int k = o.type; k >= 0; k = wc.types[k].base)
+      if (const Scalar& m = wc.types[k].spec->mass; m.present) {
+        g.declared_mass = build.value(m, Dim::Mass, obj, NAN);
+        if (!(g.declared_mass > 0) || !std::isfinite(g.declared_mass))
+          diag.error(o.mark, fmt::format("the mass of '{}' ({}, as type '{}' declares it) is {} kg; a mass is a finite number above 0",
+                                         o.name, m.text, wc.types[k].name, number_text(g.declared_mass)));
+        break;
+      }
     // Each location is within the limit; their sum along a chain of parents must be too.
     Eigen::Vector3d far = g.X_world_object.translation().cwiseAbs();
     if (!g.bbox_world.isEmpty()) far = g.bbox_world.max().cwiseAbs().cwiseMax(g.bbox_world.min().cwiseAbs());

@@ -1,6 +1,7 @@
 #pragma once
 /// The geometry stage: every object's shapes evaluated at its attribute values, placed in the
 /// world through the `parent` chain, with world-frame bounding boxes and named frames.
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct ObjectGeometry {
   /// What is drawn, when it differs from `shapes` (built with GeometryOptions::visuals): each
   /// device part's visual shapes, or its collision shapes where it has none. Empty: draw `shapes`.
   std::vector<Shape> visual_shapes;
+  /// The mass its type declares (`mass:` in the type file, or a base type's) at the instance's
+  /// attributes, kg; NaN when none declares one.
+  double declared_mass = std::numeric_limits<double>::quiet_NaN();
   const std::vector<Shape>& drawn_shapes() const { return visual_shapes.empty() ? shapes : visual_shapes; }
   /// The world pose of frame `name`; nullptr when the type has no such frame.
   const Eigen::Isometry3d* frame(std::string_view name) const;

@@ -154,6 +154,10 @@ struct TypeSpec {
   std::vector<GeometrySpec> geometry;
   bool has_geometry = false;
   Scalar color;
+  /// The mass of an instance (kg) for the physics: a number or an expression over the type's
+  /// attributes (`tare_mass + fill_mass`). Absent: a `mass` attribute, else an estimate from the
+  /// bounds. Devices weigh their parts.
+  Scalar mass;
   std::optional<DeviceSpec> device;
 };
 

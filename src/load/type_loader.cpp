@@ -195,6 +195,10 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   t.has_geometry = geometry.valid();
   t.geometry = load::geometry_list(geometry, diag);
   t.color = load::scalar(root.take("color"), "color", diag);
+  if (yaml::Node mass = root.take("mass"); mass.valid()) {
+    if (device) diag.error(mass.mark(), "a device's mass is its parts' masses; 'mass' is for objects that are not devices");
+    else t.mass = load::scalar(mass, "mass", diag);
+  }
   if (device) {
     t.device = read_device(root, diag);
     if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths);

@@ -219,6 +219,30 @@ void PluginSet::load(const std::string& path) {
     l.types->push_back(std::move(pt));
     return 0;
   };
+  host.set_object_type_mass = [](void* context, const char* type_name, const char* mass) -> int {
+    auto& l = *static_cast<Loading*>(context);
+    std::string name = type_name ? type_name : "";
+    auto it = std::find_if(l.types->begin(), l.types->end(), [&](const PluginType& k) { return k.name == name; });
+    if (it == l.types->end()) {
+      l.errors.push_back(fmt::format("set_object_type_mass names '{}', which is no object type this plugin registered", name));
+      return 1;
+    }
+    // The declaration gains `mass:`, read again as a type file is.
+    YAML::Emitter out;
+    out << YAML::BeginMap << YAML::Key << "mass" << YAML::Value << YAML::DoubleQuoted << (mass ? mass : "") << YAML::EndMap;
+    std::string text = it->text + (it->text.empty() || it->text.back() == '\n' ? "" : "\n") + out.c_str() + "\n";
+    Sources sources;
+    Diagnostics diag;
+    load_type(sources.add(it->label, text), l.path, sources, diag);
+    if (diag.has_errors()) {
+      std::string why = diag.format(sources);
+      while (!why.empty() && why.back() == '\n') why.pop_back();
+      l.errors.push_back(fmt::format("the mass of object type '{}' is not valid:\n{}", name, why));
+      return 1;
+    }
+    it->text = std::move(text);
+    return 0;
+  };
   host.error = [](void* context, const char* message) {
     static_cast<Loading*>(context)->errors.push_back(message ? message : "(no message)");
   };

@@ -41,21 +41,13 @@ Eigen::Isometry3d from_ode(const dReal* p, const dReal* R) {
   return X;
 }
 
-/// An object's mass: its `mass` attribute, else the sum of `tare_mass`, `fill_mass` and
-/// `payload_mass` (a drum, a container), else its bounds' volume at 500 kg/m^3.
+/// An object's mass: what its type declares (`mass:`), else its `mass` attribute, else its
+/// bounds' volume at 500 kg/m^3.
 double object_mass(const Workcell& wc, const GeometryModel& geometry, int o) {
+  if (double m = geometry.objects[o].declared_mass; m > 0) return m;
   const Object& obj = wc.objects[o];
-  const ObjectType& t = wc.types[obj.type];
-  auto attr = [&](const char* name) -> std::optional<double> {
-    int a = t.find_attribute(name);
-    if (a < 0) return std::nullopt;
+  if (int a = wc.types[obj.type].find_attribute("mass"); a >= 0 && wc.values[obj.first_slot + kFirstAttributeSlot + a] > 0)
     return wc.values[obj.first_slot + kFirstAttributeSlot + a];
-  };
-  if (auto m = attr("mass"); m && *m > 0) return *m;
-  double sum = 0;
-  for (const char* n : {"tare_mass", "fill_mass", "payload_mass"})
-    if (auto m = attr(n)) sum += *m;
-  if (sum > 0) return sum;
   Eigen::Vector3d size = geometry.objects[o].bbox_world.sizes();
   return std::max(kDefaultDensity * size.prod(), 0.1);
 }
