@@ -2,7 +2,8 @@
 """The include layering of src/ (../shared/STYLE.md item 9): stages depend one way,
 core <- load <- plugin <- compile <- model <- geometry <- kinematics <- {check, simulate, render}
 <- {report, pipeline} <- sweep <- cli, and the stages after compile read the compiled model, never load/ or
-compile's internals (compile/values.h, compile/compile.h).
+compile's internals (compile/values.h, compile/compile.h). With a second argument (tests/unit), also that the unit
+tests mirror src/: one folder per stage.
 
 Fails on any include that goes against that order, on any stage-level cycle, and on any arrow
 into load/ or compile internals from geometry, model, kinematics, check, simulate or render that
@@ -94,6 +95,15 @@ def main():
         if c:
             problems.append("include cycle between stages: " + " -> ".join(c))
             break
+    # Unit tests mirror src/: tests/unit/<stage>/ for each stage they test, no test file loose.
+    if len(sys.argv) > 2:
+        unit = sys.argv[2]
+        for name in sorted(os.listdir(unit)):
+            path = os.path.join(unit, name)
+            if os.path.isdir(path) and name not in stages:
+                problems.append(f"tests/unit/{name}/ mirrors no folder of src/")
+            if name.endswith("_test.cpp"):
+                problems.append(f"tests/unit/{name} belongs in tests/unit/<stage>/, beside the tests of the stage it tests")
     for p in problems:
         print("FAIL:", p)
     if problems:
