@@ -23,26 +23,29 @@ struct Metric {
 };
 
 
+/// The value of `key` in a list of pairs, or nullptr.
+template <typename T>
+const T* find_in(const std::vector<std::pair<std::string, T>>& pairs, const std::string& key) {
+  for (const auto& [k, v] : pairs)
+    if (k == key) return &v;
+  return nullptr;
+}
+
 std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
   std::vector<Metric> out = {{"scenario", "", {}}, {"status", "", {}}, {"cycle time", "s", {}}};
   std::set<std::string> devices, kinds;
   for (const RunRecord& r : runs) {
-    for (const auto& [name, d] : r.summary["devices"].items()) devices.insert(name);
-    for (const auto& [kind, n] : r.summary["events"].items()) kinds.insert(kind);
-  }
-  for (const RunRecord& r : runs) {
-    out[0].values.push_back(r.summary.value("scenario", ""));
-    out[1].values.push_back(r.summary.value("status", ""));
-    // A failed run has no cycle time (null): it stopped before its cycle was done.
-    const auto ct = r.summary.find("cycle_time");
-    out[2].values.push_back(ct != r.summary.end() && ct->is_number() ? fmt::format("{:.3f}", ct->get<double>()) : "");
+    for (const auto& [name, d] : r.summary.devices) devices.insert(name);
+    for (const auto& [kind, n] : r.summary.events) kinds.insert(kind);
+    out[0].values.push_back(r.summary.scenario);
+    out[1].values.push_back(r.summary.status);
+    out[2].values.push_back(r.summary.cycle_time ? fmt::format("{:.3f}", *r.summary.cycle_time) : "");
   }
   Metric clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
   for (const RunRecord& r : runs) {
-    const auto& mc = r.summary.contains("min_clearance") ? r.summary["min_clearance"] : nlohmann::ordered_json();
-    bool has = mc.is_object();
-    clearance.values.push_back(has ? fmt::format("{:.3f}", mc.value("distance", 0.0)) : "> 2");
-    pair.values.push_back(has ? fmt::format("{} / {}", mc.value("a", ""), mc.value("b", "")) : "");
+    const auto& mc = r.summary.min_clearance;
+    clearance.values.push_back(mc ? fmt::format("{:.3f}", mc->distance) : "> 2");
+    pair.values.push_back(mc ? fmt::format("{} / {}", mc->a, mc->b) : "");
   }
   out.push_back(std::move(clearance));
   out.push_back(std::move(pair));
@@ -52,17 +55,11 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
     Metric path{d + " tool path", "m", {}}, turned{d + " joint travel, revolute", "deg", {}}, slid{d + " joint travel, prismatic", "m", {}};
     bool any_turned = false, any_slid = false;
     for (const RunRecord& r : runs) {
-      bool has = r.summary["devices"].contains(d);
-      // Runs written before per-kind totals existed have none: find, never operator[] on a const tree.
-      nlohmann::ordered_json totals;
-      if (has) {
-        const auto& dev = r.summary["devices"][d];
-        if (auto it = dev.find("joint_travel_total"); it != dev.end()) totals = *it;
-      }
-      path.values.push_back(has ? fmt::format("{:.3f}", r.summary["devices"][d].value("tool_path_length", 0.0)) : "");
-      bool t = totals.is_object() && totals.contains("revolute_deg"), s = totals.is_object() && totals.contains("prismatic_m");
-      turned.values.push_back(t ? fmt::format("{:.1f}", totals["revolute_deg"].get<double>()) : "");
-      slid.values.push_back(s ? fmt::format("{:.3f}", totals["prismatic_m"].get<double>()) : "");
+      const RunSummaryFile::DeviceFigures* f = find_in(r.summary.devices, d);
+      const bool t = f && f->revolute_deg, s = f && f->prismatic_m;  // runs before per-kind totals have none
+      path.values.push_back(f ? fmt::format("{:.3f}", f->tool_path_length) : "");
+      turned.values.push_back(t ? fmt::format("{:.1f}", *f->revolute_deg) : "");
+      slid.values.push_back(s ? fmt::format("{:.3f}", *f->prismatic_m) : "");
       any_turned = any_turned || t;
       any_slid = any_slid || s;
     }
@@ -76,7 +73,10 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
   if (!kinds.count("collision")) order.insert(order.begin(), "collision");
   for (const std::string& k : order) {
     Metric m{k + " events", "", {}};
-    for (const RunRecord& r : runs) m.values.push_back(fmt::format("{}", r.summary["events"].value(k, 0)));
+    for (const RunRecord& r : runs) {
+      const size_t* n = find_in(r.summary.events, k);
+      m.values.push_back(fmt::format("{}", n ? *n : 0));
+    }
     out.push_back(std::move(m));
   }
   return out;
@@ -106,12 +106,13 @@ bool read_runs(const std::vector<std::string>& paths, std::vector<RunRecord>& ru
         return false;
       }
     }
-    RunRecord r{p, nlohmann::ordered_json::parse(*text, nullptr, false)};
-    if (r.summary.is_discarded() || !r.summary.is_object() || !r.summary.contains("devices") || !r.summary.contains("events")) {
-      *error = fmt::format("{}: not a summary written by sscs simulate", where);
+    std::string why;
+    auto summary = RunSummaryFile::parse(*text, why);
+    if (!summary) {
+      *error = fmt::format("{}: not a summary written by sscs simulate ({})", where, why);
       return false;
     }
-    runs.push_back(std::move(r));
+    runs.push_back({p, std::move(*summary)});
   }
   return true;
 }
@@ -150,8 +151,8 @@ std::string compare_json(const std::vector<RunRecord>& runs) {
   for (const RunRecord& r : runs) {
     nlohmann::ordered_json e;
     e["run"] = r.path;
-    for (const char* k : {"scenario", "vault", "status", "cycle_time", "min_clearance", "devices", "events"})
-      if (r.summary.contains(k)) e[k] = r.summary[k];
+    const nlohmann::ordered_json whole = r.summary.to_json();
+    for (const char* k : {"scenario", "vault", "status", "cycle_time", "min_clearance", "devices", "events"}) e[k] = whole[k];
     arr.push_back(std::move(e));
   }
   j["runs"] = std::move(arr);

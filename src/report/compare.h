@@ -4,13 +4,14 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+
+#include "simulate/summary_file.h"
 
 namespace sscs {
 
 struct RunRecord {
   std::string path;              ///< the run folder as given
-  nlohmann::ordered_json summary;
+  RunSummaryFile summary;
 };
 
 /// Reads each run's summary.json. On a problem returns false with `error` saying which and why.

@@ -1,4 +1,5 @@
 #include "simulate/simulate.h"
+#include "simulate/summary_file.h"
 
 #include <signal.h>
 #include <unistd.h>
@@ -546,73 +547,64 @@ class Run {
 
   /// The closest approach of anything that moved to anything else, over the whole run; pairs
   /// where a load met what it was lifted from or set on are left out (that contact is the job).
-  nlohmann::ordered_json min_clearance_json() const {
+  std::optional<RunSummaryFile::Clearance> min_clearance() const {
     const std::pair<const std::pair<int, int>, Seen>* best = nullptr;
     for (const auto& entry : seen_) {
       if (supports_.count(entry.first)) continue;
       if (!best || entry.second.distance < best->second.distance) best = &entry;
     }
-    if (!best) return nullptr;
-    return {{"distance", r9(best->second.distance)}, {"a", best->second.a}, {"b", best->second.b}, {"t", r9(best->second.t)}};
+    if (!best) return std::nullopt;
+    return RunSummaryFile::Clearance{r9(best->second.distance), best->second.a, best->second.b, r9(best->second.t)};
   }
 
   nlohmann::ordered_json summary_json(const RunSummary& s) const {
-    nlohmann::ordered_json j;
-    j["sscs"] = 1;
-    j["scenario"] = options_.scenario_name;
-    j["vault"] = wc_.name;
-    j["status"] = run_status_name(s.status);
-    j["cycle_time"] = std::isfinite(s.cycle_time) ? nlohmann::ordered_json(r9(s.cycle_time)) : nullptr;
-    j["simulated_time"] = r9(s.simulated);
-    if (!s.stopped_by.empty()) {
-      nlohmann::ordered_json stopped = {{"by", s.stopped_by}, {"t", r9(s.stopped_at)}};
-      if (!s.stop_message.empty()) stopped["message"] = s.stop_message;
-      j["stopped"] = std::move(stopped);
-    }
-    auto steps = nlohmann::ordered_json::array();
+    RunSummaryFile f;
+    f.scenario = options_.scenario_name;
+    f.vault = wc_.name;
+    f.status = run_status_name(s.status);
+    if (std::isfinite(s.cycle_time)) f.cycle_time = r9(s.cycle_time);
+    f.simulated_time = r9(s.simulated);
+    if (!s.stopped_by.empty()) f.stopped = RunSummaryFile::Stopped{s.stopped_by, r9(s.stopped_at), s.stop_message};
     // A run that stopped early: steps it had not begun or not finished by then have no start or
     // end (null), never a planned time the run did not reach.
     const double reached = s.stopped_by.empty() ? std::numeric_limits<double>::infinity() : s.stopped_at;
-    auto when = [&](double t) { return t <= reached + 1e-9 ? nlohmann::ordered_json(r9(t)) : nullptr; };
+    auto when = [&](double t) { return t <= reached + 1e-9 ? std::optional(r9(t)) : std::nullopt; };
     for (const PlannedStep& ps : plan_.steps) {
-      nlohmann::ordered_json st = {{"index", ps.index}, {"action", step_kind_name(ps.kind)}};
-      st["device"] = ps.device >= 0 ? nlohmann::ordered_json(wc_.objects[ps.device].name) : nullptr;
-      if (ps.object >= 0) st["object"] = wc_.objects[ps.object].name;
-      st["start"] = when(ps.start);
-      st["end"] = when(ps.end);
-      steps.push_back(std::move(st));
+      RunSummaryFile::Step st;
+      st.index = ps.index;
+      st.action = step_kind_name(ps.kind);
+      if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
+      if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
+      st.start = when(ps.start);
+      st.end = when(ps.end);
+      f.steps.push_back(std::move(st));
     }
-    j["steps"] = std::move(steps);
-    nlohmann::ordered_json devices = nlohmann::ordered_json::object();
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
-      nlohmann::ordered_json travel = nlohmann::ordered_json::object();
+      RunSummaryFile::DeviceFigures d;
       // Totals per joint kind: degrees and metres never add up.
-      nlohmann::ordered_json totals = nlohmann::ordered_json::object();
       double revolute = 0, prismatic = 0;
       bool any_revolute = false, any_prismatic = false;
       for (int k = 0; k < m.dof(); ++k) {
         bool turns = m.joint(k).type == JointType::Revolute;
-        travel[m.joint(k).name] = r9(turns ? dr.travel[k] * kRad : dr.travel[k]);
+        d.joint_travel.emplace_back(m.joint(k).name, r9(turns ? dr.travel[k] * kRad : dr.travel[k]));
         (turns ? revolute : prismatic) += turns ? dr.travel[k] * kRad : dr.travel[k];
         (turns ? any_revolute : any_prismatic) = true;
       }
-      if (any_revolute) totals["revolute_deg"] = r9(revolute);
-      if (any_prismatic) totals["prismatic_m"] = r9(prismatic);
-      devices[wc_.objects[dr.object].name] = {{"joint_travel", travel}, {"joint_travel_units", "deg for revolute joints, m for prismatic"},
-                                              {"joint_travel_total", totals}, {"tool_path_length", r9(dr.path)}};
+      if (any_revolute) d.revolute_deg = r9(revolute);
+      if (any_prismatic) d.prismatic_m = r9(prismatic);
+      d.tool_path_length = r9(dr.path);
+      f.devices.emplace_back(wc_.objects[dr.object].name, std::move(d));
     }
-    j["devices"] = std::move(devices);
-    j["min_clearance"] = min_clearance_json();
-    j["events"] = events_.counts_json();
+    f.min_clearance = min_clearance();
+    for (size_t k = 0; k < kEventKindNames.size(); ++k)
+      if (size_t n = events_.count(static_cast<EventKind>(k))) f.events.emplace_back(std::string(kEventKindNames[k]), n);
     if (options_.inputs) {
-      auto inputs = nlohmann::ordered_json::array();
-      for (const InputFile& f : options_.inputs->files) inputs.push_back({{"path", f.path}, {"sha256", f.sha256}});
-      j["inputs"] = std::move(inputs);
-      if (!options_.inputs->not_copied.empty()) j["inputs_not_in_resolved"] = options_.inputs->not_copied;
+      for (const InputFile& in : options_.inputs->files) f.inputs.emplace_back(in.path, in.sha256);
+      f.inputs_not_in_resolved = options_.inputs->not_copied;
     }
-    j["sscs_version"] = SSCS_VERSION;
-    return j;
+    f.sscs_version = SSCS_VERSION;
+    return f.to_json();
   }
 
   const Workcell& wc_;

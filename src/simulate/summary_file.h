@@ -1,0 +1,55 @@
+#pragma once
+/// summary.json, a run's one-page account: the one type that `simulate` writes and `compare`
+/// (and the sweep's run metrics) read, so the file's keys are written down once.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace sscs {
+
+struct RunSummaryFile {
+  std::string scenario, vault, status;  ///< status: ok, violations or failed
+  std::optional<double> cycle_time;     ///< null when the run stopped before its cycle was done
+  double simulated_time = 0;
+  struct Stopped {
+    std::string by;  ///< the event that stopped it (unreachable, time_limit, ...)
+    double t = 0;
+    std::string message;
+  };
+  std::optional<Stopped> stopped;
+  struct Step {
+    size_t index = 0;
+    std::string action;
+    std::optional<std::string> device, object;
+    std::optional<double> start, end;  ///< null: not begun / not finished when the run stopped
+  };
+  std::vector<Step> steps;
+  struct DeviceFigures {
+    std::vector<std::pair<std::string, double>> joint_travel;  ///< per joint: deg (revolute) or m
+    std::optional<double> revolute_deg, prismatic_m;            ///< totals per joint kind
+    double tool_path_length = 0;                                ///< m
+  };
+  std::vector<std::pair<std::string, DeviceFigures>> devices;
+  struct Clearance {
+    double distance = 0;
+    std::string a, b;
+    double t = 0;
+  };
+  std::optional<Clearance> min_clearance;  ///< none: nothing came within the tracked range
+  std::vector<std::pair<std::string, size_t>> events;  ///< counts by kind
+  std::vector<std::pair<std::string, std::string>> inputs;  ///< path, sha256
+  std::vector<std::string> inputs_not_in_resolved;
+  std::string sscs_version;
+
+  nlohmann::ordered_json to_json() const;
+  /// The summary in `text`; nullopt with `error` set when it is not JSON or not a summary sscs
+  /// writes (a key missing or of another type). Files of earlier versions without the per-kind
+  /// travel totals, `stopped` or `inputs` are read.
+  static std::optional<RunSummaryFile> parse(const std::string& text, std::string& error);
+};
+
+}  // namespace sscs
