@@ -79,6 +79,7 @@ struct Common {
     allowed.insert(allowed.end(), roots.begin(), roots.end());
     allowed.push_back(data_dir("library"));
     for (const auto* dirs : {&library, &plugins, &package_paths}) allowed.insert(allowed.end(), dirs->begin(), dirs->end());
+    for (const std::string& dir : ros_package_path()) allowed.push_back(dir);
     confine_reads(allowed);
   }
   bool color_for(FILE* stream) const {
@@ -90,13 +91,14 @@ struct Common {
   /// folder the command line names) may come from: the project root, the standard library and
   /// the folders given as options. A malformed --set NAME=VALUE is an input error.
   bool apply(CompileOptions& options, const std::vector<std::string>& inputs) const {
-    for (const std::string& r : roots) {
-      std::error_code ec;
-      if (!std::filesystem::is_directory(r, ec)) {
-        std::cerr << fmt::format("sscs: error: --root '{}' is no folder\n", r);
-        return false;
+    for (const auto& [option, dirs] : {std::pair{"--root", &roots}, std::pair{"--package-path", &package_paths}})
+      for (const std::string& r : *dirs) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(r, ec)) {
+          std::cerr << fmt::format("sscs: error: {} '{}' is no folder\n", option, r);
+          return false;
+        }
       }
-    }
     for (const std::string& input : inputs) confine_to(input);
     for (const std::string& s : set) {
       auto eq = s.find('=');

@@ -799,12 +799,10 @@ void check_values(CompileState& st) {
         }
       }
       if (def.dim == Dim::Length) check_length(st, slot, mark, fmt::format("'{}'", def.name), obj.name);
-      if (def.min_si && v < *def.min_si - 1e-12)
-        st.diag.error(mark, fmt::format("'{}' of '{}' is {}, below the min {} of type '{}'", def.name, obj.name,
-                                        with_unit(v, def.dim), with_unit(*def.min_si, def.dim), type.name));
-      if (def.max_si && v > *def.max_si + 1e-12)
-        st.diag.error(mark, fmt::format("'{}' of '{}' is {}, above the max {} of type '{}'", def.name, obj.name,
-                                        with_unit(v, def.dim), with_unit(*def.max_si, def.dim), type.name));
+      const double lo = def.min_si.value_or(-INFINITY), hi = def.max_si.value_or(INFINITY);
+      if (auto in = within_bounds(v, lo, hi)) st.wc.values[slot] = *in;  // a bound copied from `sscs types` is the bound
+      else st.diag.error(mark, fmt::format("'{}' of '{}' is {}, {} {} of type '{}'", def.name, obj.name, with_unit(v, def.dim),
+                                           v < lo ? "below the min" : "above the max", with_unit(v < lo ? lo : hi, def.dim), type.name));
     }
   }
 }

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -91,6 +92,16 @@ std::string outside_roots(const std::string& path) {
       return fmt::format("leads outside the project root {} through a symbolic link (to {}) {}", c.roots[0].string(),
                          real.string(), how);
   return fmt::format("is outside the project root {} {}", c.roots[0].string(), how);
+}
+
+std::vector<std::string> ros_package_path() {
+  std::vector<std::string> out;
+  if (const char* env = std::getenv("ROS_PACKAGE_PATH")) {
+    std::stringstream ss(env);
+    for (std::string dir; std::getline(ss, dir, ':');)
+      if (!dir.empty()) out.push_back(dir);
+  }
+  return out;
 }
 
 std::string not_a_readable_reference(const std::string& path) {

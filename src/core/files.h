@@ -38,6 +38,10 @@ void confine_reads(const std::vector<std::string>& roots);
 /// ("is outside the project root /p (...)", "leads outside the project root /p through a symbolic link ...").
 std::string outside_roots(const std::string& path);
 
+/// The folders of $ROS_PACKAGE_PATH (colon-separated; empty entries dropped): searched for
+/// `package://` references after --package-path, and trusted like it.
+std::vector<std::string> ros_package_path();
+
 /// Why a file named in an input file cannot be read: outside_roots(), else not_a_file().
 std::string not_a_readable_reference(const std::string& path);
 

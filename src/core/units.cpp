@@ -180,6 +180,13 @@ std::string known_units(Dim dim) {
 
 std::string number_text(double v) { return fmt::format("{}", stable(v)); }
 
+std::optional<double> within_bounds(double v, double lo, double hi) {
+  auto slack = [](double bound) { return 1e-9 * std::max(1.0, std::abs(bound)); };
+  if (v < lo) return v >= lo - slack(lo) ? std::optional(lo) : std::nullopt;
+  if (v > hi) return v <= hi + slack(hi) ? std::optional(hi) : std::nullopt;
+  return v;
+}
+
 std::string with_unit(double si, Dim dim) {
   const char* unit = file_unit(dim);
   const std::string number = number_text(si_to_file(si, dim));

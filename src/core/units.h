@@ -72,4 +72,9 @@ std::string with_unit(double si, Dim dim);
 /// ("{:g}" printed a limit and a value below it both as -22.9183).
 std::string number_text(double v);
 
+/// `v` in [lo, hi], allowing the slack of a bound that was printed to 12 significant digits in
+/// file units and read back (a relative 1e-9): `v` moved onto the range, or nullopt when it lies
+/// outside by more. So a joint limit copied from `sscs types` is accepted as that limit.
+std::optional<double> within_bounds(double v, double lo, double hi);
+
 }  // namespace sscs

@@ -28,6 +28,20 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
   return join_path(folder.parent_path().string(), rel);
 }
 
+bool missing_reference(const std::string& what, const std::string& type_file, const std::string& rel, SourceMark where,
+                       Diagnostics& diag) {
+  std::error_code ec;
+  const std::string path = resolve_mesh_path(type_file, rel);
+  if (fs::exists(path, ec) || fs::is_symlink(path, ec)) return false;
+  if (fs::path(rel).is_absolute()) {
+    diag.error(where, fmt::format("{} '{}' does not exist", what, rel));
+  } else {
+    const fs::path folder = fs::path(type_file).parent_path();
+    diag.error(where, fmt::format("{} '{}' does not exist (looked for {}, from the type file's folder, and {}, from its library folder)", what,
+                                  rel, join_path(folder.string(), rel), join_path(folder.parent_path().string(), rel)));
+  }
+  return true;
+}
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
   // A file named in another (where is valid) stays inside the project; a FIFO would be read for ever.

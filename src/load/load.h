@@ -36,11 +36,19 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
 /// `meshes/drum.obj` is written. Absolute paths stay.
 std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
 
+/// Whether the file `rel`, named in type file `type_file`, does not exist where
+/// resolve_mesh_path() looks; if so reports "<what> 'rel' does not exist (looked for A, from the
+/// type file's folder, and B, from its library folder)" at `where`.
+bool missing_reference(const std::string& what, const std::string& type_file, const std::string& rel, SourceMark where,
+                       Diagnostics& diag);
+
 /// Fills a device's parts from its URDF file (`device.urdf`, named in type file `type_file`):
 /// links become parts, joints joints, inertials masses, collision (else visual) shapes geometry.
 /// Problems (errors, and warnings of what was skipped) go to `device.import_problems`, at the
-/// `urdf:` key: reported where the type is used, so one broken robot does not break its folder.
-void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths);
+/// `urdf:` key or, for what is wrong inside the URDF, at its line in the URDF (read into
+/// `sources`): reported where the type is used, so one broken robot does not break its folder.
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
+               Sources& sources);
 
 /// Adds the collisions a MoveIt SRDF (`device.srdf`, beside the URDF) disables to the device's
 /// allowed collisions; the file is read into `sources`, so its problems are located in it. They

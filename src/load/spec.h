@@ -136,6 +136,7 @@ struct DeviceSpec {
   /// Each mesh reference of the URDF as written (`package://acme/meshes/a.dae`) and the file it
   /// names: resolved/ rewrites the references a copy of the URDF cannot keep.
   std::vector<std::pair<std::string, std::string>> urdf_mesh_refs;
+  std::string urdf_robot;  ///< the URDF's <robot name>, which its SRDF should repeat
   /// What went wrong in the URDF and SRDF imports (errors), and what they skipped (warnings:
   /// degenerate shapes): reported where the type is used.
   std::vector<Diagnostic> import_problems;

@@ -201,7 +201,7 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   }
   if (device) {
     t.device = read_device(root, diag);
-    if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths);
+    if (t.device->urdf.present && !t.device->urdf.null) load_urdf(*t.device, path, package_paths, sources);
     if (t.device->srdf.present && !t.device->srdf.null) load_srdf(*t.device, path, sources);
   } else {
     static const char* kDeviceKeys[] = {"parts", "tool", "home", "driven", "urdf", "srdf", "joint_limits", "allowed_collisions"};

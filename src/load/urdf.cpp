@@ -15,9 +15,11 @@
 #include <fmt/format.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "core/inertia.h"
 #include "core/names.h"
 #include "core/files.h"
 #include "load/load.h"
+#include "load/urdf_xml.h"
 
 namespace fs = std::filesystem;
 
@@ -55,13 +57,11 @@ struct SoftLimits {
   std::optional<double> lower, upper;
 };
 
-/// Per joint name, the soft limits written in the URDF file (read again with tinyxml, which
-/// urdfdom reads it with, to tell a written 0 from an absent attribute).
-std::map<std::string, SoftLimits> read_soft_limits(const std::string& urdf_path) {
+/// Per joint name, the soft limits written in the URDF (read from the document urdfdom reads too,
+/// to tell a written 0 from an absent attribute).
+std::map<std::string, SoftLimits> read_soft_limits(const TiXmlElement& robot) {
   std::map<std::string, SoftLimits> out;
-  TiXmlDocument doc;
-  if (!doc.LoadFile(urdf_path.c_str(), TIXML_ENCODING_UTF8) || !doc.RootElement()) return out;
-  for (const TiXmlElement* j = doc.RootElement()->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+  for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     const TiXmlElement* safety = j->FirstChildElement("safety_controller");
     const char* name = j->Attribute("name");
     if (!safety || !name) continue;
@@ -106,10 +106,12 @@ class Converter {
   void warn(const std::string& what) const {
     problems_.push_back({at_.mark, fmt::format("{}: link '{}': {}", urdf_path_, link_, what), true});
   }
+  void warn_not_drawn(const std::string& what) const { warn(what + ": that visual is not drawn"); }
 
   /// `package://pkg/path` through --package-path (and ROS_PACKAGE_PATH), `file://` absolute,
-  /// anything else relative to the URDF file.
-  std::optional<std::string> mesh_path(const std::string& uri) const {
+  /// anything else relative to the URDF file. What cannot be resolved is reported through
+  /// `report` (an error, or a warning for a visual the link does not need).
+  std::optional<std::string> mesh_path(const std::string& uri, void (Converter::*report)(const std::string&) const) const {
     std::error_code ec;
     if (uri.starts_with("package://")) {
       std::string rest = uri.substr(10);
@@ -117,27 +119,23 @@ class Converter {
       std::string package = rest.substr(0, slash);
       std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
       std::vector<std::string> roots = package_paths_;
-      if (const char* env = std::getenv("ROS_PACKAGE_PATH")) {
-        std::stringstream ss(env);
-        for (std::string dir; std::getline(ss, dir, ':');)
-          if (!dir.empty()) roots.push_back(dir);
+      for (const std::string& dir : ros_package_path()) roots.push_back(dir);
+      for (const std::string& written : roots) {
+        // DIR/pkg/path (a folder of packages), or DIR itself when it is the package ("DIR/" too).
+        fs::path root = fs::path(written).lexically_normal();
+        if (root.filename().empty()) root = root.parent_path();
+        for (const fs::path& candidate : {root / package / inside, root.filename() == package ? root / inside : fs::path()})
+          if (!candidate.empty() && fs::is_regular_file(candidate, ec)) return fs::absolute(candidate).lexically_normal().string();
       }
-      for (const std::string& root : roots) {
-        // DIR/pkg/path (a folder of packages), or DIR itself when it is the package.
-        for (fs::path candidate : {fs::path(root) / package / inside, fs::path(root) / inside}) {
-          if (candidate == fs::path(root) / inside && fs::path(root).filename() != package) continue;
-          if (fs::is_regular_file(candidate, ec)) return fs::absolute(candidate).lexically_normal().string();
-        }
-      }
-      error(fmt::format("mesh '{}' not found: no package '{}' holding '{}' under {}", uri, package, inside,
-                        roots.empty() ? std::string("any --package-path (none given)")
-                                      : fmt::format("the package paths ({})", fmt::join(roots, ", "))));
+      (this->*report)(fmt::format("mesh '{}' not found: no package '{}' holding '{}' under {}", uri, package, inside,
+                                  roots.empty() ? std::string("any --package-path (none given)")
+                                                : fmt::format("the package paths ({})", fmt::join(roots, ", "))));
       return std::nullopt;
     }
     fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
     if (p.is_relative()) p = join_path(fs::path(urdf_path_).parent_path().string(), p.string());
     if (std::string why = not_a_readable_reference(p.string()); !why.empty()) {
-      error(fmt::format("mesh '{}' {} ({})", uri, why, p.string()));
+      (this->*report)(fmt::format("mesh '{}' {} ({})", uri, why, p.string()));
       return std::nullopt;
     }
     return join_path(fs::current_path().string(), p.string());
@@ -146,7 +144,10 @@ class Converter {
   /// A <visual> or <collision> shape (`element` names which); nullopt when absent, unreadable
   /// (an error) or degenerate: a shape with no volume (Franka's zero-length cylinder on
   /// panda_mount) is skipped with a warning, for it is no solid to check or draw.
-  std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* element) const {
+  /// A mesh a `needed` shape names that cannot be found is an error; one of a visual the link
+  /// does not need (it has collision shapes) is a warning: that visual is not drawn.
+  std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* element,
+                                       bool needed = true) const {
     if (!g) return std::nullopt;
     auto degenerate = [&](const char* shape, const std::string& what) {
       warn(fmt::format("its <{}> {} has {}: skipped, for it has no volume", element, shape, what));
@@ -195,7 +196,7 @@ class Converter {
         break;
       case urdf::Geometry::MESH: {
         auto* m = static_cast<const urdf::Mesh*>(g.get());
-        auto path = mesh_path(m->filename);
+        auto path = mesh_path(m->filename, needed ? &Converter::error : &Converter::warn_not_drawn);
         if (!path) return std::nullopt;
         mesh_refs_.emplace_back(m->filename, *path);
         MeshSpec mesh;
@@ -226,8 +227,9 @@ class Converter {
     // Collision shapes are what the checker needs; a link with only visuals uses those. The
     // visuals, each with its material's colour, are what the link looks like.
     std::vector<GeometrySpec> visual;
+    const bool visuals_needed = link.collision_array.empty();  // else checks never read them
     for (const auto& v : link.visual_array)
-      if (auto g = geometry(v->geometry, v->origin, "visual")) {
+      if (auto g = geometry(v->geometry, v->origin, "visual", visuals_needed)) {
         if (v->material && has_color(*v->material)) g->color = hex(v->material->color);
         visual.push_back(std::move(*g));
       }
@@ -245,12 +247,21 @@ class Converter {
         p.color.text = hex(v->material->color);
       }
     if (link.inertial) {
-      p.mass = number(link.inertial->mass);
-      InertialSpec in;
-      in.origin = pose(link.inertial->origin);
       const urdf::Inertial& i = *link.inertial;
-      in.inertia = {number(i.ixx), number(i.ixy), number(i.ixz), number(i.iyy), number(i.iyz), number(i.izz)};
-      p.inertial = std::move(in);
+      p.mass = number(i.mass);
+      Eigen::Matrix3d I;
+      I << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
+      // A massless link (mass and inertia all 0: a frame the vendor never meant to simulate) is
+      // as if it wrote no <inertial>; any other body ODE cannot integrate is warned about.
+      if (std::string why = unphysical_inertia(i.mass, I); why.empty()) {
+        InertialSpec in;
+        in.origin = pose(i.origin);
+        in.inertia = {number(i.ixx), number(i.ixy), number(i.ixz), number(i.iyy), number(i.iyz), number(i.izz)};
+        p.inertial = std::move(in);
+      } else if (i.mass != 0 || !I.isZero()) {
+        warn(fmt::format("its <inertial> is not a physical body ({}): simulated as a box around its shapes{}", why,
+                         i.mass > 0 ? fmt::format(" of {} kg", i.mass) : " of 1 kg"));
+      }
     }
     link_.clear();
     return p;
@@ -316,18 +327,28 @@ class Converter {
 
 }  // namespace
 
-void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths) {
+void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vector<std::string>& package_paths,
+               Sources& sources) {
   const Scalar& at = device.urdf;
   const std::string urdf_path = resolve_mesh_path(type_file, at.text);
-  if (std::string why = not_a_readable_reference(urdf_path); !why.empty()) {
-    device.import_problems.push_back({at.mark, fmt::format("URDF file '{}' {} ({})", at.text, why, urdf_path)});
-    return;
-  }
+  // Read like every input file (project root, size limit, not a FIFO), so errors point into it.
+  Diagnostics diag;
+  auto keep = [&] {
+    for (const Diagnostic& d : diag.errors()) device.import_problems.push_back(d);
+  };
+  TiXmlDocument doc;
+  uint32_t file = 0;
+  const TiXmlElement* robot = read_robot_xml("URDF file", type_file, at, sources, diag, doc, file);
+  if (!robot) return keep();
+  const std::string& text = sources.text(file);
+  if (const char* name = robot->Attribute("name")) device.urdf_robot = name;
+  check_urdf_numbers(*robot, file, diag);
+  if (diag.has_errors()) return keep();
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   {
     CapturedLog capture;
-    model = urdf::parseURDFFile(urdf_path);
+    model = urdf::parseURDF(text);
     log = capture.text();
   }
   // urdfdom's links hold their children by shared_ptr, so a joint whose parent is its child
@@ -345,7 +366,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
     return;
   }
   Converter convert(at, urdf_path, package_paths, device);
-  const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(urdf_path);
+  const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(*robot);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};
   std::set<const urdf::Link*> seen = {model->getRoot().get()};

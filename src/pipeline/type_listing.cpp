@@ -207,6 +207,8 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
     out << fmt::format("{} ({}{}{}){}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
                              t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin,
                              t.description.empty() ? "" : " - " + t.description);
+    size_t name_width = 16;  // the names' column fits the longest (finger_right_joint)
+    for (const AttributeDef& a : t.attributes) name_width = std::max(name_width, a.name.size());
     for (const AttributeDef& a : t.attributes) {
       const char* unit = file_unit(a.dim);
       std::string range;
@@ -214,8 +216,11 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
         range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : "",
                             a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : "");
       std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
-      std::string def = a.default_value.present ? fmt::format("  default {}", a.default_value.text) : "  required";
-      out << fmt::format("  {:<16} {:<8} {:<4}{}{}{}{}\n", a.name, a.joint ? "joint" : attr_type_name(a.type), unit,
+      // A joint's default is its home, in the unit of the column (the type may write it in rad).
+      std::string def = a.joint ? fmt::format("  default {}", number_text(si_to_file(a.home_si, a.dim)))
+                        : a.default_value.present ? fmt::format("  default {}", a.default_value.text)
+                                                  : "  required";
+      out << fmt::format("  {:<{}} {:<8} {:<4}{}{}{}{}\n", a.name, name_width, a.joint ? "joint" : attr_type_name(a.type), unit,
                                def, range, values, a.description.empty() ? "" : "  # " + a.description);
     }
     const TypeInstance& in = instances[t.name];

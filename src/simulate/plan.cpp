@@ -204,12 +204,13 @@ class Planner {
         Dim dim = j.type == JointType::Revolute ? Dim::Angle : Dim::Length;
         auto v = literal_si(value, dim, fmt::format("joint '{}'", name), diag_);
         if (!v) continue;
-        if (*v < j.lower - 1e-12 || *v > j.upper + 1e-12) {
+        auto in = within_bounds(*v, j.lower, j.upper);  // a limit copied from `sscs types` is the limit
+        if (!in) {
           diag_.error(value.mark, fmt::format("{} of {} is {}, outside its limits [{}, {}]", name, wc_.objects[d].name,
                                               with_unit(*v, dim), with_unit(j.lower, dim), with_unit(j.upper, dim)));
           continue;
         }
-        target[k] = *v;
+        target[k] = *in;
       }
       double f = speed_fraction(step, false);
       end = move_joints(st, m, target, f, start);

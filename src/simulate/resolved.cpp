@@ -110,13 +110,19 @@ fs::path common_folder(const std::vector<std::string>& files) {
   return folder;
 }
 
-/// `text` with each `"from"` or `'from'` (an XML attribute's value) replaced by `"to"`.
-std::string replace_attribute_values(std::string text, const std::string& from, const std::string& to) {
-  for (char q : {'"', '\''}) {
-    const std::string a = q + from + q, b = '"' + to + '"';
+/// `text` with each `from` between the delimiters `open` and `close` (`"from"`: an XML attribute's
+/// value or a JSON string; `>from<`: an XML element's text) replaced by `to`.
+std::string replace_delimited(std::string text, const std::string& from, const std::string& to,
+                              std::initializer_list<std::pair<char, char>> delimiters) {
+  for (auto [open, close] : delimiters) {
+    const std::string a = open + from + close, b = open + to + close;
     for (size_t at = text.find(a); at != std::string::npos; at = text.find(a, at + b.size())) text.replace(at, a.size(), b);
   }
   return text;
+}
+
+std::string replace_attribute_values(const std::string& text, const std::string& from, const std::string& to) {
+  return replace_delimited(text, from, to, {{'"', '"'}, {'\'', '\''}});
 }
 
 std::vector<const GeometrySpec*> mesh_specs(const TypeSpec& t) {
@@ -167,7 +173,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   std::set<int> used;
   for (const Object& o : wc.objects)
     for (int t = o.type; t >= 0 && used.insert(t).second; t = wc.types[t].base) {}
-  std::set<std::string> urdfs, meshes;
+  std::set<std::string> meshes;
   for (int t : used) {
     const TypeSpec& spec = *wc.types[t].spec;
     if (!spec.plugin.empty()) {  // plugins are code: named, hashed, never copied
@@ -181,7 +187,6 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
       // the copies, and the URDF copy's package:// and absolute mesh references become relative.
       const DeviceSpec& d = *spec.device;
       const std::string urdf = fs::absolute(resolve_mesh_path(spec.path, d.urdf.text)).lexically_normal().string();
-      urdfs.insert(urdf);
       std::vector<std::string> files = {urdf};
       std::string srdf;
       if (d.srdf.present) files.push_back(srdf = fs::absolute(resolve_mesh_path(spec.path, d.srdf.text)).lexically_normal().string());
@@ -198,7 +203,26 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
         if (uri.starts_with("package://") || uri.starts_with("file://") || fs::path(uri).is_absolute())
           urdf_text = replace_attribute_values(urdf_text, uri, fs::path(dest(path)).lexically_relative(fs::path(dest(urdf)).parent_path()).generic_string());
       resolver.put(dest(urdf), std::move(urdf_text));
-      for (size_t k = 1; k < files.size(); ++k) resolver.copy(files[k], dest(files[k]));
+      // A COLLADA or glTF mesh naming its texture by absolute path (or file://) names the copy
+      // instead, relatively; a relative name holds, for the layout is kept.
+      std::set<std::string> rewritten;
+      for (const GeometrySpec* g : mesh_specs(spec)) {
+        const std::string& mesh = std::get<MeshSpec>(g->shape).file.text;
+        const std::string ext = fs::path(mesh).extension().string();
+        if (rewritten.count(mesh) || resolver.images(mesh).empty() || (ext != ".dae" && ext != ".DAE" && ext != ".gltf")) continue;
+        const std::string original = resolver.bytes(mesh);
+        std::string text = original;
+        for (const std::string& image : resolver.images(mesh)) {
+          const std::string rel = fs::path(dest(image)).lexically_relative(fs::path(dest(mesh)).parent_path()).generic_string();
+          for (const std::string& form : {"file://" + image, image})
+            text = replace_delimited(text, form, rel, {{'>', '<'}, {'"', '"'}});
+        }
+        if (text == original) continue;
+        resolver.put(dest(mesh), std::move(text));
+        rewritten.insert(mesh);
+      }
+      for (size_t k = 1; k < files.size(); ++k)
+        if (!rewritten.count(files[k])) resolver.copy(files[k], dest(files[k]));
       auto from_types = [&](const std::string& f) { return yaml::flow_scalar(fs::path(dest(f)).lexically_relative("library/types").generic_string()); };
       std::vector<yaml::TopLevelChange> changes = {{"urdf", from_types(urdf)}};
       if (d.srdf.present) changes.push_back({"srdf", from_types(srdf)});
@@ -241,7 +265,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
                                    {"set", overrides.empty() ? std::nullopt : std::optional(set_text(overrides))}}),
                            "scenario"));
 
-  // Every input: the text files in the order they were read, then URDF and mesh files.
+  // Every input: the text files in the order they were read (URDFs and SRDFs too), then meshes.
   for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({sources.path(f), sha256_hex(sources.text(f))});
   for (const ObjectGeometry& g : geometry.objects)
     for (const auto* shapes : {&g.shapes, &g.visual_shapes})  // what the checks used, and what frames drew
@@ -251,7 +275,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
           meshes.insert(s.mesh->images.begin(), s.mesh->images.end());
         }
   std::set<std::string> plugins(wc.plugin_files.begin(), wc.plugin_files.end());
-  for (const auto* set : {&urdfs, &meshes, &plugins})
+  for (const auto* set : {&meshes, &plugins})  // (URDFs, like SRDFs, were read into the sources)
     for (const std::string& f : *set) out.files.push_back({f, sha256_hex(resolver.bytes(f))});
   std::sort(out.not_copied.begin(), out.not_copied.end());
   out.not_copied.erase(std::unique(out.not_copied.begin(), out.not_copied.end()), out.not_copied.end());

@@ -10,6 +10,7 @@
 
 #include <ode/ode.h>
 
+#include "core/inertia.h"
 #include "model/device.h"
 
 namespace sscs {
@@ -316,15 +317,23 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   db.X_body_part.assign(d.parts.size(), Eigen::Isometry3d::Identity());
   std::vector<Eigen::Isometry3d> X = d.part_poses(q);
   for (auto& x : X) x = g.X_world_object * x;
+  // The root, and parts fixed to it through fixed joints only (a URDF's `world` link holding
+  // base_link), stand where the device stands: scenery, with no body to sag or touch the floor.
+  std::vector<bool> anchored(d.parts.size());
+  for (size_t p = 0; p < d.parts.size(); ++p) {
+    const Part& part = d.parts[p];
+    anchored[p] = part.parent < 0 || (anchored[part.parent] && part.joint.type == JointType::Fixed);
+  }
   for (size_t p = 0; p < d.parts.size(); ++p) {
     const Part& part = d.parts[p];
     dBodyID body = nullptr;
-    if (part.parent >= 0) {
-      // Mass: the part's, else 1 kg; inertia: the part's (URDF), else the box of its shapes' bounds.
+    if (!anchored[p]) {
+      // Mass: the part's, else 1 kg; inertia: the part's (URDF) when physical (the import warned of
+      // one that is not), else the box of its shapes' bounds.
       double m = part.mass > 0 ? part.mass : 1.0;
       dMass mass;
       Eigen::Vector3d com = Eigen::Vector3d::Zero();
-      if (part.inertia && part.com) {
+      if (part.inertia && part.com && unphysical_inertia(m, *part.inertia).empty()) {
         com = *part.com;
         const Eigen::Matrix3d& I = *part.inertia;
         dMassSetParameters(&mass, m, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
@@ -359,7 +368,7 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   db.commanded = q;
   for (size_t p = 0; p < d.parts.size(); ++p) {
     const Part& part = d.parts[p];
-    if (part.parent < 0 || db.kinematic) continue;
+    if (anchored[p] || db.kinematic) continue;
     const Joint& j = part.joint;
     dBodyID child = db.bodies[p], parent = db.bodies[part.parent];  // null parent: the world
     Eigen::Isometry3d X_joint = X[part.parent] * j.origin;

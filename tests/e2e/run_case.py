@@ -1496,6 +1496,21 @@ def tutorials(sscs, root):
         for f in ["events.jsonl", "trajectories/Robot.csv", "resolved/library/types/rx6.yaml"]:
             if open(os.path.join(run1, f), "rb").read() != open(os.path.join(elsewhere, "run2", f), "rb").read():
                 fail(f"devices.md tutorial step 6: {f} differs between the run and its rerun")
+        # A DAE naming its texture by absolute path (file://) names the copy in resolved/, so the
+        # rerun from elsewhere reads the copy even after the vendor's folder is gone.
+        dae = os.path.join(tmp, "vendor", "acme_rx6_support", "meshes", "visual", "link_3.dae")
+        png = os.path.join(os.path.dirname(dae), "link_3.png")
+        text = open(dae).read()
+        open(dae, "w").write(text.replace("<init_from>link_3.png</init_from>", f"<init_from>file://{png}</init_from>"))
+        p = run(sscs, tmp, ["simulate", "move.yaml", "--out", "run3", "--quiet", "--no-frames"])
+        copy = os.path.join(tmp, "run3", "resolved", vendor + "support/meshes/visual/link_3.dae")
+        if p.returncode != 0 or not os.path.exists(copy) or "<init_from>link_3.png</init_from>" not in open(copy).read():
+            fail("devices.md tutorial step 6: a DAE naming its texture by absolute path keeps it in resolved/", p)
+        shutil.move(os.path.join(tmp, "vendor"), os.path.join(tmp, "vendor-moved"))
+        p = run(sscs, elsewhere, ["render", os.path.join(tmp, "run3", "resolved", "vault.yaml"), "--out", "rerun3.png"])
+        if p.returncode != 0 or "warning" in p.stderr:
+            fail("devices.md tutorial step 6: the resolved/ copy with a rewritten texture path renders", p)
+        shutil.move(os.path.join(tmp, "vendor-moved"), os.path.join(tmp, "vendor"))
     print("ok tutorials")
 
 

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 
 #include "check/check.h"
 #include "compile/compile.h"
@@ -56,6 +58,25 @@ class VaultTest : public ::testing::Test {
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     for (const auto& [name, text] : files) std::ofstream(dir / (name + ".yaml")) << text;
+    return dir.string();
+  }
+  /// A type folder holding `rx6.urdf`, the vendor URDF of tests/data/vendor (its DAE references
+  /// made absolute) after `edit`, and type `rx6` of it with the lines `type_extra`.
+  std::string rx6_dir(const std::function<void(std::string&)>& edit, const std::string& type_extra = "tool: {part: tool0}\n") {
+    const std::string vendor = std::string(SSCS_TEST_DATA) + "/vendor/acme_rx6_support";
+    std::string text;
+    {
+      std::ifstream in(vendor + "/urdf/rx6.urdf");
+      text.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    for (const std::string link : {"link_2", "link_3"}) {
+      const std::string dae = "../meshes/visual/" + link + ".dae";  // relative to the vendor's urdf/ folder
+      text.replace(text.find(dae), dae.size(), vendor + "/meshes/visual/" + link + ".dae");
+    }
+    edit(text);
+    auto dir = std::filesystem::path(type_dir({}));
+    std::ofstream(dir / "rx6.urdf") << text;
+    std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: rx6.urdf\n" + type_extra;
     return dir.string();
   }
 };

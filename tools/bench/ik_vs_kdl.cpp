@@ -11,16 +11,18 @@
 // The second form benchmarks a vendor's URDF as shipped, from its root link BASE to link TIP,
 // without writing a type file. A continuous joint (no limits) is sampled over one turn.
 #include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
-#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
-#include <array>
 #include <unistd.h>
 
 #include <kdl/chain.hpp>
@@ -235,19 +237,40 @@ int run_urdf(const std::string& urdf, const std::string& base, const std::string
 }
 
 int main(int argc, char** argv) {
-  int samples = argc > 1 ? std::atoi(argv[1]) : 10000;
+  const char* usage =
+      "usage: ik_vs_kdl [SAMPLES] [TYPE ...] [--urdf FILE BASE TIP ...] [--package-path DIR ...]\n"
+      "  SAMPLES  random reachable poses per robot, a whole number above 0 (default 10000)\n"
+      "  TYPE     a device type of the standard library (default arm6 and ur5 when no --urdf is given)\n";
+  int samples = 10000;
+  bool samples_given = false;
   std::vector<std::string> types, package_paths;
   std::vector<std::array<std::string, 3>> urdfs;
-  for (int i = 2; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--urdf" && i + 3 < argc) {
+  auto fail = [&](const std::string& why) {
+    std::fprintf(stderr, "ik_vs_kdl: %s\n%s", why.c_str(), usage);
+    return 2;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::fputs(usage, stdout);
+      return 0;
+    } else if (a == "--urdf") {
+      if (i + 3 >= argc) return fail("--urdf needs three values: FILE BASE TIP");
       urdfs.push_back({argv[i + 1], argv[i + 2], argv[i + 3]});
       i += 3;
-    } else if (a == "--package-path" && i + 1 < argc) {
+    } else if (a == "--package-path") {
+      if (i + 1 >= argc) return fail("--package-path needs a folder");
       package_paths.push_back(argv[++i]);
-    } else if (a.starts_with("--")) {
-      std::fprintf(stderr, "usage: ik_vs_kdl [samples] [type ...] [--urdf FILE BASE TIP ...] [--package-path DIR ...]\n");
-      return 2;
+    } else if (a.starts_with("-") && !(a.size() > 1 && std::isdigit(static_cast<unsigned char>(a[1])))) {
+      return fail("unknown option '" + a + "'");
+    } else if (!a.empty() && (std::isdigit(static_cast<unsigned char>(a[0])) || a[0] == '-' || a[0] == '+')) {
+      long n = 0;
+      auto [end, ec] = std::from_chars(a.data() + (a[0] == '+'), a.data() + a.size(), n);
+      if (ec != std::errc() || end != a.data() + a.size() || n < 1 || n > 100000000)
+        return fail("SAMPLES must be a whole number from 1 to 100000000, found '" + a + "'");
+      if (samples_given) return fail("SAMPLES given twice");
+      samples = static_cast<int>(n);
+      samples_given = true;
     } else {
       types.push_back(a);
     }

@@ -1,6 +1,8 @@
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <regex>
 #include <set>
 
 #include <fmt/format.h>
@@ -417,6 +419,57 @@ TEST_F(Vendor, SoftLimitsBoundTheJointsUnlessHardIsChosen) {
   EXPECT_NE(first_error("objects:\n  - {type: rx6, name: R, joint_1: 2.7 rad}\n").find("joint_1"), std::string::npos);
 }
 
+TEST_F(Vendor, ALimitAsSscsTypesPrintsItIsThatLimit) {
+  // `sscs types` prints joint_1's soft limits, +-2.5 rad, as +-143.239448783 deg (12 digits):
+  // copied back, a hair beyond the limit, they are the limit; a value beyond by more is refused.
+  options.library_dirs = {data + "/library"};
+  Workcell wc = must_compile("objects:\n  - {type: rx6, name: R, joint_1: 143.239448783 deg}\n"
+                             "  - {type: rx6, name: S, joint_1: -143.239448783 deg, location: [2, 0, 0]}\n");
+  EXPECT_EQ(value(wc, "R.joint_1"), 2.5);
+  EXPECT_EQ(value(wc, "S.joint_1"), -2.5);
+  diag = Diagnostics();
+  EXPECT_EQ(first_error("objects:\n  - {type: rx6, name: R, joint_1: 143.2395 deg}\n"),
+            "'joint_1' of 'R' is 143.2395 deg, above the max 143.239448783 deg of type 'rx6'");
+}
+
+TEST_F(Vendor, DefaultDisabledAndReEnabledCollisionsOfTheSrdfCount) {
+  // MoveIt's <disable_default_collisions link=> allows that link to touch every other;
+  // <enable_collisions> takes a pair back, even from the SRDF's <disable_collisions>.
+  auto dir = std::filesystem::path(type_dir({}));
+  std::ofstream(dir / "rx6.srdf") << "<robot name=\"acme_rx6\">\n"
+                                     "  <disable_default_collisions link=\"link_2\"/>\n"
+                                     "  <enable_collisions link1=\"link_6\" link2=\"link_2\"/>\n"
+                                     "  <disable_collisions link1=\"link_4\" link2=\"link_6\" reason=\"Default\"/>\n"
+                                     "  <enable_collisions link1=\"link_4\" link2=\"link_6\"/>\n"
+                                     "</robot>\n";
+  std::ofstream(dir / "rx6.yaml") << rx6_type("srdf: rx6.srdf\n");
+  auto d = device("  - {type: rx6, name: R}\n", dir.string());
+  ASSERT_TRUE(d);
+  EXPECT_TRUE(diag.warnings().empty()) << diag.format(sources);
+  const int l2 = d->find_part("link_2"), l4 = d->find_part("link_4"), l6 = d->find_part("link_6");
+  EXPECT_TRUE(d->may_touch(l2, d->find_part("link_5")));
+  EXPECT_TRUE(d->may_touch(d->find_part("finger_left"), l2));
+  EXPECT_FALSE(d->may_touch(l2, l6));
+  EXPECT_FALSE(d->may_touch(l4, l6));
+}
+
+TEST_F(Vendor, AnSrdfNamingAnotherRobotOrNoOneToolIsWarnedAbout) {
+  auto dir = std::filesystem::path(type_dir({}));
+  std::ofstream(dir / "rx6.srdf") << "<robot name=\"acme_rx9\">\n"
+                                     "  <group name=\"arm\"><chain base_link=\"base_link\" tip_link=\"tool0\"/></group>\n"
+                                     "  <group name=\"hand\"><chain base_link=\"gripper\" tip_link=\"finger_left\"/></group>\n"
+                                     "</robot>\n";
+  std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\nsrdf: rx6.srdf\n";
+  auto d = device("  - {type: rx6, name: R}\n", dir.string());
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 2u) << diag.format(sources);
+  EXPECT_EQ(diag.warnings()[0].message, "this SRDF is for robot 'acme_rx9', but the URDF is robot 'acme_rx6' (is the SRDF another robot's?)");
+  EXPECT_EQ(diag.warnings()[1].message,
+            "this SRDF names 0 end effector parent links () and 2 chain tips (tool0, finger_left): no one tool; the tool is "
+            "the end of the longest chain (write tool: in the type to choose)");
+  EXPECT_EQ(sources.path(diag.warnings()[0].mark.file), (dir / "rx6.srdf").string());
+}
+
 TEST_F(Vendor, AnSrdfOfAnotherRobotIsAnErrorInTheSrdf) {
   auto dir = std::filesystem::path(type_dir({}));
   std::ofstream(dir / "other.srdf") << "<robot name=\"other\">\n  <disable_collisions link1=\"link_4\" link2=\"forearm\" reason=\"Never\"/>\n</robot>\n";
@@ -487,28 +540,99 @@ TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes
 }
 
 TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
-  auto dir = std::filesystem::path(type_dir({}));
-  std::string text;
-  {
-    std::ifstream in(urdf);
-    text.assign(std::istreambuf_iterator<char>(in), {});
-  }
   // Franka's panda-gazebo.urdf: a zero-length cylinder on a link.
-  const std::string base = "<link name=\"base_link\">";
-  text.replace(text.find(base), base.size(),
-               base + "\n    <collision><geometry><cylinder radius=\"0.1\" length=\"0\"/></geometry></collision>");
-  for (const std::string link : {"link_2", "link_3"}) {
-    const std::string dae = "../meshes/visual/" + link + ".dae";  // relative to the vendor's urdf/ folder
-    text.replace(text.find(dae), dae.size(), data + "/acme_rx6_support/meshes/visual/" + link + ".dae");
-  }
-  std::ofstream(dir / "rx6.urdf") << text;
-  std::ofstream(dir / "rx6.yaml") << "sscs: 1\ntype: rx6\nkind: device\nurdf: rx6.urdf\ntool: {part: tool0}\n";
-  auto d = device("  - {type: rx6, name: R}\n", dir.string());
+  const std::string dir = rx6_dir([](std::string& text) {
+    const std::string base = "<link name=\"base_link\">";
+    text.replace(text.find(base), base.size(),
+                 base + "\n    <collision><geometry><cylinder radius=\"0.1\" length=\"0\"/></geometry></collision>");
+  });
+  auto d = device("  - {type: rx6, name: R}\n", dir);
   ASSERT_TRUE(d);
   ASSERT_EQ(diag.warnings().size(), 1u) << diag.format(sources);
   EXPECT_EQ(diag.warnings()[0].message,
-            (dir / "rx6.urdf").string() + ": link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
+            dir + "/rx6.urdf: link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
   EXPECT_EQ(d->parts[d->find_part("base_link")].shapes.size(), 1u);  // the vendor's own cylinder stays
+}
+
+TEST_F(Vendor, EveryNumberOfTheUrdfThatIsNotFiniteIsAnErrorAtItsLine) {
+  // urdfdom drops a <collision> whose shape it cannot read and takes "nan" as a number: each
+  // number the vendor's file writes (sizes, origins, axes, limits, inertias, colours), made nan,
+  // inf, 1e999 or no number in turn, is an error at its line of the URDF, never a robot that
+  // lost a solid.
+  std::string original;
+  rx6_dir([&](std::string& text) { original = text; });
+  const std::regex number(R"(-?[0-9.][0-9.e+-]*)");
+  const std::regex numbers(R"(\s*-?[0-9.][0-9.e+-]*(\s+-?[0-9.][0-9.e+-]*)*\s*)");
+  const std::regex attribute(R"re((\w+)="([^"]*)")re");
+  const char* bad[] = {"nan", "inf", "1e999", "-nan", "0x"};
+  size_t tried = 0;
+  for (auto a = std::sregex_iterator(original.begin(), original.end(), attribute); a != std::sregex_iterator(); ++a) {
+    const std::string value = (*a)[2];
+    if (!std::regex_match(value, numbers) || (*a)[1] == "version") continue;  // names, files, the XML declaration
+    auto n = std::sregex_iterator(value.begin(), value.end(), number);
+    std::string edited_value = value;
+    edited_value.replace(n->position(), n->length(), bad[tried % std::size(bad)]);
+    const size_t at = a->position(2);
+    const std::string dir = rx6_dir([&](std::string& text) { text.replace(at, value.size(), edited_value); });
+    const uint32_t line = 1 + std::count(original.begin(), original.begin() + at, '\n');
+    diag = Diagnostics();
+    options.library_dirs = {dir};
+    const std::string e = first_error("objects:\n  - {type: rx6, name: R}\n");
+    ASSERT_FALSE(diag.errors().empty()) << (*a)[0] << " made " << edited_value << " passed";
+    const Diagnostic& first = diag.errors()[0];
+    EXPECT_EQ(sources.path(first.mark.file), dir + "/rx6.urdf") << e;
+    EXPECT_EQ(first.mark.line, line) << e;
+    EXPECT_NE(e.find("'" + edited_value + "'"), std::string::npos) << e;
+    ++tried;
+  }
+  EXPECT_GT(tried, 100u);  // every number of the file was tried
+}
+
+TEST_F(Vendor, AShapeUrdfdomWouldDropIsAnError) {
+  struct Case {
+    const char* written;
+    const char* made;
+    const char* error;
+  };
+  const Case cases[] = {
+      {"<box size=\"0.2 0.2 0.2\"/>", "<box/>", "<box> needs a size attribute (3 finite lengths in m), found none"},
+      {"<box size=\"0.2 0.2 0.2\"/>", "<capsule radius=\"0.1\" length=\"0.2\"/>",
+       "<geometry> needs one of <box>, <cylinder>, <sphere> or <mesh>, found <capsule>"},
+      {"<box size=\"0.2 0.2 0.2\"/>", "", "<geometry> needs one of <box>, <cylinder>, <sphere> or <mesh>, found nothing"},
+      {"<box size=\"0.2 0.2 0.2\"/>", "<box size=\"0.2 0.2\"/>",
+       "<box size>: expected 3 finite lengths in m (not negative), found '0.2 0.2' (2 of them)"},
+      {"<mass value=\"20\"/>", "<mass value=\"-20\"/>",
+       "<mass value>: expected a finite mass in kg (not negative), found '-20': -20 is negative"},
+      {"<color rgba=\"0.96 0.47 0.0 1.0\"/>", "<color rgba=\"0.96 1.47 0.0 1.0\"/>",
+       "<color rgba>: expected 4 finite colour channels (each 0 to 1), found '0.96 1.47 0.0 1.0': 1.47 is outside 0 to 1"},
+  };
+  for (const Case& c : cases) {
+    const std::string dir = rx6_dir([&](std::string& text) { text.replace(text.find(c.written), std::strlen(c.written), c.made); });
+    diag = Diagnostics();
+    options.library_dirs = {dir};
+    EXPECT_EQ(first_error("objects:\n  - {type: rx6, name: R}\n"), c.error);
+  }
+}
+
+TEST_F(Vendor, AnInertiaOdeCannotIntegrateIsAWarningAndABox) {
+  const std::string dir = rx6_dir([](std::string& text) {
+    auto replace = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+    replace("<mass value=\"1\"/><inertia ixx=\"0.001\" ixy=\"0\" ixz=\"0\" iyy=\"0.001\" iyz=\"0\" izz=\"0.001\"/>",
+            "<mass value=\"1\"/><inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/>");  // link_5
+    replace("<mass value=\"4\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/>",
+            "<mass value=\"4\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.05\"/>");  // link_3
+  });
+  auto d = device("  - {type: rx6, name: R}\n", dir);
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 2u) << diag.format(sources);
+  std::set<std::string> warnings = {diag.warnings()[0].message, diag.warnings()[1].message};
+  EXPECT_TRUE(warnings.count(dir + "/rx6.urdf: link 'link_5': its <inertial> is not a physical body (its inertia is all zero): "
+                                   "simulated as a box around its shapes of 1 kg")) << *warnings.rbegin();
+  EXPECT_TRUE(warnings.count(dir + "/rx6.urdf: link 'link_3': its <inertial> is not a physical body (its principal moments 0.01, "
+                                   "0.01, 0.05 kg m^2 break the triangle inequality (the largest above the sum of the others)): "
+                                   "simulated as a box around its shapes of 4 kg")) << *warnings.begin();
+  EXPECT_FALSE(d->parts[d->find_part("link_5")].inertia);
+  EXPECT_TRUE(d->parts[d->find_part("link_4")].inertia);
 }
 
 }  // namespace

@@ -129,6 +129,32 @@ TEST_F(Articulated, MotorsHoldAnArmAgainstGravity) {
   EXPECT_LT(consistency(*w), 1e-3);  // ODE's joint readings and the kinematic model agree
 }
 
+TEST_F(Articulated, AUrdfRootedInAWorldLinkStandsStillAndTouchesNothing) {
+  // Many vendor URDFs root the robot in a `world` link holding base_link on a fixed joint:
+  // base_link is then scenery, like a root part, so it neither sags nor touches the floor it
+  // stands on (it was a body, in contact with the floor at depth 0: a collision).
+  options.library_dirs = {rx6_dir([](std::string& text) {
+    const std::string base = "<link name=\"base_link\">";
+    text.replace(text.find(base), base.size(),
+                 "<link name=\"world\"/>\n  <joint name=\"world_fixed\" type=\"fixed\"><parent link=\"world\"/>"
+                 "<child link=\"base_link\"/></joint>\n  " + base);
+  })};
+  auto w = world_of("  - {type: rx6, name: R}\n", "R");
+  const int base = model->find_part("base_link");
+  const Eigen::Isometry3d before = w->part_pose(d, base);
+  EXPECT_NEAR(before.translation().z(), 0, 1e-12);  // its cylinder stands on the floor
+  Eigen::VectorXd zero = Eigen::VectorXd::Zero(model->dof());
+  size_t floor_contacts = 0;
+  while (w->time() < 1.0) {
+    w->drive(d, q0, zero);
+    w->step();
+    for (const PhysicsContact& c : w->contacts()) floor_contacts += c.a == -1 || c.b == -1;
+  }
+  EXPECT_EQ(floor_contacts, 0u);
+  EXPECT_TRUE(w->part_pose(d, base).isApprox(before, 1e-12));
+  EXPECT_LT(consistency(*w), 1e-3);
+}
+
 TEST_F(Articulated, MotorsTrackAPlannedMove) {
   auto w = world_of("  - {type: arm6, name: R}\n", "R");
   Eigen::VectorXd q1 = q0;
