@@ -231,6 +231,13 @@ int run_types(const Common& common, const std::string& format) {
   for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
   std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths, plugins.types());
   if (report_diagnostics(diag, sources, common)) return kInputError;
+  // `types` checks a library: a broken type's errors are input errors here (vaults that do not
+  // use it are not affected).
+  for (const ObjectType& t : types)
+    if (t.broken)
+      for (const Diagnostic& d : t.problems)
+        if (!d.warning) diag.error(d.mark, d.message);
+  if (report_diagnostics(diag, sources, common)) return kInputError;
   CompileOptions instance_options;
   instance_options.package_paths = common.package_paths;
   write_type_listing(std::cout, std::move(types), plugins, instance_options, format == "json");

@@ -515,13 +515,18 @@ void expand_objects(CompileState& st) {
       continue;
     }
     int type = static_cast<int>(t - st.wc.types.begin());
-    // A type whose files are broken is an error where it is used (once), its base's problems too.
+    // A type whose files are broken is an error where it is used (once), its base's problems too;
+    // no object is built of it.
     for (int k = type; k >= 0; k = st.wc.types[k].base)
       if (st.reported_types.insert(k).second)
         for (const Diagnostic& d : st.wc.types[k].problems) {
           if (d.warning) st.diag.warning(d.mark, d.message);
           else st.diag.error(d.mark, d.message);
         }
+    if (st.wc.types[type].broken) {
+      if (o.name.present) st.unbuilt.insert(o.name.text);
+      continue;
+    }
     auto add = [&](std::string name, SourceMark mark, std::array<int, 3> index, std::array<double, 3> offset) {
       Object obj;
       obj.name = std::move(name);

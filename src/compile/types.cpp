@@ -249,6 +249,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
   std::vector<std::shared_ptr<const TypeSpec>> specs;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
   std::vector<fs::path> loaded;  // a folder named twice (a vault's library and --library) loads once
+  std::map<std::string, std::vector<Diagnostic>> file_problems;  // type name -> its file's errors
   for (const auto& [dir, where] : dirs) {
     std::error_code ec;
     if (fs::path real = fs::weakly_canonical(dir, ec); !ec) {
@@ -271,9 +272,22 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
         diag.error(where, fmt::format("type file '{}' {}", file, why));
         continue;
       }
-      auto spec = load_type(file, sources, diag, {}, package_paths);
-      if (!spec || spec->name.empty()) continue;
+      // The file's own errors are the type's problems, told where a vault uses it.
+      Diagnostics own;
+      auto spec = load_type(file, sources, own, {}, package_paths);
       std::string stem = fs::path(file).stem().string();
+      if (!spec || spec->name.empty()) {
+        if (!own.has_errors()) continue;
+        spec.emplace();  // unreadable: known by its file's name
+        spec->name = stem;
+        spec->path = file;
+        spec->mark = own.errors()[0].mark;
+      }
+      if (own.has_errors() || !own.warnings().empty()) {
+        std::vector<Diagnostic>& p = file_problems[spec->name];
+        for (const Diagnostic& d : own.warnings()) p.push_back({d.mark, d.message, true});
+        p.insert(p.end(), own.errors().begin(), own.errors().end());
+      }
       if (stem != spec->name)
         diag.error(spec->mark, fmt::format("type file '{}' defines type '{}'; name the file after its type ({}.yaml)",
                                            fs::path(file).filename().string(), spec->name, spec->name));
@@ -308,50 +322,67 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
   }
 
-  // Resolve `extends` in dependency order; a cycle is reported once, at each type in it.
+  // Resolve `extends` in dependency order; a cycle is reported once, at the type that closes it.
   std::vector<ObjectType> types(specs.size());
-  std::vector<int> state(specs.size(), 0);  // 0 new, 1 resolving, 2 done, 3 failed
+  std::vector<int> state(specs.size(), 0);  // 0 new, 1 resolving, 2 done
   std::vector<std::string> names;
   for (const auto& [n, i] : index) names.push_back(n);
   std::function<bool(size_t)> resolve = [&](size_t i) -> bool {
     if (state[i] == 2) return true;
-    if (state[i] == 3) return false;
     const TypeSpec& spec = *specs[i];
-    if (state[i] == 1) {
-      diag.error(spec.extends_mark, fmt::format("type '{}' extends itself through a cycle", spec.name));
-      state[i] = 3;
-      return false;
-    }
-    state[i] = 1;
     ObjectType& t = types[i];
+    // A library type's errors (its file's, and those found resolving it) become its problems; a
+    // plugin's go to `diag` (the plugin's fault: exit 3, below).
+    Diagnostics own;
+    Diagnostics& d = spec.plugin.empty() ? own : diag;
+    auto done = [&] {
+      for (const Diagnostic& w : own.warnings()) t.problems.push_back({w.mark, w.message, true});
+      t.problems.insert(t.problems.end(), own.errors().begin(), own.errors().end());
+      if (own.has_errors()) t.broken = true;
+      state[i] = 2;
+      return true;
+    };
+    if (state[i] == 1) return false;  // a cycle: the type that closes it reports it
+    state[i] = 1;
     t.name = spec.name;
     t.description = spec.description;
     t.spec = specs[i];
     t.device = spec.device.has_value();
+    if (auto p = file_problems.find(spec.name); p != file_problems.end()) {
+      t.problems = p->second;
+      if (std::any_of(p->second.begin(), p->second.end(), [](const Diagnostic& x) { return !x.warning; })) {
+        t.broken = true;
+        state[i] = 2;
+        return true;
+      }
+    }
     if (!spec.extends.empty()) {
       auto base = index.find(spec.extends);
       if (base == index.end()) {
-        diag.error(spec.extends_mark,
-                   fmt::format("type '{}' extends unknown type '{}'{}", spec.name, spec.extends, did_you_mean(spec.extends, names)));
-        state[i] = 3;
-        return false;
+        d.error(spec.extends_mark,
+                fmt::format("type '{}' extends unknown type '{}'{}", spec.name, spec.extends, did_you_mean(spec.extends, names)));
+        return done();
       }
       if (!resolve(base->second)) {
-        state[i] = 3;
-        return false;
+        d.error(spec.extends_mark, fmt::format("type '{}' extends itself through a cycle", spec.name));
+        return done();
       }
       t.base = static_cast<int>(base->second);
+      if (types[base->second].broken) {  // its problems are told with this type's, where it is used
+        t.broken = true;
+        return done();
+      }
       t.attributes = types[base->second].attributes;
       t.device = t.device || types[base->second].device;
     }
     for (const AttributeDecl& decl : spec.attributes) {
-      AttributeDef a = make_attribute(decl, diag);
+      AttributeDef a = make_attribute(decl, d);
       int existing = t.find_attribute(a.name);
       if (existing < 0) {
         t.attributes.push_back(std::move(a));
       } else if (t.attributes[existing].type != a.type) {
-        diag.error(decl.mark, fmt::format("attribute '{}' is a {} in the base type; '{}' cannot make it a {}", a.name,
-                                          attr_type_name(t.attributes[existing].type), spec.name, attr_type_name(a.type)));
+        d.error(decl.mark, fmt::format("attribute '{}' is a {} in the base type; '{}' cannot make it a {}", a.name,
+                                       attr_type_name(t.attributes[existing].type), spec.name, attr_type_name(a.type)));
       } else {
         t.attributes[existing] = std::move(a);  // an override of the inherited default or limits
       }
@@ -359,17 +390,19 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     // A device whose URDF or SRDF could not be imported has no parts to check its tool, home and
     // joints against: its import problems are what a vault using it is told.
     const bool imported = !spec.device || std::none_of(spec.device->import_problems.begin(), spec.device->import_problems.end(),
-                                                       [](const Diagnostic& d) { return !d.warning; });
-    if (spec.device && imported) add_joint_attributes(spec, t, diag);
+                                                       [](const Diagnostic& x) { return !x.warning; });
+    if (spec.device && imported) add_joint_attributes(spec, t, d);
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
-    check_geometry(spec.geometry, t, spec.path, diag, t.problems);
-    check_shape_value(spec.mass, Dim::Mass, t, "mass", diag);
-    for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), diag);
-    if (spec.device && imported) check_device(*spec.device, t, spec.path, diag, t.problems);
-    if (spec.device) t.problems.insert(t.problems.end(), spec.device->import_problems.begin(), spec.device->import_problems.end());
-    state[i] = 2;
-    return true;
+    check_geometry(spec.geometry, t, spec.path, d, t.problems);
+    check_shape_value(spec.mass, Dim::Mass, t, "mass", d);
+    for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), d);
+    if (spec.device && imported) check_device(*spec.device, t, spec.path, d, t.problems);
+    if (spec.device) {
+      t.problems.insert(t.problems.end(), spec.device->import_problems.begin(), spec.device->import_problems.end());
+      if (!imported) t.broken = true;
+    }
+    return done();
   };
   for (size_t i = 0; i < specs.size(); ++i) resolve(i);
   // A plugin type that does not resolve is the plugin's fault, not the vault's: exit 3.
@@ -381,14 +414,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       throw PluginError(fmt::format("a plugin's object type does not resolve against the type library:\n{}",
                                     mine.format(sources)));
     }
-  std::vector<ObjectType> out;
-  for (size_t i = 0; i < specs.size(); ++i)
-    if (state[i] == 2) out.push_back(std::move(types[i]));
-  // `base` indices must follow the compaction: re-resolve by name.
-  std::map<std::string, int> final_index;
-  for (size_t i = 0; i < out.size(); ++i) final_index[out[i].name] = static_cast<int>(i);
-  for (auto& t : out) t.base = t.spec->extends.empty() ? -1 : final_index.at(t.spec->extends);
-  return out;
+  return types;  // every type, in `specs` order (which `base` indexes); broken ones with their problems
 }
 
 }  // namespace sscs

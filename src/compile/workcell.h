@@ -44,10 +44,12 @@ struct ObjectType {
   bool device = false;
   std::vector<AttributeDef> attributes;
   std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
-  /// Errors in the files the type names (a mesh that cannot be read), and warnings of what its
-  /// import skipped (a degenerate URDF shape): reported when a vault uses
-  /// the type (or one extending it), so one broken type does not break its whole folder.
+  /// Errors in the type file and the files it names (a typo in an expression, a mesh that cannot
+  /// be read), and warnings of what its import skipped (a degenerate URDF shape): reported when a
+  /// vault uses the type (or one extending it), so one broken type does not break its folder.
   std::vector<Diagnostic> problems;
+  /// Its type file (or a type it extends) has errors: it is listed, but no object is built of it.
+  bool broken = false;
   int find_attribute(std::string_view name) const;
 };
 

@@ -102,10 +102,30 @@ TEST_F(Compile, InheritanceCyclesAndUnknownBasesAreErrors) {
       {"b_type", "sscs: 1\ntype: b_type\nextends: a_type\n"},
       {"c_type", "sscs: 1\ntype: c_type\nextends: drun\n"},
   })};
-  compile_text("objects: []\n");
+  // Reported where a vault uses them (a type that closes the cycle reports it; one extending it
+  // is broken too); a vault of the same folder that does not use them compiles.
+  must_compile("objects:\n  - {type: drum, name: D}\n");
+  compile_text("objects:\n  - {type: a_type, name: A}\n  - {type: c_type, name: C}\n");
   std::string all = diag.format(sources);
-  EXPECT_NE(all.find("type 'a_type' extends itself through a cycle"), std::string::npos) << all;
+  EXPECT_NE(all.find("type 'b_type' extends itself through a cycle"), std::string::npos) << all;
   EXPECT_NE(all.find("type 'c_type' extends unknown type 'drun' (did you mean 'drum'?)"), std::string::npos) << all;
+}
+
+TEST_F(Compile, ABrokenTypeFileBreaksOnlyTheVaultsThatUseIt) {
+  // A typo in one type file (an unknown key, a bad value, YAML that does not parse) is an error
+  // where a vault uses the type, or a type extending it, not in every vault of its folder.
+  options.library_dirs = {type_dir({
+      {"good", "sscs: 1\ntype: good\ngeometry:\n  - box: {size: [1, 1, 1]}\n"},
+      {"typo", "sscs: 1\ntype: typo\ncolour: \"#ff0000\"\n"},
+      {"child", "sscs: 1\ntype: child\nextends: typo\n"},
+      {"garbled", "sscs: 1\ntype: garbled\nattributes: {a: [\n"},
+  })};
+  must_compile("objects:\n  - {type: good, name: G}\n");
+  EXPECT_EQ(first_error("objects:\n  - {type: child, name: C}\n"), "unknown key 'colour' in a type file (did you mean 'color'?)");
+  diag = Diagnostics();
+  EXPECT_FALSE(compile_text("objects:\n  - {type: garbled, name: X}\n"));
+  ASSERT_FALSE(diag.errors().empty());
+  EXPECT_NE(sources.path(diag.errors()[0].mark.file).find("garbled.yaml"), std::string::npos);
 }
 
 TEST_F(Compile, IntegerRangeIsChecked) {
