@@ -150,13 +150,16 @@ int run_check(const Common& common, const CheckArgs& args) {
   Diagnostics diag;
   std::vector<Workcell> cells;
   std::vector<GeometryModel> geometry;
+  std::vector<std::vector<Diagnostic>> input_warnings;
   cells.reserve(args.vaults.size());
   for (const std::string& path : args.vaults) {
     common.confine_to(path);  // each vault reads within its own project, not another's
+    const size_t warned = diag.warnings().size();
     PreparedVault vault = prepare_vault(path, options, sources, diag);
     if (vault.wc) {
       geometry.push_back(std::move(vault.geometry));
       cells.push_back(std::move(*vault.wc));
+      input_warnings.emplace_back(diag.warnings().begin() + warned, diag.warnings().end());
     }
     if (diag.full()) break;
   }
@@ -173,7 +176,7 @@ int run_check(const Common& common, const CheckArgs& args) {
   CheckOptions check_options;
   check_options.describe_passes = format != "text";  // the text report prints failures only
   for (size_t i = 0; i < cells.size(); ++i) {
-    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options), std::nullopt});
+    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options), std::nullopt, input_warnings[i]});
     if (baseline) reports.back().baseline = compare_with_baseline(cells[i], reports.back().report, *baseline);
   }
   timer.lap("check");

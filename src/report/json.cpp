@@ -47,6 +47,14 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
   w.field("passed", vr.report.passed);
   w.field("failed", vr.report.failed);
   w.field("warnings", vr.report.warnings);
+  if (!vr.input_warnings.empty()) {
+    w.key("input_warnings");
+    w.begin_array();
+    for (const Diagnostic& d : vr.input_warnings)
+      w.json(nlohmann::ordered_json{{"file", d.mark.valid() ? sources.path(d.mark.file) : ""}, {"line", d.mark.line},
+                                    {"column", d.mark.column}, {"message", d.message}});
+    w.end_array();
+  }
   if (vr.baseline) w.field("baseline", baseline_json(*vr.baseline));
   w.key("results");
   w.begin_array();

@@ -54,6 +54,9 @@ struct VaultReport {
   std::string file;  ///< the vault path as given
   CheckReport report;
   std::optional<BaselineDiff> baseline;
+  /// Warnings of its inputs (a URDF shape skipped, a texture not read): on stderr as the vault
+  /// loads, and in the report so CI annotates them.
+  std::vector<Diagnostic> input_warnings;
   /// The gate: with a baseline, only new failures; else every failure.
   bool violated(bool strict) const {
     if (!baseline) return report.violated(strict);

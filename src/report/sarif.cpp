@@ -59,10 +59,10 @@ nlohmann::ordered_json artifact(const std::string& file, const std::string& base
   return {{"uri", "file://" + uri_path(abs.generic_string())}};
 }
 
-nlohmann::ordered_json location(const Constraint& c, const Sources& sources, const std::string& base_dir) {
+nlohmann::ordered_json location(SourceMark mark, const Sources& sources, const std::string& base_dir) {
   return {{"physicalLocation",
-           {{"artifactLocation", artifact(sources.path(c.mark.file), base_dir)},
-            {"region", {{"startLine", c.mark.line}, {"startColumn", c.mark.column}}}}}};
+           {{"artifactLocation", artifact(sources.path(mark.file), base_dir)},
+            {"region", {{"startLine", mark.line}, {"startColumn", mark.column}}}}}};
 }
 
 /// A fingerprint that follows a result across edits that move lines: vault, constraint, subjects.
@@ -121,12 +121,23 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
       res["message"] = {{"text", fmt::format("{}{}{}{}{}: {}{}{}", c.name, cls, subject.empty() ? "" : " [", fmt::join(subject, ", "),
                                              subject.empty() ? "" : "]", r.status == Status::Error ? "could not be evaluated: " : "",
                                              r.message, margin)}};
-      res["locations"] = nlohmann::ordered_json::array({location(c, sources, base_dir)});
+      res["locations"] = nlohmann::ordered_json::array({location(c.mark, sources, base_dir)});
       res["partialFingerprints"] = {{"sscsResult/v1", fingerprint(wc.name, c.name, subject)}};
       if (vr.baseline) res["baselineState"] = vr.baseline->changes[i] == Change::New ? "new" : "unchanged";
       res["properties"] = {{"vault", wc.name},      {"constraint", c.name},       {"status", status_name(r.status)},
                            {"subject", subject},     {"lhs", number_or_null(r.lhs)}, {"rhs", number_or_null(r.rhs)},
                            {"margin", number_or_null(r.margin)}, {"unit", r.margin_unit()}};
+      w.json(res);
+    }
+    // Warnings of the inputs (a URDF shape skipped): annotations too, under a rule of their own.
+    for (const Diagnostic& d : vr.input_warnings) {
+      nlohmann::ordered_json res;
+      res["ruleId"] = "sscs/input-warning";
+      res["kind"] = "review";
+      res["level"] = "warning";
+      res["message"] = {{"text", d.message}};
+      if (d.mark.valid()) res["locations"] = nlohmann::ordered_json::array({location(d.mark, sources, base_dir)});
+      res["properties"] = {{"vault", wc.name}};
       w.json(res);
     }
     if (!vr.baseline) continue;
@@ -142,7 +153,7 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
       res["kind"] = "pass";
       res["level"] = "none";
       res["message"] = {{"text", describe_fixed(g)}};
-      if (c) res["locations"] = nlohmann::ordered_json::array({location(*c, sources, base_dir)});
+      if (c) res["locations"] = nlohmann::ordered_json::array({location(c->mark, sources, base_dir)});
       res["partialFingerprints"] = {{"sscsResult/v1", fingerprint(wc.name, g.constraint, g.subject)}};
       res["baselineState"] = "absent";
       res["properties"] = {{"vault", wc.name}, {"constraint", g.constraint}, {"subject", g.subject}};

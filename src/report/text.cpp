@@ -11,7 +11,7 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
   const char* bold = options.color ? "\033[1m" : "";
   const char* reset = options.color ? "\033[0m" : "";
   std::string out;
-  size_t passed = 0, failed = 0, unevaluated = 0, warnings = 0;
+  size_t passed = 0, failed = 0, unevaluated = 0, warnings = 0, input_warnings = 0;
   // "N failed (K could not be evaluated)": those K count as failures whatever their severity.
   auto failed_text = [](size_t n, size_t k) { return k ? fmt::format("{} failed ({} could not be evaluated)", n, k) : fmt::format("{} failed", n); };
   for (const VaultReport& vr : reports) {
@@ -42,11 +42,14 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
     failed += vr.report.failed;
     unevaluated += vr.report.unevaluated;
     warnings += vr.report.warnings;
+    input_warnings += vr.input_warnings.size();
     if (reports.size() > 1)
       out += fmt::format("{}: {} passed, {}, {} warnings\n", printable(wc.name), vr.report.passed,
                          failed_text(vr.report.failed, vr.report.unevaluated), vr.report.warnings);
   }
-  out += fmt::format("{} passed, {}, {} warnings{}\n", passed, failed_text(failed, unevaluated), warnings,
+  // Warnings of the inputs (printed on stderr as they loaded) are counted apart: they fail nothing.
+  out += fmt::format("{} passed, {}, {} warnings{}{}\n", passed, failed_text(failed, unevaluated), warnings,
+                     input_warnings ? fmt::format("; {} input warning{}", input_warnings, input_warnings == 1 ? "" : "s") : "",
                      options.strict && warnings > 0 ? " (warnings fail with --strict)" : "");
   return out;
 }

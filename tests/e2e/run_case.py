@@ -1511,6 +1511,25 @@ def tutorials(sscs, root):
         if p.returncode != 0 or "warning" in p.stderr:
             fail("devices.md tutorial step 6: the resolved/ copy with a rewritten texture path renders", p)
         shutil.move(os.path.join(tmp, "vendor-moved"), os.path.join(tmp, "vendor"))
+        # A warning of the import (a degenerate shape skipped) is in the reports CI reads: the text
+        # summary's count, JSON's input_warnings and a SARIF warning at the type's urdf: line.
+        urdf = os.path.join(tmp, "vendor", "acme_rx6_support", "urdf", "rx6.urdf")
+        text = open(urdf).read()
+        open(urdf, "w").write(text.replace('<link name="base_link">', '<link name="base_link">\n    <collision><geometry>'
+                                           '<cylinder radius="0.1" length="0"/></geometry></collision>', 1))
+        p = run(sscs, tmp, ["check", "cell.yaml"])
+        if p.returncode != 0 or "; 1 input warning" not in p.stdout or "cylinder has length 0" not in p.stderr:
+            fail("an import warning is counted in the text report", p)
+        report = json.loads(run(sscs, tmp, ["check", "cell.yaml", "--format", "json"]).stdout)
+        warned = report.get("input_warnings", [])
+        if len(warned) != 1 or warned[0]["file"] != "library/types/rx6.yaml" or "cylinder has length 0" not in warned[0]["message"]:
+            fail(f"an import warning in the JSON report: {warned}")
+        sarif = json.loads(run(sscs, tmp, ["check", "cell.yaml", "--format", "sarif"]).stdout)
+        results = [r for r in sarif["runs"][0]["results"] if r["ruleId"] == "sscs/input-warning"]
+        if len(results) != 1 or results[0]["level"] != "warning" or \
+                results[0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] != "library/types/rx6.yaml":
+            fail(f"an import warning in the SARIF report: {results}")
+        open(urdf, "w").write(text)
     print("ok tutorials")
 
 
