@@ -436,12 +436,36 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   // The tool meets its target: the tool's part and the parts it carries may touch the target
   // object, the rest of the device may not.
   const std::vector<char> tool_parts = d.tool_parts();
+  std::vector<char> is_container(wc.objects.size(), 0);
+  for (const Object& x : wc.objects)
+    if (x.parent >= 0) is_container[x.parent] = 1;
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
   for (const ReachCheck::Target& t : rc.targets) {
     Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
     if (rc.match_orientation) X_world_target = X_world_target * rc.offset;
+    // The tool may touch its target, but a point inside the target's solid is reached only by a
+    // tool buried in it (it was a pass: the tool's parts may touch the target). Containers (a
+    // room, a shipping container: objects that hold others) are spaces, not solids.
+    if (t.object >= 0 && !is_container[t.object]) {
+      const double depth = world.depth_inside(t.object, X_world_target.translation());
+      if (depth > rc.position_tol_si) {
+        CheckResult r;
+        r.constraint = index;
+        r.subjects = {rc.device, t.object};
+        r.status = Status::Fail;
+        r.dim = Dim::Length;
+        r.lhs = depth;
+        r.rhs = rc.position_tol_si;
+        r.margin = -depth;
+        r.message = fmt::format("{} lies {:g} m inside the solid of {}: a tool reaches it only buried in the object "
+                                "(aim at a frame on its surface, such as top)",
+                                t.text, stable(depth), wc.objects[t.object].name);
+        out.push_back(std::move(r));
+        continue;
+      }
+    }
     const std::vector<int>& ignore = related;
     std::optional<Collision> hit;
     auto accept = [&](const Eigen::VectorXd& chain_q) {

@@ -518,6 +518,16 @@ std::optional<double> CollisionWorld::distance(int a, int b) {
   return best;
 }
 
+double CollisionWorld::depth_inside(int object, const Eigen::Vector3d& p_world) {
+  double depth = 0;
+  for (const auto& x : impl_->of(object)) {
+    const Shape& s = shape_of(x.get());
+    if (s.kind == Shape::Kind::Mesh && !s.mesh->closed) continue;
+    depth = std::max(depth, Solid(x.get()).depth_of(p_world));
+  }
+  return depth;
+}
+
 std::vector<Collision> CollisionWorld::self_collisions(int object) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return {};

@@ -43,6 +43,10 @@ class CollisionWorld {
   /// shapes, or minus the largest penetration depth when they interpenetrate. nullopt when one
   /// of them has no geometry.
   std::optional<double> distance(int a, int b);
+  /// How deep the point `p_world` lies inside object `object`'s solids (primitives and closed
+  /// meshes, at their current placements): 0 when it is on or outside every one of them (an open
+  /// mesh is a surface and holds nothing).
+  double depth_inside(int object, const Eigen::Vector3d& p_world);
 
   /// Pairs of parts of device `object` that may not touch (Device::may_touch) and interpenetrate
   /// at its instance's joint values (self-collision).

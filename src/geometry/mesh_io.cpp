@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <functional>
 
 #include <fcntl.h>
@@ -126,8 +127,9 @@ uint32_t material_rgb(const aiScene* scene, unsigned index) {
 }
 
 /// The textures of one file's materials, each read once. A texture that cannot be read leaves its
-/// triangles in their material's colour, with a warning; one outside the allowed folders is an
-/// error (as every file a mesh refers to).
+/// triangles uncoloured, with a warning: drawn in the colour the URDF material or the type gives
+/// (a textured material's own diffuse colour is a loader's default grey); one outside the allowed
+/// folders is an error (as every file a mesh refers to).
 class Textures {
  public:
   Textures(const aiScene* scene, std::filesystem::path folder) : scene_(scene), folder_(std::move(folder)) {}
@@ -141,8 +143,11 @@ class Textures {
       return nullptr;
     auto [it, fresh] = read_.try_emplace(name.C_Str());
     if (fresh) it->second = read(name.C_Str(), out);
+    if (!it->second) unread_.insert(index);
     return it->second ? &*it->second : nullptr;
   }
+  /// Whether material `index` has a texture that could not be read (after of_material).
+  bool unread(unsigned index) const { return unread_.count(index) > 0; }
 
  private:
   std::optional<Texture> read(std::string name, RawMesh& out) {
@@ -153,7 +158,7 @@ class Textures {
       } else {  // texels as written
         Texture t;
         if (double(embedded->mWidth) * embedded->mHeight > kMaxTexturePixels) {
-          if (out.warning.empty()) out.warning = fmt::format("its embedded image {} is larger than {:.0f} pixels: drawn in its material's colour", name, kMaxTexturePixels);
+          if (out.warning.empty()) out.warning = fmt::format("its embedded image {} is larger than {:.0f} pixels: drawn without it", name, kMaxTexturePixels);
           return std::nullopt;
         }
         t.width = static_cast<int>(embedded->mWidth);
@@ -182,13 +187,14 @@ class Textures {
     std::optional<Texture> t;
     if (why.empty()) t = decode_texture(bytes, why);
     if (!t && out.warning.empty())
-      out.warning = fmt::format("its texture '{}' cannot be used ({}): drawn in its material's colour", name, why);
+      out.warning = fmt::format("its texture '{}' cannot be used ({}): drawn without it", name, why);
     return t;
   }
 
   const aiScene* scene_;
   std::filesystem::path folder_;
   std::map<std::string, std::optional<Texture>> read_;
+  std::set<unsigned> unread_;
 };
 
 /// The colour a textured triangle is drawn in: the texel under its centre, to 4 bits a channel
@@ -258,12 +264,12 @@ RawMesh read_with_assimp(const std::string& path) {
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
     if (am->HasTextureCoords(0)) texture_of[m] = textures.of_material(am->mMaterialIndex, out);
-    coloured = coloured || texture_of[m] || material_rgb(scene, am->mMaterialIndex) != 0;
+    coloured = coloured || texture_of[m] || (!textures.unread(am->mMaterialIndex) && material_rgb(scene, am->mMaterialIndex) != 0);
   }
   if (!out.error.empty()) return out;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
-    const uint32_t rgb = material_rgb(scene, am->mMaterialIndex);
+    const uint32_t rgb = textures.unread(am->mMaterialIndex) ? 0 : material_rgb(scene, am->mMaterialIndex);
     auto base = static_cast<int>(out.vertices.size());
     for (unsigned v = 0; v < am->mNumVertices; ++v) {
       const aiVector3D& p = am->mVertices[v];
@@ -437,7 +443,8 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
       diag.error(where, fmt::format("mesh '{}' has no triangles", path));
     } else if (bad != mesh->vertices.end()) {
       diag.error(where, fmt::format("mesh '{}' has a vertex that is {} (vertex {}: {} {} {})", path,
-                                    bad->allFinite() ? fmt::format("beyond {:g} units from its origin", kMaxLengthSi) : "not a number",
+                                    bad->allFinite() ? fmt::format("beyond {:g} units from its origin", kMaxLengthSi)
+                                    : bad->hasNaN() ? "not a number" : "infinite (or beyond the range of a float)",
                                     bad - mesh->vertices.begin() + 1, bad->x(), bad->y(), bad->z()));
     } else {
       result = std::move(mesh);

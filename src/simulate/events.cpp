@@ -2,13 +2,14 @@
 
 namespace sscs {
 
-void EventLog::add(double t, EventKind kind, const nlohmann::ordered_json& fields) {
+size_t EventLog::add(double t, EventKind kind, const nlohmann::ordered_json& fields) {
   nlohmann::ordered_json e;
   e["t"] = r9(t);
   e["kind"] = event_kind_name(kind);
   for (const auto& [k, v] : fields.items()) e[k] = v;
   events_.push_back(std::move(e));
   ++counts_[static_cast<size_t>(kind)];
+  return events_.size() - 1;
 }
 
 std::string EventLog::jsonl() const {

@@ -33,7 +33,10 @@ class EventLog {
  public:
   /// Records an event at simulated time `t` (rounded as every logged time is): `t`, `kind`, then
   /// `fields` in their order.
-  void add(double t, EventKind kind, const nlohmann::ordered_json& fields = nlohmann::ordered_json::object());
+  /// Returns its index, for update().
+  size_t add(double t, EventKind kind, const nlohmann::ordered_json& fields = nlohmann::ordered_json::object());
+  /// Sets field `key` of event `index` (an episode's event that grows while it lasts).
+  void update(size_t index, const std::string& key, const nlohmann::ordered_json& value) { events_.at(index)[key] = value; }
   size_t count(EventKind kind) const { return counts_[static_cast<size_t>(kind)]; }
   size_t size() const { return events_.size(); }
   /// events.jsonl: one JSON object per line.

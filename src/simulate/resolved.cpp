@@ -266,7 +266,14 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
                            "scenario"));
 
   // Every input: the text files in the order they were read (URDFs and SRDFs too), then meshes.
-  for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({sources.path(f), sha256_hex(sources.text(f))});
+  // Named as the user would: relative to the folder sscs runs in when inside it (a URDF's meshes
+  // are resolved to absolute paths), else absolute.
+  const fs::path here = fs::current_path();
+  auto named = [&](const std::string& f) {
+    const std::string rel = fs::path(f).is_absolute() ? inside(f, here) : "";
+    return rel.empty() ? f : rel;
+  };
+  for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({named(sources.path(f)), sha256_hex(sources.text(f))});
   for (const ObjectGeometry& g : geometry.objects)
     for (const auto* shapes : {&g.shapes, &g.visual_shapes})  // what the checks used, and what frames drew
       for (const Shape& s : *shapes)
@@ -276,7 +283,8 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
         }
   std::set<std::string> plugins(wc.plugin_files.begin(), wc.plugin_files.end());
   for (const auto* set : {&meshes, &plugins})  // (URDFs, like SRDFs, were read into the sources)
-    for (const std::string& f : *set) out.files.push_back({f, sha256_hex(resolver.bytes(f))});
+    for (const std::string& f : *set) out.files.push_back({named(f), sha256_hex(resolver.bytes(f))});
+  for (std::string& f : out.not_copied) f = named(f);
   std::sort(out.not_copied.begin(), out.not_copied.end());
   out.not_copied.erase(std::unique(out.not_copied.begin(), out.not_copied.end()), out.not_copied.end());
   return out;

@@ -78,7 +78,7 @@ class Run {
     for (const Track& t : plan_.tracks) {
       world_.add_device(t.object, t.q_start);
       devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), {}, false,
-                          moving_parts(*geometry_.objects[t.object].device)});
+                          moving_parts(*geometry_.objects[t.object].device), 0, 0});
     }
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
     std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
@@ -207,6 +207,8 @@ class Run {
     std::string csv;
     bool lagging = false;
     std::vector<char> moving_parts;  // parts below a revolute or prismatic joint
+    double largest_lag = 0;  ///< of the current lagging episode
+    size_t lag_event = 0;    ///< its tracking_error event
   };
 
   Eigen::Vector3d tool_now(int d) const {
@@ -319,7 +321,9 @@ class Run {
   }
 
   /// At the trajectory rate: a tool that lags its plan by more than kTrackingTolerance is an
-  /// event (once, until it is back within half of it).
+  /// event, once an episode (until it is back within half of it), at its start; its `deviation`
+  /// is the largest of the episode (a blocked move that misses by 0.5 m says 0.5 m, not the 5 mm
+  /// it first passed) and `largest_at` when that was.
   void check_tracking(double t) {
     for (DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
@@ -327,7 +331,13 @@ class Run {
       double lag = (dr.tool_prev - planned).norm();
       if (lag > kTrackingTolerance && !dr.lagging) {
         dr.lagging = true;
-        events_.add(t, EventKind::TrackingError, {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}});
+        dr.largest_lag = lag;
+        dr.lag_event = events_.add(t, EventKind::TrackingError,
+                                   {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}, {"largest_at", r9(t)}});
+      } else if (dr.lagging && lag > dr.largest_lag) {
+        dr.largest_lag = lag;
+        events_.update(dr.lag_event, "deviation", r9(lag));
+        events_.update(dr.lag_event, "largest_at", r9(t));
       } else if (lag < kTrackingTolerance / 2) {
         dr.lagging = false;
       }

@@ -787,6 +787,9 @@ def plugins(sscs, root):
         summary = json.load(open(os.path.join(out, "summary.json")))
         so = os.path.join(examples, "newdrum.so")
         digest = hashlib.sha256(open(so, "rb").read()).hexdigest()
+        # Inputs are named relative to the folder sscs ran in when inside it, else absolute.
+        inside = os.path.relpath(os.path.realpath(so), os.path.realpath(root))
+        so = so if inside.startswith("..") else inside
         if {"path": so, "sha256": digest} not in summary["inputs"] or summary["inputs_not_in_resolved"] != [so]:
             fail(f"the run's inputs name the plugin: {summary['inputs'][-4:]}, {summary['inputs_not_in_resolved']}")
         p = run(sscs, root, ["simulate", os.path.join(out, "resolved", "scenario.yaml"), "--plugins", examples, "--out", again, "--quiet"])
@@ -1411,6 +1414,12 @@ def tutorials(sscs, root):
         hits = sorted((e["a"], e["b"]) for e in events if e["kind"] == "collision")
         if p.returncode != 1 or hits != [("Robot.link5", "Drum_1"), ("Robot.link6", "Drum_1")]:
             fail(f"simulation tutorial step 1 with j2: 20: collisions {hits}", p)
+        # A move blocked by the drum: the tracking_error event says how far the tool ended from
+        # its plan (over 1 m), not the 5 mm it first passed.
+        p, events, summary = simulate("blocked", steps[0].replace("{j1: 0, j2: -20}", "{j1: 0, j2: 70, j3: 0}"))
+        lags = [e for e in events if e["kind"] == "tracking_error"]
+        if p.returncode != 1 or not lags or lags[0]["deviation"] < 0.5 or lags[0]["largest_at"] <= lags[0]["t"]:
+            fail(f"simulation tutorial, a blocked move: tracking_error events {lags}", p)
         # 2. Move the tool: ok; a misspelt frame is an input error with "did you mean".
         p, events, summary = simulate("step2", header + steps[1])
         if p.returncode != 0 or summary.get("status") != "ok" or any(e["kind"] == "collision" for e in events):

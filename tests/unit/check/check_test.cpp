@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "geometry/collision.h"
+#include "model/device.h"
 #include "vault_fixture.h"
 
 namespace sscs::testing {
@@ -145,6 +147,55 @@ TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
   EXPECT_EQ(rep.results[2].status, Status::Pass);
   EXPECT_GE(*rep.results[2].margin, 0);
   EXPECT_EQ(rep.failed, 2u);
+}
+
+TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
+  // The tool may touch its target, but a point inside the target's solid is reached only by a
+  // tool buried in it: that was a pass. A frame on the surface passes; a container (an object
+  // that holds others) is a space, not a solid.
+  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
+                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
+                                                "tool: {part: c, xyz: [0, 0, 0.5]}\n"},
+                                    {"block", "sscs: 1\ntype: block\nframes:\n  side: {xyz: [-0.2, 0, 0]}\n"
+                                              "geometry:\n  - box: {size: [0.4, 0.4, 0.4]}\n"}})};
+  Workcell wc = must_compile(
+      "objects:\n  - {type: slider, name: S}\n  - {type: block, name: K, location: [2, 0, 0.5]}\n"
+      "  - {type: block, name: Box, location: [3.5, 0, 0.5]}\n  - {type: drum, name: D, parent: Box, location: [0, 0, -0.1], diameter: 0.1, height: 0.1}\n"
+      "constraints:\n  - {name: buried, reach: {device: S, targets: [K]}}\n"
+      "  - {name: surface, reach: {device: S, targets: [K.side]}}\n"
+      "  - {name: container, reach: {device: S, targets: [Box]}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Fail);
+  EXPECT_NEAR(*rep.results[0].margin, -0.2, 1e-12);
+  EXPECT_EQ(rep.results[0].message, "K lies 0.2 m inside the solid of K: a tool reaches it only buried in the object "
+                                    "(aim at a frame on its surface, such as top)");
+  EXPECT_EQ(rep.results[1].status, Status::Pass) << rep.results[1].message;
+  EXPECT_EQ(rep.results[2].status, Status::Pass) << rep.results[2].message;
+}
+
+TEST_F(Check, EveryFrameOfTheStandardTypesLiesOnOrOutsideItsSolid) {
+  // So `reach` to any standard frame is not refused as buried: every named frame of every
+  // standard type (and a device's tool), at its defaults, is on or outside the type's own solids.
+  // (A device's parts are frames too, at their joints, inside the links: no target for a tool.)
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(SSCS_LIBRARY_DIR) + "/types"))
+    names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  size_t frames = 0;
+  for (const std::string& type : names) {
+    diag = Diagnostics();
+    auto wc = compile_text("objects:\n  - {type: " + type + ", name: X}\n");
+    if (!wc) continue;  // a type with required attributes (room): no instance at its defaults
+    GeometryModel g = build_geometry(*wc, diag);
+    CollisionWorld world(g);
+    for (const auto& [name, X] : g.objects[0].frames_world) {
+      if (g.objects[0].device && g.objects[0].device->find_part(name) >= 0) continue;
+      EXPECT_LE(world.depth_inside(0, X.translation()), 1e-9) << type << "." << name;
+      ++frames;
+    }
+  }
+  EXPECT_GT(frames, 10u);
 }
 
 TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {

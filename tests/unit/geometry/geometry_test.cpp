@@ -245,7 +245,9 @@ TEST_F(Geometry, TexturedMeshesTakeTheirColoursFromTheImage) {
   EXPECT_EQ(gltf->triangle_rgb[1], 0x10000ddu) << std::hex << gltf->triangle_rgb[1];
 }
 
-TEST_F(Geometry, AMissingOrBrokenTextureLeavesTheMaterialColourWithAWarning) {
+TEST_F(Geometry, AMissingOrBrokenTextureLeavesItsTrianglesUncolouredWithAWarning) {
+  // Uncoloured, they take the URDF material's colour (else the part's): the textured material's
+  // own diffuse colour is the loader's default grey, which drew a yellow robot grey.
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / fmt::format("sscs-texture-{}", ::getpid());
   fs::create_directories(dir);
@@ -258,8 +260,9 @@ TEST_F(Geometry, AMissingOrBrokenTextureLeavesTheMaterialColourWithAWarning) {
   MeshCache missing;
   auto mesh = missing.load((dir / "wrist.dae").string(), {}, diag);
   ASSERT_TRUE(mesh) << diag.format(sources);
-  EXPECT_THAT(diag.format(sources), ::testing::HasSubstr("link_3.png' cannot be used (it does not exist): drawn in its material's colour"));
+  EXPECT_THAT(diag.format(sources), ::testing::HasSubstr("link_3.png' cannot be used (it does not exist): drawn without it"));
   EXPECT_FALSE(diag.has_errors());
+  EXPECT_TRUE(mesh->triangle_rgb.empty());  // sides and caps alike: their colours were the texture's
   std::ofstream(dir / "link_3.png") << "GIF89a not an image";
   Diagnostics broken;
   MeshCache cache;
