@@ -94,6 +94,16 @@ std::string outside_roots(const std::string& path) {
   return fmt::format("is outside the project root {} {}", c.roots[0].string(), how);
 }
 
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
+  fs::path p(rel);
+  if (p.is_absolute()) return p.string();
+  const fs::path folder = fs::path(type_file).parent_path();
+  std::string beside = join_path(folder.string(), rel);
+  std::error_code ec;
+  if (fs::exists(beside, ec)) return beside;
+  return join_path(folder.parent_path().string(), rel);
+}
+
 std::vector<std::string> ros_package_path() {
   std::vector<std::string> out;
   if (const char* env = std::getenv("ROS_PACKAGE_PATH")) {

@@ -38,6 +38,11 @@ void confine_reads(const std::vector<std::string>& roots);
 /// ("is outside the project root /p (...)", "leads outside the project root /p through a symbolic link ...").
 std::string outside_roots(const std::string& path);
 
+/// Where a type file's reference to another file (a mesh, a URDF) points: beside the type file
+/// if it exists there, else relative to its library folder (the one holding types/), as
+/// `meshes/drum.obj` is written. Absolute paths stay.
+std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
+
 /// The folders of $ROS_PACKAGE_PATH (colon-separated; empty entries dropped): searched for
 /// `package://` references after --package-path, and trusted like it.
 std::vector<std::string> ros_package_path();

@@ -13,7 +13,7 @@
 #include "compile/compile.h"
 #include "compile/values.h"
 #include "core/expr.h"
-#include "load/load.h"
+#include "core/files.h"
 #include "geometry/mesh_io.h"
 #include "model/device.h"
 

@@ -18,16 +18,6 @@ namespace fs = std::filesystem;
 
 namespace sscs {
 
-std::string resolve_mesh_path(const std::string& type_file, const std::string& rel) {
-  fs::path p(rel);
-  if (p.is_absolute()) return p.string();
-  const fs::path folder = fs::path(type_file).parent_path();
-  std::string beside = join_path(folder.string(), rel);
-  std::error_code ec;
-  if (fs::exists(beside, ec)) return beside;
-  return join_path(folder.parent_path().string(), rel);
-}
-
 bool missing_reference(const std::string& what, const std::string& type_file, const std::string& rel, SourceMark where,
                        Diagnostics& diag) {
   std::error_code ec;

@@ -31,10 +31,6 @@ std::optional<TypeSpec> load_type(const std::string& path, Sources& sources, Dia
 std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Sources& sources, Diagnostics& diag,
                                   const std::vector<std::string>& package_paths = {});
 
-/// Where a type file's reference to another file (a mesh, a URDF) points: beside the type file
-/// if it exists there, else relative to its library folder (the one holding types/), as
-/// `meshes/drum.obj` is written. Absolute paths stay.
-std::string resolve_mesh_path(const std::string& type_file, const std::string& rel);
 
 /// Whether the file `rel`, named in type file `type_file`, does not exist where
 /// resolve_mesh_path() looks; if so reports "<what> 'rel' does not exist (looked for A, from the

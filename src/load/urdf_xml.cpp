@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <tinyxml.h>
 
+#include "core/files.h"
 #include "load/load.h"
 
 namespace sscs {

@@ -11,9 +11,9 @@
 
 #include "core/data_dirs.h"
 #include "core/digest.h"
+#include "core/files.h"
 #include "core/yaml_edit.h"
 #include "geometry/mesh_io.h"
-#include "load/load.h"
 
 namespace fs = std::filesystem;
 

@@ -25,10 +25,8 @@ INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.
 KNOWN = {
     ("geometry/geometry.cpp", "compile/compile.h"),
     ("geometry/geometry.cpp", "compile/values.h"),
-    ("geometry/geometry.cpp", "load/load.h"),
     ("simulate/plan.cpp", "compile/values.h"),
     ("simulate/plan.h", "load/scenario.h"),
-    ("simulate/resolved.cpp", "load/load.h"),
     ("simulate/resolved.h", "load/scenario.h"),
     ("render/camera_path.cpp", "compile/values.h"),
     ("render/camera_path.h", "load/scenario.h"),

@@ -186,6 +186,10 @@ TEST_F(MeshOverlap, DrumsAndPalletsAgreeWithTheirPieces) {
   for (int i = 0; i < 60; ++i) {
     // Around the pallet, in its frame (its origin is a corner).
     double u = pos(rng), v = pos(rng) * 0.75 - 0.1, w = yaw(rng), z = i % 3 == 0 ? 0.0 : 0.144 + (i % 3 == 1 ? 0.0 : lift(rng));
+    if (i % 3 == 1) {  // standing on the deck (1.2 x 0.8 m): a touch every time, so the count below cannot fall short by chance
+      u = 0.3 + 0.6 * (pos(rng) + 0.5) / 2.2;
+      v = 0.3 + 0.2 * (pos(rng) + 0.5) / 2.2;
+    }
     double x = u * std::cos(w * M_PI / 180) - v * std::sin(w * M_PI / 180), y = u * std::sin(w * M_PI / 180) + v * std::cos(w * M_PI / 180);
     std::string objects = fmt::format("  - {{type: pallet, name: P, orientation: [0, 0, {}]}}\n"
                                       "  - {{type: drum_hooped, name: D, location: [{}, {}, {}]}}\n",
@@ -194,7 +198,7 @@ TEST_F(MeshOverlap, DrumsAndPalletsAgreeWithTheirPieces) {
     expect_agree(distance, reference, fmt::format("seed {} placement {}: {}", seed, i, objects), overlaps, touches, false);
   }
   EXPECT_GT(overlaps, 8);  // about 20 expected
-  EXPECT_GT(touches, 5);  // drums standing on the deck
+  EXPECT_GT(touches, 15);  // the 20 drums standing on the deck
 }
 
 TEST_F(MeshOverlap, BoxesAndPalletsAgreeWithTheBoardsAndBlocks) {
