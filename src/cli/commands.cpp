@@ -527,6 +527,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     }
   }
   if (!common.quiet) run.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
+  run.progress_to = &std::cerr;
   std::optional<InterruptGuard> interrupts(std::in_place);
   // The run is assembled here; run_simulation moves it into place (and packs the bundle) when it
   // is complete. Whatever else happens, the staging folder goes with this scope.

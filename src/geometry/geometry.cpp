@@ -59,10 +59,11 @@ namespace {
 /// Evaluates type-file values (numbers, unit literals or expressions over the object's
 /// attributes) for objects. Each written value is read once and kept by its address: a subtype
 /// lists its base's attributes first and in the same order, so attribute indices carry over.
-/// The type loader already reported problems with the text.
+/// The type loader already checked the text; what it let through and this cannot read is an
+/// error in `diag` (never a value silently NaN).
 class ShapeEvaluator {
  public:
-  explicit ShapeEvaluator(const Workcell& wc) : wc_(wc) {}
+  ShapeEvaluator(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag) {}
 
   double value(const Scalar& s, Dim dim, int object, double fallback) {
     if (!s.present) return fallback;
@@ -94,20 +95,28 @@ class ShapeEvaluator {
     auto [it, fresh] = cache_.try_emplace(&s);
     if (!fresh) return it->second;
     Compiled& c = it->second;
-    Diagnostics scratch;
-    ParsedValue v = parse_value(s, dim, "", scratch);
+    ParsedValue v = parse_value(s, dim, "a type-file value", diag_);
     if (v.kind == ParsedValue::Kind::Number) {
       c.value = v.si;
       return c;
     }
-    if (auto e = Expression::parse(s.text, nullptr)) {
+    if (v.kind == ParsedValue::Kind::Error) return c;  // reported
+    Expression::Error why;
+    if (auto e = Expression::parse(s.text, &why)) {
       c.expr = std::make_unique<Expression>(std::move(*e));
-      for (const std::string& n : c.expr->names()) c.attributes.push_back(wc_.types[type].find_attribute(n));
+      for (const std::string& n : c.expr->names()) {
+        c.attributes.push_back(wc_.types[type].find_attribute(n));
+        if (c.attributes.back() < 0)
+          diag_.error(s.mark, fmt::format("'{}' is not an attribute of type '{}'", n, wc_.types[type].name));
+      }
+    } else {
+      diag_.error(s.mark, fmt::format("cannot read '{}': {}", s.text, why.message));
     }
     return c;
   }
 
   const Workcell& wc_;
+  Diagnostics& diag_;
   std::unordered_map<const Scalar*, Compiled> cache_;  // lookups only
   std::vector<double> inputs_;
 };
@@ -119,7 +128,7 @@ namespace {
 /// Evaluates shapes and device models of objects; one per build.
 class Builder {
  public:
-  Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), eval_(wc), meshes_(meshes) {}
+  Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), eval_(wc, diag), meshes_(meshes) {}
 
   /// The shapes of a geometry list written in `spec_path`, evaluated for object `obj`.
   std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj, bool split_colours = false) {

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
+#include <ostream>
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -94,8 +94,8 @@ class Run {
           started[i] = 1;
           current_step_ = i;
           current_action_ = ps.device >= 0 ? fmt::format("{} {}", step_kind_name(ps.kind), wc_.objects[ps.device].name) : step_kind_name(ps.kind);
-          if (options_.progress == RunOptions::Progress::Lines)
-            std::cerr << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
+          if (options_.progress == RunOptions::Progress::Lines && options_.progress_to)
+            *options_.progress_to << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
           step_event(t, EventKind::StepStart, ps);
           if (ps.kind == StepKind::Grasp) {
             world_.grasp(ps.device, ps.object);
@@ -152,8 +152,8 @@ class Run {
         interrupted_ = true;
         break;
       }
-      if (options_.progress == RunOptions::Progress::Live && k % std::max(1L, std::lround(0.1 / dt)) == 0)
-        std::cerr << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
+      if (options_.progress == RunOptions::Progress::Live && options_.progress_to && k % std::max(1L, std::lround(0.1 / dt)) == 0)
+        *options_.progress_to << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
                                  plan_.end, s.limit, current_step_ + 1, plan_.steps.size(), current_action_);
       for (const DeviceRun& dr : devices_) {
         Eigen::VectorXd q1 = dr.track->at(t + dt);
@@ -162,7 +162,7 @@ class Run {
       world_.step();
       after_step(world_.time());
     }
-    if (options_.progress == RunOptions::Progress::Live) std::cerr << "\r\x1b[K";
+    if (options_.progress == RunOptions::Progress::Live && options_.progress_to) *options_.progress_to << "\r\x1b[K" << std::flush;
     return finish(k * dt);
   }
 

@@ -6,6 +6,7 @@
 /// appears under its final name only when complete.
 #include <csignal>
 #include <functional>
+#include <ostream>
 #include <string>
 
 #include "compile/workcell.h"
@@ -37,8 +38,11 @@ struct RunOptions {
   std::string out_dir;          ///< written atomically: a temporary folder renamed at the end ("" for none)
   std::string bundle;           ///< the same tree as one zip archive ("" for none), also atomic
   std::string scenario_name;
-  /// Progress on stderr: none, a line per step (logs), or one line updated in place (a terminal).
+  /// Progress: none, a line per step (logs), or one line updated in place (a terminal).
   enum class Progress : uint8_t { None, Lines, Live } progress = Progress::None;
+  /// Where progress goes (the command line passes stderr); none when null. The library writes
+  /// to no terminal stream of its own.
+  std::ostream* progress_to = nullptr;
   const RunInputs* inputs = nullptr;  ///< their digests go in summary.json, resolved/ in the run
   /// Set (by a signal handler) to stop the run: then nothing is written.
   const volatile std::sig_atomic_t* interrupted = nullptr;
