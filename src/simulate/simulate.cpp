@@ -28,6 +28,8 @@
 #include "core/units.h"
 #include "geometry/collision.h"
 #include "model/device.h"
+#include "simulate/rechecks.h"
+#include "simulate/recorder.h"
 #include "simulate/world.h"
 
 namespace fs = std::filesystem;
@@ -66,18 +68,15 @@ class Run {
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
         world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}), nearby_(geometry),
-        live_(geometry), live_values_(wc.values) {
-    recheck_.describe_passes = false;
-    recheck_.only = rechecked_constraints();
-    recheck_.spatial_tolerance = plan.settings.check_tolerance;
-  }
+        recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
+        rechecks_(wc, movers(plan), plan.settings.check_tolerance) {}
 
   RunSummary run() {
     const SimSettings& s = plan_.settings;
     const double dt = s.timestep;
     for (const Track& t : plan_.tracks) {
       world_.add_device(t.object, t.q_start);
-      devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), {}, false,
+      devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), false,
                           moving_parts(*geometry_.objects[t.object].device), 0, 0});
     }
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
@@ -119,7 +118,7 @@ class Run {
         }
       }
       if (k % every == 0) {
-        record(t);
+        recorder_.record(t);
         observe(t);
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
@@ -181,8 +180,7 @@ class Run {
     };
     put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
     put("events.jsonl", events_.jsonl());
-    for (const DeviceRun& dr : devices_) put(fmt::format("trajectories/{}.csv", wc_.objects[dr.object].name), dr.csv);
-    put("objects.csv", fmt::format("t,object,x,y,z,roll,pitch,yaw\n{}", objects_csv_));
+    for (const auto& [rel, text] : recorder_.files()) put(rel, text);
     if (options_.inputs)
       for (const auto& [rel, bytes] : options_.inputs->resolved) put(rel, bytes);
     if (error->empty() && !options_.bundle.empty()) {
@@ -204,7 +202,6 @@ class Run {
     Eigen::Vector3d tool_prev;
     double path = 0;
     Eigen::VectorXd travel;
-    std::string csv;
     bool lagging = false;
     std::vector<char> moving_parts;  // parts below a revolute or prismatic joint
     double largest_lag = 0;  ///< of the current lagging episode
@@ -375,32 +372,18 @@ class Run {
   }
 
   /// The objects the plan moves: its devices and what they grasp.
-  std::set<int> movers() const {
+  static std::set<int> movers(const Plan& plan) {
     std::set<int> out;
-    for (const Track& t : plan_.tracks) out.insert(t.object);
-    for (const PlannedStep& ps : plan_.steps)
+    for (const Track& t : plan.tracks) out.insert(t.object);
+    for (const PlannedStep& ps : plan.steps)
       if (ps.kind == StepKind::Grasp) out.insert(ps.object);
     return out;
   }
-
-  /// Constraints re-checked during the motion: bounds, expressions, clearances and containment
-  /// that read a device or an object the plan moves. (Overlaps are the physics' collisions;
-  /// reach is a property of the design, not of one motion.)
-  std::vector<char> rechecked_constraints() const {
-    std::set<int> moving = movers();
-    std::vector<char> only(wc_.constraints.size(), 0);
-    bool any = false;
-    for (size_t i = 0; i < wc_.constraints.size(); ++i) {
-      const Constraint& c = wc_.constraints[i];
-      const auto* spatial = std::get_if<SpatialCheck>(&c.body);
-      bool kind = std::holds_alternative<BoundCheck>(c.body) || std::holds_alternative<ExprCheck>(c.body) ||
-                  (spatial && spatial->kind != SpatialCheck::Kind::NoOverlap);
-      bool reads = std::any_of(c.subjects.begin(), c.subjects.end(), [&](int o) { return moving.count(o) > 0; });
-      only[i] = kind && reads;
-      any = any || only[i];
-    }
-    if (!any) only.clear();
-    return only;
+  /// The devices the plan moves, in its order.
+  static std::vector<int> tracked(const Plan& plan) {
+    std::vector<int> out;
+    for (const Track& t : plan.tracks) out.push_back(t.object);
+    return out;
   }
 
   /// At the trajectory rate: clearances between what moves and everything else, and the
@@ -449,7 +432,7 @@ class Run {
       for (const Proximity& p : nearby_.proximity(o, skip, kClearanceReach, closest_seen(o))) note_clearance(t, o, p);
     }
     check_tracking(t);
-    if (!recheck_.only.empty()) recheck(t);
+    if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
   }
 
   /// The loads a device's tool deals with around time t: the one it holds, the next it will
@@ -482,55 +465,6 @@ class Run {
     seen_[key] = {p.distance, t, part_name(moving, p.part), part_name(p.other, p.other_part)};
   }
 
-  void recheck(double t) {
-    CheckReport report = check(wc_, live_, live_values_, recheck_);
-    for (const CheckResult& r : report.results) {
-      auto key = std::make_pair(r.constraint, r.subjects);
-      bool failing = r.status != Status::Pass;
-      bool was = failing_[key];
-      failing_[key] = failing;
-      if (!failing || was) continue;
-      const Constraint& c = wc_.constraints[r.constraint];
-      std::vector<std::string> subjects;
-      for (int o : r.subjects) subjects.push_back(wc_.objects[o].name);
-      nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
-                                  {"subjects", subjects}};
-      if (r.margin) f["margin"] = r9(*r.margin);
-      f["unit"] = file_unit(r.dim);
-      f["message"] = r.message;
-      events_.add(t, EventKind::Constraint, f);
-      if (c.severity != Severity::Warning) ++constraint_failures_;
-    }
-  }
-
-  void record(double t) {
-    for (DeviceRun& dr : devices_) {
-      const Device& m = *geometry_.objects[dr.object].device;
-      if (dr.csv.empty()) {
-        std::vector<std::string> columns = {"t"};
-        for (int j = 0; j < m.dof(); ++j) columns.push_back(m.joint(j).name);
-        for (const char* c : {"tool_x", "tool_y", "tool_z", "tool_roll", "tool_pitch", "tool_yaw"}) columns.emplace_back(c);
-        dr.csv = fmt::format("{}\n", fmt::join(columns, ","));
-      }
-      Eigen::VectorXd q = world_.joints(dr.object);
-      std::string row = fmt::format("{:.4f}", t);
-      for (int j = 0; j < m.dof(); ++j)
-        row += fmt::format(",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kRad : q[j]);
-      Eigen::Isometry3d X = world_.part_pose(dr.object, m.tool_part) * m.X_part_tool;
-      Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kRad;
-      row += fmt::format(",{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", X.translation().x(), X.translation().y(),
-                         X.translation().z(), rpy.x(), rpy.y(), rpy.z());
-      dr.csv += row;
-    }
-    for (size_t o = 0; o < wc_.objects.size(); ++o) {
-      if (!world_.dynamic(static_cast<int>(o))) continue;
-      Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
-      Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kRad;
-      objects_csv_ += fmt::format("{:.4f},{},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", t, wc_.objects[o].name,
-                                  X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
-    }
-  }
-
   /// The run fails here: it stops with what it has, and says why.
   void stop(EventKind kind, const std::string& message) {
     failed_ = true;
@@ -549,7 +483,7 @@ class Run {
     s.events = events_.size();
     s.collisions = events_.count(EventKind::Collision);
     bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
-                      constraint_failures_ > 0;
+                      rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;
@@ -628,7 +562,6 @@ class Run {
   std::map<int, bool> released_;  // released objects: landed yet?
   std::set<int> rested_;
   std::set<std::pair<int, int>> over_limit_;
-  std::string objects_csv_;
   bool failed_ = false;
   std::string stopped_by_, stop_message_;
   bool interrupted_ = false;
@@ -644,12 +577,11 @@ class Run {
   CollisionWorld nearby_;
   std::map<std::pair<int, int>, Seen> seen_;
   std::set<std::pair<int, int>> supports_;  // (load, what it was lifted from or landed on)
+  TrajectoryRecorder recorder_;
   // Constraint re-checks: the workcell's geometry and slot values as the motion has them now.
   GeometryModel live_;
   std::vector<double> live_values_;
-  CheckOptions recheck_;
-  std::map<std::pair<int, std::vector<int>>, bool> failing_;
-  size_t constraint_failures_ = 0;
+  ConstraintRechecks rechecks_;
 };
 
 }  // namespace

@@ -1,0 +1,37 @@
+#pragma once
+/// The constraints a run re-checks as the motion goes: bounds, expressions, clearances and
+/// containment that read a device or an object the plan moves (overlaps are the physics'
+/// collisions; reach is a property of the design, not of one motion). A constraint that starts
+/// failing is a `constraint` event.
+#include <map>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "check/check.h"
+#include "compile/workcell.h"
+#include "geometry/geometry.h"
+#include "simulate/events.h"
+
+namespace sscs {
+
+class ConstraintRechecks {
+ public:
+  /// The constraints of `wc` that read one of `moving` (the objects the plan moves), checked to
+  /// `tolerance` (the scenario's sim.check_tolerance).
+  ConstraintRechecks(const Workcell& wc, const std::set<int>& moving, double tolerance);
+  bool any() const { return !options_.only.empty(); }
+  /// Checks them against the motion's geometry and slot values at time `t`; each that starts
+  /// failing (it passed, or this is its first check) is an event in `events`.
+  void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events);
+  /// How many error-severity constraints started failing (the run's verdict counts them).
+  size_t failures() const { return failures_; }
+
+ private:
+  const Workcell& wc_;
+  CheckOptions options_;
+  std::map<std::pair<int, std::vector<int>>, bool> failing_;  ///< (constraint, subjects) -> failing now
+  size_t failures_ = 0;
+};
+
+}  // namespace sscs
