@@ -28,6 +28,7 @@
 #include "core/units.h"
 #include "geometry/collision.h"
 #include "model/device.h"
+#include "simulate/clearance.h"
 #include "simulate/rechecks.h"
 #include "simulate/recorder.h"
 #include "simulate/world.h"
@@ -52,7 +53,6 @@ constexpr double kLimitTolerance = 1e-3;      // rad or m past a joint limit bef
 constexpr double kSettleLimit = 5.0;          // s after the last step for released objects to settle
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
 constexpr double kRad = 180 / std::numbers::pi;
-constexpr double kClearanceReach = 2.0;       // m: clearances beyond this are not tracked
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 constexpr double kTargetTouch = 0.001;        // m: the tool touching its move_to target by less is no collision
 
@@ -67,7 +67,7 @@ class Run {
  public:
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
-        world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}), nearby_(geometry),
+        world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}), clearances_(wc, geometry),
         recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
         rechecks_(wc, movers(plan), plan.settings.check_tolerance) {}
 
@@ -100,9 +100,8 @@ class Run {
             world_.grasp(ps.device, ps.object);
             events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
             // What the load stood on when lifted is no clearance to report.
-            nearby_.move(ps.object, world_.pose(ps.object));
-            for (const Proximity& p : nearby_.proximity(ps.object, chain(ps.object), kSupportGap))
-              supports_.insert({ps.object, p.other});
+            for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
+              supports_.insert({ps.object, other});
             if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
           } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
@@ -213,11 +212,7 @@ class Run {
     return (world_.part_pose(d, m.tool_part) * m.X_part_tool).translation();
   }
 
-  std::string part_name(int o, int part) const {
-    if (o < 0) return "floor";
-    const ObjectGeometry& g = geometry_.objects[o];
-    return part >= 0 && g.device ? fmt::format("{}.{}", wc_.objects[o].name, g.device->parts[part].name) : wc_.objects[o].name;
-  }
+  std::string part_name(int o, int part) const { return run_part_name(wc_, geometry_, o, part); }
 
   void step_event(double t, EventKind kind, const PlannedStep& ps) {
     nlohmann::ordered_json f = {{"step", ps.index}, {"action", step_kind_name(ps.kind)}};
@@ -397,7 +392,7 @@ class Run {
       const std::vector<Eigen::Isometry3d>& X_object_part = now.X_object_part[dr.object];
       std::vector<Eigen::Isometry3d> X_world_part;
       for (const Eigen::Isometry3d& X : X_object_part) X_world_part.push_back(X_world_object * X);
-      nearby_.move_parts(dr.object, X_world_part);
+      clearances_.move_parts(dr.object, X_world_part);
       repose(live_.objects[dr.object], X_world_object, &X_object_part);
       Eigen::VectorXd q = world_.joints(dr.object);
       const Object& obj = wc_.objects[dr.object];
@@ -407,7 +402,7 @@ class Run {
     for (size_t o = 0; o < wc_.objects.size(); ++o) {
       if (!world_.dynamic(static_cast<int>(o))) continue;
       const Eigen::Isometry3d& X = now.X_world_object[o];
-      nearby_.move(static_cast<int>(o), X);
+      clearances_.move(static_cast<int>(o), X);
       repose(live_.objects[o], X);
       const Object& obj = wc_.objects[o];
       Eigen::Isometry3d local = (obj.parent >= 0 ? live_.objects[obj.parent].X_world_object.inverse() : Eigen::Isometry3d::Identity()) * X;
@@ -420,8 +415,7 @@ class Run {
     for (const DeviceRun& dr : devices_) {
       std::vector<int> skip = chain(dr.object);
       for (int o : handled(dr.object, t)) skip.push_back(o);
-      for (const Proximity& p : nearby_.proximity(dr.object, skip, kClearanceReach, closest_seen(dr.object), dr.moving_parts))
-        note_clearance(t, dr.object, p);
+      clearances_.measure(t, dr.object, skip, dr.moving_parts);
     }
     for (int o : loads) {
       std::vector<int> skip = chain(o);
@@ -429,7 +423,7 @@ class Run {
         if (world_.held(dr.object) == o) skip.push_back(dr.object);
       for (auto [load, support] : supports_)
         if (load == o) skip.push_back(support);
-      for (const Proximity& p : nearby_.proximity(o, skip, kClearanceReach, closest_seen(o))) note_clearance(t, o, p);
+      clearances_.measure(t, o, skip);
     }
     check_tracking(t);
     if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
@@ -448,21 +442,6 @@ class Run {
     for (int o : {world_.held(device), next, last})
       if (o >= 0) out.push_back(o);
     return out;
-  }
-
-  /// The closest approach of `moving` to each other object so far: only closer ones are news.
-  std::function<double(int)> closest_seen(int moving) const {
-    return [this, moving](int other) {
-      auto it = seen_.find({moving, other});
-      return it == seen_.end() ? INFINITY : it->second.distance;
-    };
-  }
-
-  void note_clearance(double t, int moving, const Proximity& p) {
-    auto key = std::make_pair(moving, p.other);
-    auto it = seen_.find(key);
-    if (it != seen_.end() && it->second.distance <= p.distance) return;
-    seen_[key] = {p.distance, t, part_name(moving, p.part), part_name(p.other, p.other_part)};
   }
 
   /// The run fails here: it stops with what it has, and says why.
@@ -487,18 +466,6 @@ class Run {
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;
-  }
-
-  /// The closest approach of anything that moved to anything else, over the whole run; pairs
-  /// where a load met what it was lifted from or set on are left out (that contact is the job).
-  std::optional<RunSummaryFile::Clearance> min_clearance() const {
-    const std::pair<const std::pair<int, int>, Seen>* best = nullptr;
-    for (const auto& entry : seen_) {
-      if (supports_.count(entry.first)) continue;
-      if (!best || entry.second.distance < best->second.distance) best = &entry;
-    }
-    if (!best) return std::nullopt;
-    return RunSummaryFile::Clearance{r9(best->second.distance), best->second.a, best->second.b, r9(best->second.t)};
   }
 
   nlohmann::ordered_json summary_json(const RunSummary& s) const {
@@ -540,7 +507,7 @@ class Run {
       d.tool_path_length = r9(dr.path);
       f.devices.emplace_back(wc_.objects[dr.object].name, std::move(d));
     }
-    f.min_clearance = min_clearance();
+    f.min_clearance = clearances_.closest(supports_);
     for (size_t k = 0; k < kEventKindNames.size(); ++k)
       if (size_t n = events_.count(static_cast<EventKind>(k))) f.events.emplace_back(std::string(kEventKindNames[k]), n);
     if (options_.inputs) {
@@ -568,14 +535,7 @@ class Run {
   size_t current_step_ = 0;
   int frames_ = 0;
   std::string current_action_;
-  // Clearances: per (moving object, other object) the closest approach seen.
-  struct Seen {
-    double distance;
-    double t;
-    std::string a, b;
-  };
-  CollisionWorld nearby_;
-  std::map<std::pair<int, int>, Seen> seen_;
+  ClearanceTracker clearances_;
   std::set<std::pair<int, int>> supports_;  // (load, what it was lifted from or landed on)
   TrajectoryRecorder recorder_;
   // Constraint re-checks: the workcell's geometry and slot values as the motion has them now.
