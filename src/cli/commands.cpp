@@ -324,11 +324,7 @@ int run_render(const Common& common, const RenderArgs& args) {
                                did_you_mean(args.camera, names));
       return kInputError;
     }
-    named = compile_cameras({it->second}, *wc, diag);
-    if (diag.has_errors()) {
-      std::cerr << diag.format_errors(sources, common.color_for(stderr));  // its warnings were shown
-      return kInputError;
-    }
+    named = CameraPath({it->second});  // compiled with the vault
   }
   RenderOptions ro;
   ro.width = width;

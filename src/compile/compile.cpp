@@ -14,6 +14,7 @@
 #include "compile/state.h"
 #include "core/data_dirs.h"
 #include "core/timer.h"
+#include "compile/cameras.h"
 #include "compile/values.h"
 #include "core/names.h"
 #include "core/selection_calls.h"
@@ -819,7 +820,6 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   st.wc.name = spec.name;
   st.wc.path = spec.path;
   st.wc.description = spec.description;
-  st.wc.cameras = spec.cameras;
 
   // Plugins: --plugins folders load; a vault's own `plugins:` folders load only when the command
   // line allows them (the same folder in --plugins, or --allow-vault-plugins): a vault file from
@@ -875,6 +875,8 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   compile_values(st);
   check_values(st);
   if (!diag.full()) compile_constraints(st);
+  for (const auto& [name, key] : spec.cameras)  // the vault's named views
+    for (const CameraKey& k : compile_camera_keys({key}, st.wc, diag)) st.wc.cameras.emplace_back(name, k);
   if (diag.has_errors()) return std::nullopt;
   st.wc.texts.resize(st.wc.values.size());
   return std::move(st.wc);

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "compile/cameras.h"
 #include "core/expr.h"
 #include "core/diagnostics.h"
 #include "core/source.h"
@@ -168,7 +169,7 @@ struct Workcell {
   std::vector<Parameter> parameters;
   std::vector<Object> objects;
   std::vector<Constraint> constraints;
-  std::vector<std::pair<std::string, CameraKeySpec>> cameras;  ///< the vault's named views, as written
+  std::vector<std::pair<std::string, CameraKey>> cameras;  ///< the vault's named views, compiled
   std::vector<std::string> plugin_files;      ///< the plugins' shared objects loaded to compile it
   std::vector<std::string> vault_plugin_dirs;  ///< the vault's `plugins:` folders, absolute
   std::vector<double> values;       ///< every numeric slot, SI

@@ -34,7 +34,7 @@ bool PreparedScenario::prepare(const std::string& path, const CompileOptions& ba
   std::vector<CameraKeySpec> keys = spec->cameras;
   if (!camera_file.empty())
     if (auto file = load_cameras(camera_file, sources, diag)) keys = *file;
-  if (plan && !diag.has_errors()) cameras = compile_cameras(keys, *wc, diag);
+  if (plan && !diag.has_errors()) cameras = CameraPath(compile_camera_keys(keys, *wc, diag));
   return plan && !diag.has_errors();
 }
 

@@ -28,8 +28,6 @@ KNOWN = {
     ("simulate/plan.cpp", "compile/values.h"),
     ("simulate/plan.h", "load/scenario.h"),
     ("simulate/resolved.h", "load/scenario.h"),
-    ("render/camera_path.cpp", "compile/values.h"),
-    ("render/camera_path.h", "load/scenario.h"),
     # The compiled model itself still holds spec structs and the plugin runtime.
     ("compile/workcell.h", "load/spec.h"),
     ("compile/workcell.h", "plugin/plugins.h"),
