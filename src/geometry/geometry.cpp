@@ -10,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include "compile/compile.h"
 #include "compile/values.h"
 #include "core/expr.h"
 #include "core/files.h"

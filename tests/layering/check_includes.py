@@ -23,7 +23,6 @@ MODEL_READERS = {"model", "geometry", "kinematics", "check", "simulate", "render
 INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.*)$")
 # file -> included header: arrows that remain (issue 20, "templates compiled once").
 KNOWN = {
-    ("geometry/geometry.cpp", "compile/compile.h"),
     ("geometry/geometry.cpp", "compile/values.h"),
     ("simulate/plan.cpp", "compile/values.h"),
     ("simulate/plan.h", "load/scenario.h"),
