@@ -105,9 +105,7 @@ std::string CompileState::slot_name(uint32_t slot) const {
   if (it == wc.objects.begin()) return fmt::format("slot {}", slot);
   const Object& o = *std::prev(it);
   uint32_t k = slot - o.first_slot;
-  static const char* kPose[] = {"location.x", "location.y", "location.z", "orientation.roll", "orientation.pitch",
-                                "orientation.yaw"};
-  if (k < kFirstAttributeSlot) return fmt::format("{}.{}", o.name, kPose[k]);
+  if (k < kFirstAttributeSlot) return fmt::format("{}.{}", o.name, kPoseSlotNames[k]);
   return fmt::format("{}.{}", o.name, wc.types[o.type].attributes[k - kFirstAttributeSlot].name);
 }
 
@@ -238,8 +236,7 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
   }
   int a = type.find_attribute(member);
   if (a < 0) {
-    std::vector<std::string> names = {"location.x", "location.y", "location.z", "orientation.roll",
-                                      "orientation.pitch", "orientation.yaw"};
+    std::vector<std::string> names(kPoseSlotNames.begin(), kPoseSlotNames.end());
     for (const AttributeDef& def : type.attributes) names.push_back(def.name);
     diag.error(mark, fmt::format("'{}' (a {}) has no attribute '{}'{}", o.name, type.name, member, did_you_mean(member, names)));
     return std::nullopt;
@@ -706,14 +703,12 @@ void compile_values(CompileState& st) {
     const std::array<int, 3>* index = o.array ? &st.array_index[i] : nullptr;
     ExprScope scope{-1, index};
     for (int d = 0; d < 3; ++d) {
-      static const char* kLoc[] = {"location.x", "location.y", "location.z"};
-      static const char* kRot[] = {"orientation.roll", "orientation.pitch", "orientation.yaw"};
       double offset = st.array_offset[i][d];
       if (o.location[d].present) assign(st, obj.first_slot + kLocationSlot + d, o.location[d], nullptr, Dim::Length, scope,
-                                        kLoc[d], offset);
+                                        kPoseSlotNames[kLocationSlot + d], offset);
       else st.wc.values[obj.first_slot + kLocationSlot + d] = offset;
       if (o.orientation[d].present)
-        assign(st, obj.first_slot + kOrientationSlot + d, o.orientation[d], nullptr, Dim::Angle, scope, kRot[d]);
+        assign(st, obj.first_slot + kOrientationSlot + d, o.orientation[d], nullptr, Dim::Angle, scope, kPoseSlotNames[kOrientationSlot + d]);
     }
     std::vector<bool> given(type.attributes.size(), false);
     for (const AttrValue& v : o.attributes) {
@@ -769,14 +764,12 @@ void check_values(CompileState& st) {
     const ObjectType& type = st.wc.types[obj.type];
     const ObjectSpec& o = *st.object_spec[i];
     for (int d = 0; d < 3; ++d) {
-      static const char* kLoc[] = {"location.x", "location.y", "location.z"};
-      static const char* kRot[] = {"orientation.roll", "orientation.pitch", "orientation.yaw"};
-      check_length(st, obj.first_slot + kLocationSlot + d, o.location[d].present ? o.location[d].mark : o.mark, kLoc[d], obj.name);
+      check_length(st, obj.first_slot + kLocationSlot + d, o.location[d].present ? o.location[d].mark : o.mark, kPoseSlotNames[kLocationSlot + d], obj.name);
       // An angle of 1e300 degrees is a rotation no double can reduce to a turn: a limit, like lengths.
       const uint32_t slot = obj.first_slot + kOrientationSlot + d;
       if (std::abs(st.wc.values[slot]) > kMaxAngleDeg * std::numbers::pi / 180) {
         st.diag.error(o.orientation[d].present ? o.orientation[d].mark : o.mark,
-                      fmt::format("{} of '{}' is {} deg, beyond the ±{:g} deg sscs turns things by", kRot[d], obj.name,
+                      fmt::format("{} of '{}' is {} deg, beyond the ±{:g} deg sscs turns things by", kPoseSlotNames[kOrientationSlot + d], obj.name,
                                   number_text(st.wc.values[slot] * 180 / std::numbers::pi), kMaxAngleDeg));
         st.slot_failed[slot] = true;
       }

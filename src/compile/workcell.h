@@ -1,6 +1,7 @@
 #pragma once
 /// The compiled model: an immutable Workcell of typed objects and constraints, all values in SI.
 /// Later stages (check, geometry, kinematics, simulation) read only this, never the spec.
+#include <array>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -58,6 +59,9 @@ struct ObjectType {
 constexpr int kLocationSlot = 0;
 constexpr int kOrientationSlot = 3;
 constexpr int kFirstAttributeSlot = 6;
+/// The names expressions and messages give the first slots: location.x .. orientation.yaw.
+inline constexpr std::array<const char*, kFirstAttributeSlot> kPoseSlotNames = {
+    "location.x", "location.y", "location.z", "orientation.roll", "orientation.pitch", "orientation.yaw"};
 
 struct Object {
   std::string name;

@@ -73,7 +73,7 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
       // variant may select other objects).
       bool known = false;
       for (const ObjectType& t : wc.types) known |= t.find_attribute(c.attribute) >= 0;
-      known |= c.attribute == "location.x" || c.attribute == "location.y" || c.attribute == "location.z";
+      for (int k = kLocationSlot; k < kLocationSlot + 3; ++k) known |= c.attribute == kPoseSlotNames[k];
       if (!known)
         diag.error(where(c.position), fmt::format("metric '{}': no type has an attribute '{}'", spec_.name, c.attribute));
     }
