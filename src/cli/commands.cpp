@@ -166,7 +166,11 @@ int run_check(const Common& common, const CheckArgs& args) {
   // Inputs in the order they are named: the vaults, then the baseline; every error of both.
   std::optional<Baseline> baseline;
   std::string baseline_error;
-  if (!args.baseline.empty()) baseline = read_baseline(args.baseline, &baseline_error);
+  if (!args.baseline.empty()) {
+    Expected<Baseline> read = read_baseline(args.baseline);
+    if (read) baseline = std::move(*read);
+    else baseline_error = read.error();
+  }
   if (report_diagnostics(diag, sources, common) || !baseline_error.empty()) {
     if (!baseline_error.empty()) std::cerr << "sscs: error: " << baseline_error << "\n";
     return kInputError;  // nothing written
@@ -665,13 +669,12 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
 }
 
 int run_compare(const std::vector<std::string>& paths, const std::string& format) {
-  std::vector<RunRecord> runs;
-  std::string error;
-  if (!read_runs(paths, runs, &error)) {
-    std::cerr << "sscs: error: " << error << "\n";
+  Expected<std::vector<RunRecord>> runs = read_runs(paths);
+  if (!runs) {
+    std::cerr << "sscs: error: " << runs.error() << "\n";
     return kInputError;
   }
-  std::cout << (format == "json" ? compare_json(runs) : format == "csv" ? compare_csv(runs) : compare_text(runs));
+  std::cout << (format == "json" ? compare_json(*runs) : format == "csv" ? compare_csv(*runs) : compare_text(*runs));
   return kOk;
 }
 

@@ -62,25 +62,18 @@ std::string zip_folder(const std::string& folder, const std::string& zip_path) {
   return "";
 }
 
-std::optional<std::string> read_zip_entry(const std::string& zip_path, const std::string& name, std::string* error) {
+Expected<std::string> read_zip_entry(const std::string& zip_path, const std::string& name) {
   int code = 0;
   std::unique_ptr<zip_t, decltype(&zip_discard)> za(zip_open(zip_path.c_str(), ZIP_RDONLY, &code), &zip_discard);
-  if (!za) {
-    *error = fmt::format("{}: not a readable zip archive ({})", zip_path, zip_message(code));
-    return std::nullopt;
-  }
+  if (!za) return Unexpected{fmt::format("{}: not a readable zip archive ({})", zip_path, zip_message(code))};
   zip_stat_t st;
   zip_stat_init(&st);
-  if (zip_stat(za.get(), name.c_str(), 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE)) {
-    *error = fmt::format("{}: no {} in this archive", zip_path, name);
-    return std::nullopt;
-  }
+  if (zip_stat(za.get(), name.c_str(), 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE))
+    return Unexpected{fmt::format("{}: no {} in this archive", zip_path, name)};
   std::unique_ptr<zip_file_t, decltype(&zip_fclose)> f(zip_fopen(za.get(), name.c_str(), 0), &zip_fclose);
   std::string bytes(st.size, '\0');
-  if (!f || zip_fread(f.get(), bytes.data(), st.size) != static_cast<zip_int64_t>(st.size)) {
-    *error = fmt::format("{}: cannot read {}: {}", zip_path, name, zip_strerror(za.get()));
-    return std::nullopt;
-  }
+  if (!f || zip_fread(f.get(), bytes.data(), st.size) != static_cast<zip_int64_t>(st.size))
+    return Unexpected{fmt::format("{}: cannot read {}: {}", zip_path, name, zip_strerror(za.get()))};
   return bytes;
 }
 

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "core/expected.h"
+
 namespace sscs {
 
 /// Packs every file under `folder` into a new zip at `zip_path` (paths relative to `folder`,
@@ -13,6 +15,6 @@ std::string zip_folder(const std::string& folder, const std::string& zip_path);
 
 /// The bytes of entry `name` in the zip at `zip_path`; nullopt with `error` set when the file is
 /// not a readable zip or has no such entry.
-std::optional<std::string> read_zip_entry(const std::string& zip_path, const std::string& name, std::string* error);
+Expected<std::string> read_zip_entry(const std::string& zip_path, const std::string& name);
 
 }  // namespace sscs

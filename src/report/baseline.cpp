@@ -73,21 +73,17 @@ std::string key_of(const std::string& constraint, const std::vector<std::string>
 
 }  // namespace
 
-std::optional<Baseline> read_baseline(const std::string& path, std::string* error) {
+Expected<Baseline> read_baseline(const std::string& path) {
   auto text = read_file_bytes(path);
-  if (!text) {
-    *error = fmt::format("cannot read the baseline report '{}'", path);
-    return std::nullopt;
-  }
+  if (!text) return Unexpected{fmt::format("cannot read the baseline report '{}'", path)};
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(*text);
   } catch (const nlohmann::json::parse_error& e) {
     std::string what = e.what();
     what = what.substr(what.find("syntax error"));
-    *error = fmt::format("{}:{}: the baseline is not JSON (expected a report of sscs check --format json): {}", path,
-                         line_col(*text, e.byte > 0 ? e.byte - 1 : 0), what);
-    return std::nullopt;
+    return Unexpected{fmt::format("{}:{}: the baseline is not JSON (expected a report of sscs check --format json): {}", path,
+                                  line_col(*text, e.byte > 0 ? e.byte - 1 : 0), what)};
   }
   Baseline b;
   b.file = path;
@@ -107,8 +103,7 @@ std::optional<Baseline> read_baseline(const std::string& path, std::string* erro
       b.vaults[(*v)["vault"].get<std::string>()] = results_of(*v);
     }
   } catch (const std::exception& e) {
-    *error = fmt::format("{}: not an sscs check report: {}", path, e.what());
-    return std::nullopt;
+    return Unexpected{fmt::format("{}: not an sscs check report: {}", path, e.what())};
   }
   return b;
 }

@@ -91,30 +91,31 @@ std::string csv_field(const std::string& s) {
 
 }  // namespace
 
-bool read_runs(const std::vector<std::string>& paths, std::vector<RunRecord>& runs, std::string* error) {
+Expected<std::vector<RunRecord>> read_runs(const std::vector<std::string>& paths) {
+  std::vector<RunRecord> runs;
   for (const std::string& p : paths) {
     std::error_code ec;
     std::optional<std::string> text;
     std::string where;
     if (fs::is_regular_file(p, ec) && fs::path(p).extension() == ".zip") {
       where = p + ":summary.json";
-      if (!(text = read_zip_entry(p, "summary.json", error))) return false;
+      Expected<std::string> entry = read_zip_entry(p, "summary.json");
+      if (!entry) return Unexpected{entry.error()};
+      text = std::move(*entry);
     } else {
       where = (fs::path(p) / "summary.json").string();
       if (!(text = read_file_bytes(where))) {
-        *error = fmt::format("{}: not a run folder or bundle (expected {})", p, where);
-        return false;
+        return Unexpected{fmt::format("{}: not a run folder or bundle (expected {})", p, where)};
       }
     }
     std::string why;
     auto summary = RunSummaryFile::parse(*text, why);
     if (!summary) {
-      *error = fmt::format("{}: not a summary written by sscs simulate ({})", where, why);
-      return false;
+      return Unexpected{fmt::format("{}: not a summary written by sscs simulate ({})", where, why)};
     }
     runs.push_back({p, std::move(*summary)});
   }
-  return true;
+  return runs;
 }
 
 std::string compare_text(const std::vector<RunRecord>& runs) {

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "core/expected.h"
+
 
 #include "simulate/summary_file.h"
 
@@ -15,7 +17,7 @@ struct RunRecord {
 };
 
 /// Reads each run's summary.json. On a problem returns false with `error` saying which and why.
-bool read_runs(const std::vector<std::string>& paths, std::vector<RunRecord>& runs, std::string* error);
+Expected<std::vector<RunRecord>> read_runs(const std::vector<std::string>& paths);
 
 std::string compare_text(const std::vector<RunRecord>& runs);
 std::string compare_json(const std::vector<RunRecord>& runs);

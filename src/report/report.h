@@ -9,6 +9,7 @@
 
 #include "check/check.h"
 #include "compile/workcell.h"
+#include "core/expected.h"
 #include "core/files.h"
 #include "core/source.h"
 #include "core/units.h"
@@ -75,7 +76,7 @@ struct Baseline {
 };
 
 /// Reads a baseline report. On failure returns nullopt with `error` set ("FILE:LINE:COL: ...").
-std::optional<Baseline> read_baseline(const std::string& path, std::string* error);
+Expected<Baseline> read_baseline(const std::string& path);
 
 /// Compares one vault's results with the baseline's results for the vault of the same name.
 BaselineDiff compare_with_baseline(const Workcell& wc, const CheckReport& report, const Baseline& baseline);

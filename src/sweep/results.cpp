@@ -32,18 +32,13 @@ std::string csv_number(const std::optional<double>& v) {
 /// Reads `path` as JSON and converts it with `convert`; nullopt with *error ("'path' is not
 /// WHAT: ...") when the file is unreadable, not JSON, or lacks what `convert` asks for.
 template <class Convert>
-auto read_json_as(const std::string& path, std::string_view what, std::string* error, Convert convert)
-    -> std::optional<decltype(convert(json()))> {
+auto read_json_as(const std::string& path, std::string_view what, Convert convert) -> Expected<decltype(convert(json()))> {
   auto text = read_file_bytes(path);
-  if (!text) {
-    *error = fmt::format("cannot read '{}'", path);
-    return std::nullopt;
-  }
+  if (!text) return Unexpected{fmt::format("cannot read '{}'", path)};
   try {
     return convert(json::parse(*text));
   } catch (const json::exception& e) {
-    *error = fmt::format("'{}' is not {}: {}", path, what, e.what());
-    return std::nullopt;
+    return Unexpected{fmt::format("'{}' is not {}: {}", path, what, e.what())};
   }
 }
 
@@ -73,8 +68,8 @@ json row_json(const VariantRow& row, const TableHeader& header) {
 
 std::string result_json(const VariantRow& row, const TableHeader& header) { return row_json(row, header).dump(2) + "\n"; }
 
-std::optional<VariantRow> read_result(const std::string& path, const TableHeader& header, std::string* error) {
-  return read_json_as(path, "a variant result of this sweep", error, [&](const json& j) {
+Expected<VariantRow> read_result(const std::string& path, const TableHeader& header) {
+  return read_json_as(path, "a variant result of this sweep", [&](const json& j) {
     VariantRow row;
     row.index = j.at("variant").get<size_t>();
     row.folder = j.at("folder").get<std::string>();
@@ -112,8 +107,8 @@ std::string manifest_json(const Manifest& m) {
   return j.dump(2) + "\n";
 }
 
-std::optional<Manifest> read_manifest(const std::string& path, std::string* error) {
-  return read_json_as(path, "an sscs sweep manifest", error, [](const json& j) {
+Expected<Manifest> read_manifest(const std::string& path) {
+  return read_json_as(path, "an sscs sweep manifest", [](const json& j) {
     Manifest m;
     m.sweep = j.at("sweep").get<std::string>();
     m.sweep_sha256 = j.at("sweep_sha256").get<std::string>();
@@ -174,8 +169,8 @@ std::string results_json(const TableHeader& header, const std::vector<VariantRow
   return j.dump(2) + "\n";
 }
 
-std::optional<TableHeader> read_header(const std::string& path, std::string* error) {
-  return read_json_as(path, "the results.json of an sscs sweep", error, [](const json& j) {
+Expected<TableHeader> read_header(const std::string& path) {
+  return read_json_as(path, "the results.json of an sscs sweep", [](const json& j) {
     TableHeader h;
     h.sweep = j.at("sweep").get<std::string>();
     for (const json& p : j.at("parameters")) h.parameters.emplace_back(p.at("name").get<std::string>(), p.at("unit").get<std::string>());

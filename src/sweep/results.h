@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/expected.h"
+
 namespace sscs {
 
 /// One row: a variant's outcome.
@@ -48,10 +50,10 @@ struct Manifest {
 
 std::string result_json(const VariantRow& row, const TableHeader& header);
 /// Reads a variant's result.json; nullopt (with *error) when it is unreadable or not one.
-std::optional<VariantRow> read_result(const std::string& path, const TableHeader& header, std::string* error);
+Expected<VariantRow> read_result(const std::string& path, const TableHeader& header);
 
 std::string manifest_json(const Manifest& m);
-std::optional<Manifest> read_manifest(const std::string& path, std::string* error);
+Expected<Manifest> read_manifest(const std::string& path);
 
 std::string header_json(const TableHeader& h);
 
@@ -61,6 +63,6 @@ std::string results_csv(const TableHeader& header, const std::vector<VariantRow>
 /// results.json: the header and the rows.
 std::string results_json(const TableHeader& header, const std::vector<VariantRow>& rows);
 /// Reads the header back from a results.json (for merge).
-std::optional<TableHeader> read_header(const std::string& results_json_path, std::string* error);
+Expected<TableHeader> read_header(const std::string& results_json_path);
 
 }  // namespace sscs

@@ -414,13 +414,12 @@ void Study::run_variant(const Variant& v, const std::string& tmp) {
 /// cut short): else removes it and says why. "" when committed.
 std::string Study::commit_variant(const Variant& v) {
   const std::string tmp = tmp_dir(v);
-  std::string error;
   std::error_code ec;
-  if (!read_result(tmp + "/result.json", header_, &error)) {
+  if (Expected<VariantRow> written = read_result(tmp + "/result.json", header_); !written) {
     std::string said = last_line(tmp + "/log.txt");
     fs::remove_all(tmp, ec);
     return fmt::format("variant {} ('{}') was not written whole, so it is not kept (is the disk full?): {}", v.index,
-                       set_.folder(v), said.empty() ? error : said);
+                       set_.folder(v), said.empty() ? written.error() : said);
   }
   if (std::string err = commit_dir(tmp, dir(v)); !err.empty()) {
     fs::remove_all(tmp, ec);
@@ -472,8 +471,7 @@ SweepOutcome Study::run() {
   // A folder of another sweep (or of other inputs, or another shard) is not resumed into.
   std::string manifest_path = out.out + "/sweep.json";
   if (fs::exists(manifest_path)) {
-    std::string error;
-    auto old = read_manifest(manifest_path, &error);
+    auto old = read_manifest(manifest_path);
     bool same = old && old->sweep_sha256 == manifest_.sweep_sha256 && old->inputs_sha256 == manifest_.inputs_sha256 &&
                 old->shard == manifest_.shard && old->variants == manifest_.variants;
     if (!same && !options_.force) {
@@ -677,11 +675,10 @@ SweepOutcome Study::run() {
 
   std::vector<VariantRow> rows;
   for (const Variant* v : mine) {
-    std::string error;
-    auto row = read_result(fmt::format("{}/{}/result.json", out.out, set_.folder(*v)), header_, &error);
+    auto row = read_result(fmt::format("{}/{}/result.json", out.out, set_.folder(*v)), header_);
     if (!row) {
       out.end = SweepOutcome::End::Failed;
-      out.message = error + " (delete that variant's folder to run it again)";
+      out.message = row.error() + " (delete that variant's folder to run it again)";
       return out;
     }
     (row->status == "pass" ? out.pass : row->status == "fail" ? out.fail : out.error)++;
@@ -725,23 +722,22 @@ SweepOutcome merge_sweep(const std::vector<std::string>& dirs, const std::string
       if (fs::equivalent(dirs[i], dirs[j], ec)) return refuse(fmt::format("'{}' is named twice; merge each shard once", dirs[i]));
   for (const std::string& dir : dirs) {
     if (fs::equivalent(dir, out_dir, ec)) return refuse(fmt::format("--out '{}' is one of the folders to merge; merge into a new folder", out_dir));
-    std::string error;
-    auto m = read_manifest(dir + "/sweep.json", &error);
-    if (!m) return refuse(fs::exists(dir + "/sweep.json") ? error : fmt::format("'{}' is not a sweep folder (it has no sweep.json)", dir));
+    auto m = read_manifest(dir + "/sweep.json");
+    if (!m) return refuse(fs::exists(dir + "/sweep.json") ? m.error() : fmt::format("'{}' is not a sweep folder (it has no sweep.json)", dir));
     if (!first) {
-      first = m;
+      first = *m;
     } else if (m->sweep_sha256 != first->sweep_sha256 || m->inputs_sha256 != first->inputs_sha256 || m->variants != first->variants) {
       return refuse(fmt::format("'{}' holds results of a different sweep than '{}' (sweep '{}' vs '{}': the sweep file or its "
                                 "inputs differ); merge only shards of one sweep", dir, dirs[0], m->sweep, first->sweep));
     }
-    auto h = read_header(dir + "/results.json", &error);
-    if (!h) return refuse(fmt::format("'{}' has no complete table (shard {} did not finish?): {}", dir, m->shard.empty() ? "-" : m->shard, error));
-    if (!header) header = h;
+    auto h = read_header(dir + "/results.json");
+    if (!h) return refuse(fmt::format("'{}' has no complete table (shard {} did not finish?): {}", dir, m->shard.empty() ? "-" : m->shard, h.error()));
+    if (!header) header = *h;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
       std::string result = (entry.path() / "result.json").string();
       if (!entry.is_directory() || entry.path().filename().string().starts_with(".") || !fs::exists(result)) continue;
-      auto row = read_result(result, *header, &error);
-      if (!row) return refuse(error);
+      auto row = read_result(result, *header);
+      if (!row) return refuse(row.error());
       if (auto it = rows.find(row->index); it != rows.end())
         return refuse(fmt::format("variant {} is in both '{}' and '{}'; merge each shard once", row->index, it->second.first, dir));
       rows.emplace(row->index, std::pair{dir, std::move(*row)});
