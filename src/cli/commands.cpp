@@ -555,7 +555,9 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
         return std::string();
       };
     }
-    summary = run_simulation(*wc, geometry, *plan, run, &error);
+    Expected<RunSummary> ran = run_simulation(*wc, geometry, *plan, run);
+    if (ran) summary = std::move(*ran);
+    else error = ran.error();
     recorder.reset();  // before the staging folder it writes into goes
   }
   interrupts.reset();

@@ -550,14 +550,15 @@ std::string run_work_dir(const RunOptions& options) {
   return temp_dir_for(options.out_dir.empty() ? options.bundle : options.out_dir);
 }
 
-RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
-                          std::string* error) {
+Expected<RunSummary> run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options) {
   Run run(wc, geometry, plan, options);
   RunSummary summary = run.run();
-  if (!summary.interrupted && options.before_write) *error = options.before_write();
-  if (!summary.interrupted && error->empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, error);
+  std::string error;
+  if (!summary.interrupted && options.before_write) error = options.before_write();
+  if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, &error);
   std::error_code ec;
-  if (summary.interrupted || !error->empty()) fs::remove_all(work_dir(options), ec);
+  if (summary.interrupted || !error.empty()) fs::remove_all(work_dir(options), ec);
+  if (!error.empty()) return Unexpected{error};
   return summary;
 }
 

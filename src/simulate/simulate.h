@@ -10,6 +10,7 @@
 #include <string>
 
 #include "compile/workcell.h"
+#include "core/expected.h"
 #include "geometry/geometry.h"
 #include "simulate/plan.h"
 #include "simulate/resolved.h"
@@ -66,10 +67,9 @@ struct RunOptions {
 /// The hidden temporary folder beside the run's target: ".NAME.tmp-PID" (a StagedDir's).
 std::string run_work_dir(const RunOptions& options);
 
-/// Runs the plan and writes its outputs. Returns the summary; `error` is set when the output
-/// could not be written (then nothing is left under the requested names, and the work folder
-/// is removed, as it is when the run is interrupted).
-RunSummary run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options,
-                          std::string* error);
+/// Runs the plan and writes its outputs. Returns the summary, or why the outputs could not be
+/// written (then nothing is left under the requested names, and the work folder is removed, as
+/// it is when the run is interrupted).
+Expected<RunSummary> run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options);
 
 }  // namespace sscs

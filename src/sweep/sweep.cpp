@@ -358,9 +358,9 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
     ro.out_dir = dir + "/run";
     ro.scenario_name = c.scenario->name;
     ro.inputs = &inputs;
-    std::string error;
-    run = run_simulation(*wc, geometry, *plan, ro, &error);
-    if (!error.empty()) throw std::runtime_error(error);
+    Expected<RunSummary> ran = run_simulation(*wc, geometry, *plan, ro);
+    if (!ran) throw std::runtime_error(ran.error());
+    run = std::move(*ran);
     row.cycle_time = run->cycle_time;
     row.collisions = run->collisions;
     if (run->status != RunStatus::Ok) row.status = "fail";

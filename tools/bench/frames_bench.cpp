@@ -34,11 +34,10 @@ int main(int argc, char** argv) {
   }
   const Plan& plan = *ps.plan;
   const double fps = plan.settings.frames ? plan.settings.fps : 15;
-  std::string error;
 
   // Frames off.
   auto t0 = Clock::now();
-  run_simulation(*ps.wc, ps.geometry, plan, RunOptions{}, &error);
+  run_simulation(*ps.wc, ps.geometry, plan, RunOptions{});  // no outputs: nothing to fail
   const double off = since(t0);
 
   // Frames on: rendered on this thread, encoded and written on the pool.
@@ -52,7 +51,7 @@ int main(int argc, char** argv) {
     run.frame_interval = 1 / fps;
     run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder.frame(n, t, pose); };
     t0 = Clock::now();
-    run_simulation(*ps.wc, ps.geometry, plan, run, &error);
+    run_simulation(*ps.wc, ps.geometry, plan, run);
     stats = recorder.finish(dir + "/contact_sheet.png");
     on = since(t0);
   }
@@ -69,7 +68,7 @@ int main(int argc, char** argv) {
       if (n % 10 == 0) samples.push_back(std::move(img));
     };
     t0 = Clock::now();
-    run_simulation(*ps.wc, ps.geometry, plan, run, &error);
+    run_simulation(*ps.wc, ps.geometry, plan, run);
     render_only = since(t0);
   }
 

@@ -122,12 +122,15 @@ int main(int argc, char** argv) {
   long steps = 0;
   for (int r = 0; r < reps; ++r) {
     RunOptions run;  // no output folder: everything but writing the files
-    std::string error;
     auto t0 = Clock::now();
-    RunSummary s = run_simulation(*wc, geometry, *plan, run, &error);
+    Expected<RunSummary> s = run_simulation(*wc, geometry, *plan, run);
     full = std::min(full, seconds_since(t0));
-    simulated = s.simulated;
-    steps = std::lround(s.simulated / plan->settings.timestep);
+    if (!s) {
+      std::fprintf(stderr, "sim_vs_bare_ode: %s\n", s.error().c_str());
+      return 1;
+    }
+    simulated = s->simulated;
+    steps = std::lround(s->simulated / plan->settings.timestep);
   }
   for (int r = 0; r < reps; ++r) phys = std::min(phys, physics_only(*wc, geometry, *plan, steps));
   for (int r = 0; r < reps; ++r) bare = std::min(bare, bare_ode(*wc, geometry, *plan, steps));
