@@ -385,10 +385,9 @@ int run_replay(const Common& common, const ReplayArgs& args) {
   ro.height = plan.settings.height;
   if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
   ro.shadows = args.shadows;
-  std::string error;
-  auto recorded = RecordedRun::read(args.run, wc, ps.geometry, &error);
+  auto recorded = RecordedRun::read(args.run, wc, ps.geometry);
   if (!recorded) {
-    std::cerr << "sscs: error: " << error << "\n";
+    std::cerr << "sscs: error: " << recorded.error() << "\n";
     return kInputError;
   }
   // The run's own frame times when it recorded frames; else every 1/fps of its duration.

@@ -1,6 +1,7 @@
 #include "render/replay.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -24,6 +25,18 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
+/// Cell `k` of a CSV row as a finite number, else why not (with the file and line).
+Expected<double> number_at(const std::vector<std::string>& cells, size_t k, const std::string& path, int line) {
+  if (k >= cells.size()) return Unexpected{fmt::format("{}:{}: a row of {} cells, expected at least {}", path, line, cells.size(), k + 1)};
+  const std::string& c = cells[k];
+  double v = 0;
+  const char* first = c.data() + (c.starts_with('+') ? 1 : 0);
+  auto [end, ec] = std::from_chars(first, c.data() + c.size(), v);
+  if (ec != std::errc() || end != c.data() + c.size() || !std::isfinite(v))
+    return Unexpected{fmt::format("{}:{}: column {} is '{}', expected a finite number (is the log corrupt?)", path, line, k + 1, c)};
+  return v;
+}
+
 /// The bracketing rows of t and the fraction between them.
 std::tuple<size_t, size_t, double> bracket(const std::vector<double>& ts, double t) {
   if (t <= ts.front()) return {0, 0, 0.0};
@@ -35,8 +48,7 @@ std::tuple<size_t, size_t, double> bracket(const std::vector<double>& ts, double
 
 }  // namespace
 
-std::optional<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry,
-                                             std::string* error) {
+Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry) {
   RecordedRun run;
   run.geometry_ = &geometry;
   for (size_t o = 0; o < wc.objects.size(); ++o) {
@@ -52,41 +64,47 @@ std::optional<RecordedRun> RecordedRun::read(const std::string& dir, const Workc
     for (int j = 0; j < device->dof(); ++j)
       for (size_t c = 0; c < head.size(); ++c)
         if (head[c] == device->joint(j).name) column[j] = static_cast<int>(c);
-    if (std::count(column.begin(), column.end(), -1)) {
-      *error = fmt::format("{}: its columns do not match the joints of {}", path, wc.objects[o].name);
-      return std::nullopt;
-    }
+    if (std::count(column.begin(), column.end(), -1))
+      return Unexpected{fmt::format("{}: its columns do not match the joints of {}", path, wc.objects[o].name)};
     Series& s = run.devices_[static_cast<int>(o)];
-    while (std::getline(in, line)) {
+    for (int row = 2; std::getline(in, line); ++row) {
       std::vector<std::string> cells = split(line);
       Eigen::VectorXd q(device->dof());
-      for (int j = 0; j < device->dof(); ++j)
-        q[j] = std::stod(cells.at(column[j])) * (device->joint(j).type == JointType::Revolute ? kDeg : 1.0);
-      s.t.push_back(std::stod(cells.at(0)));
+      for (int j = 0; j < device->dof(); ++j) {
+        Expected<double> v = number_at(cells, column[j], path, row);
+        if (!v) return Unexpected{v.error()};
+        q[j] = *v * (device->joint(j).type == JointType::Revolute ? kDeg : 1.0);
+      }
+      Expected<double> t = number_at(cells, 0, path, row);
+      if (!t) return Unexpected{t.error()};
+      if (!s.t.empty() && *t < s.t.back()) return Unexpected{fmt::format("{}:{}: time {} comes before {} (is the log corrupt?)", path, row, *t, s.t.back())};
+      s.t.push_back(*t);
       s.values.push_back(q);
     }
     if (!s.t.empty()) run.duration_ = std::max(run.duration_, s.t.back());
   }
   std::ifstream in(dir + "/objects.csv");
-  if (!in) {
-    *error = fmt::format("{}: not a run folder (no objects.csv)", dir);
-    return std::nullopt;
-  }
+  if (!in) return Unexpected{fmt::format("{}: not a run folder (no objects.csv)", dir)};
+  const std::string path = dir + "/objects.csv";
   std::string line;
   std::getline(in, line);
-  while (std::getline(in, line)) {
+  for (int row = 2; std::getline(in, line); ++row) {
     std::vector<std::string> c = split(line);
-    if (c.size() != 8) continue;
+    if (c.size() != 8) return Unexpected{fmt::format("{}:{}: a row of {} cells, expected 8 (t,object,x,y,z,roll,pitch,yaw)", path, row, c.size())};
     int o = wc.find_object(c[1]);
-    if (o < 0) {
-      *error = fmt::format("{}/objects.csv: object '{}' is not in the run's vault", dir, c[1]);
-      return std::nullopt;
+    if (o < 0) return Unexpected{fmt::format("{}:{}: object '{}' is not in the run's vault", path, row, c[1])};
+    double x[8];
+    for (size_t k : {0, 2, 3, 4, 5, 6, 7}) {
+      Expected<double> v = number_at(c, k, path, row);
+      if (!v) return Unexpected{v.error()};
+      x[k] = *v;
     }
-    Eigen::Quaterniond q(rpy_to_rotation(std::stod(c[5]) * kDeg, std::stod(c[6]) * kDeg, std::stod(c[7]) * kDeg));
+    Eigen::Quaterniond q(rpy_to_rotation(x[5] * kDeg, x[6] * kDeg, x[7] * kDeg));
     Eigen::VectorXd v(7);
-    v << std::stod(c[2]), std::stod(c[3]), std::stod(c[4]), q.w(), q.x(), q.y(), q.z();
+    v << x[2], x[3], x[4], q.w(), q.x(), q.y(), q.z();
     Series& s = run.objects_[o];
-    s.t.push_back(std::stod(c[0]));
+    if (!s.t.empty() && x[0] < s.t.back()) return Unexpected{fmt::format("{}:{}: time {} comes before {} (is the log corrupt?)", path, row, x[0], s.t.back())};
+    s.t.push_back(x[0]);
     s.values.push_back(v);
     run.duration_ = std::max(run.duration_, s.t.back());
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "compile/workcell.h"
+#include "core/expected.h"
 #include "geometry/geometry.h"
 
 namespace sscs {
@@ -14,9 +15,9 @@ namespace sscs {
 class RecordedRun {
  public:
   /// Reads the logs in run folder `dir`, written for workcell `wc` (compiled from the run's
-  /// resolved/ vault). nullopt with `error` when they are missing or do not match the workcell.
-  static std::optional<RecordedRun> read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry,
-                                         std::string* error);
+  /// resolved/ vault); why not when they are missing, do not match the workcell, or hold a cell
+  /// that is not a finite number (file and line named), or times that go back.
+  static Expected<RecordedRun> read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry);
   /// Where everything was at time t: joint values and object poses interpolated between the
   /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
   ScenePose at(double t) const;

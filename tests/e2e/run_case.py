@@ -285,6 +285,20 @@ def simulate(sscs, root):
             fail("a camera file with a misspelt key", p)
         if run(sscs, root, ["replay", tmp, "--out", os.path.join(tmp, "nothing")]).returncode != 2:
             fail("replay of a folder that is not a run exits 2")
+        # A corrupt log (a cell that is no number, nan, a short row, time going back) is an input
+        # error naming file and line, never a crash or a replay of NaN poses.
+        robot_csv = os.path.join(out, "trajectories", "Robot.csv")
+        good = open(robot_csv).read()
+        lines = good.splitlines(True)
+        for label, bad_row in [("text", lines[3].replace(lines[3].split(",")[1], "abc", 1)),
+                               ("nan", lines[3].replace(lines[3].split(",")[1], "nan", 1)),
+                               ("short", lines[3].split(",")[0] + "\n"),
+                               ("backwards", "0" + lines[3][lines[3].index(","):])]:
+            open(robot_csv, "w").write("".join(lines[:3] + [bad_row] + lines[4:]))
+            p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "corrupt-" + label)])
+            if p.returncode != 2 or "Robot.csv:4:" not in p.stderr or os.path.exists(os.path.join(tmp, "corrupt-" + label)):
+                fail(f"replay of a run whose trajectory log is corrupt ({label})", p)
+        open(robot_csv, "w").write(good)
         # --video pipes the raw frames to ffmpeg (a stand-in here that records what it got: the
         # real encoder is not installed on CI); without ffmpeg on PATH it is an input error.
         fake = os.path.join(root, "tests/data/fake-ffmpeg")
