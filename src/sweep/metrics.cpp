@@ -95,7 +95,8 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
   }
 }
 
-double Metric::evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run, std::string* error) const {
+Expected<double> Metric::evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run) const {
+  std::string why;  // the first reason the value is undefined
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   using K = SelectionCall::Kind;
   auto call_value = [&](const SelectionCall& c) -> double {
@@ -109,7 +110,7 @@ double Metric::evaluate(const Workcell& wc, const CheckReport& report, const Run
           best = std::isnan(best) ? *r.margin : std::min(best, *r.margin);
         }
         if (std::isnan(best))
-          *error = c.kind == K::Margin ? fmt::format("metric '{}': constraint '{}' has no margin in this variant", spec_.name, c.constraint)
+          why = c.kind == K::Margin ? fmt::format("metric '{}': constraint '{}' has no margin in this variant", spec_.name, c.constraint)
                                       : fmt::format("metric '{}': no check has a margin in this variant", spec_.name);
         return best;
       }
@@ -118,7 +119,7 @@ double Metric::evaluate(const Workcell& wc, const CheckReport& report, const Run
         if (c.kind == K::Count) return objects ? static_cast<double>(objects->size()) : 0.0;  // a name this variant lacks
         if (!objects || objects->empty()) {
           // Undefined for this variant: an empty cell, and why (docs/sweeps.md).
-          *error = fmt::format("metric '{}': {}({}.{}) selects no object in this variant", spec_.name, selection_call_name(c.kind),
+          why = fmt::format("metric '{}': {}({}.{}) selects no object in this variant", spec_.name, selection_call_name(c.kind),
                                c.selector, c.attribute);
           return kNaN;
         }
@@ -132,7 +133,7 @@ double Metric::evaluate(const Workcell& wc, const CheckReport& report, const Run
             const ObjectType& t = wc.types[obj.type];
             int a = t.find_attribute(c.attribute);
             if (a < 0) {
-              *error = fmt::format("metric '{}': {} ({}) has no attribute '{}'", spec_.name, obj.name, t.name, c.attribute);
+              why = fmt::format("metric '{}': {} ({}) has no attribute '{}'", spec_.name, obj.name, t.name, c.attribute);
               return kNaN;
             }
             x = si_to_file(wc.values[obj.first_slot + kFirstAttributeSlot + a], t.attributes[a].dim);
@@ -166,11 +167,16 @@ double Metric::evaluate(const Workcell& wc, const CheckReport& report, const Run
       values.push_back(static_cast<double>(run->events));
     } else {
       auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == name; });
-      values.push_back(p == wc.parameters.end() ? kNaN : si_to_file(wc.values[p->slot], p->dim));
+      if (p == wc.parameters.end()) return Unexpected{fmt::format("metric '{}': '{}' is no parameter of this variant", spec_.name, name)};
+      values.push_back(si_to_file(wc.values[p->slot], p->dim));
     }
-    if (!error->empty()) return kNaN;
+    if (!why.empty()) return Unexpected{why};
   }
-  return expr_->evaluate(values.data());
+  const double value = expr_->evaluate(values.data());
+  // A non-finite value is no value: an empty cell, and why (never a silent one).
+  if (!std::isfinite(value))
+    return Unexpected{fmt::format("metric '{}' is {} in this variant (a division by zero?)", spec_.name, std::isnan(value) ? "not a number" : "infinite")};
+  return value;
 }
 
 }  // namespace sscs

@@ -16,6 +16,7 @@
 #include "check/check.h"
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
+#include "core/expected.h"
 #include "core/expr.h"
 #include "core/selection_calls.h"
 #include "load/sweep.h"
@@ -33,9 +34,10 @@ class Metric {
   /// and run fields when the sweep simulates nothing.
   void validate(const Workcell& wc, bool simulated, Diagnostics& diag) const;
 
-  /// The metric of one variant: NaN when it is undefined (min_margin() of no margins); an
-  /// error message in *error when it cannot be computed (a selected object lacking the attribute).
-  double evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run, std::string* error) const;
+  /// The metric of one variant, or why it has none: undefined (min_margin() of no margins, a
+  /// selector that selects nothing), not computable (a selected object lacking the attribute) or
+  /// not finite (a division by zero). The table leaves its cell empty and says why.
+  Expected<double> evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run) const;
 
   const std::string& name() const { return spec_.name; }
 

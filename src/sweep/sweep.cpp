@@ -376,10 +376,9 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   if (run && run->status != RunStatus::Ok)
     problems.push_back(fmt::format("run: {} (see run/events.jsonl)", run_status_name(run->status)));
   for (size_t i = 0; i < metrics_.size(); ++i) {
-    std::string problem;
-    double value = metrics_[i].evaluate(*wc, report, run ? &*run : nullptr, &problem);
-    if (!problem.empty()) problems.push_back(problem);
-    if (std::isfinite(value)) row.metrics[i] = value;
+    Expected<double> value = metrics_[i].evaluate(*wc, report, run ? &*run : nullptr);
+    if (value) row.metrics[i] = *value;
+    else problems.push_back(value.error());
   }
   row.message = fmt::format("{}", fmt::join(problems, "; "));
   return row;

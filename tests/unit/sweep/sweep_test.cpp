@@ -144,10 +144,9 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
     Diagnostics check_diag;
     m->validate(wc, false, check_diag);
     EXPECT_FALSE(check_diag.has_errors()) << check_diag.format(sources);
-    std::string error;
-    double v = m->evaluate(wc, report, nullptr, &error);
-    EXPECT_EQ(error, "");
-    return v;
+    Expected<double> v = m->evaluate(wc, report, nullptr);
+    EXPECT_TRUE(v) << v.error();
+    return v ? *v : NAN;
   };
   EXPECT_EQ(eval("count(type:rack)"), 3);
   EXPECT_EQ(eval("count(type:drum) + count(R_*)"), 5);
@@ -169,9 +168,12 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
   spec.expr.text = "sum(Nothing_*.levels)";
   auto m = Metric::parse(spec, diag);
   ASSERT_TRUE(m);
-  std::string error;
-  EXPECT_TRUE(std::isnan(m->evaluate(wc, report, nullptr, &error)));
-  EXPECT_EQ(error, "metric 'm': sum(Nothing_*.levels) selects no object in this variant");
+  EXPECT_EQ(m->evaluate(wc, report, nullptr).error(), "metric 'm': sum(Nothing_*.levels) selects no object in this variant");
+  // A value that is not finite is no value: an empty cell with the reason, never a silent one.
+  spec.expr.text = "1 / (count(type:rack) - 3)";
+  m = Metric::parse(spec, diag);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->evaluate(wc, report, nullptr).error(), "metric 'm' is infinite in this variant (a division by zero?)");
 }
 
 TEST_F(MetricTest, UnknownNamesAreInputErrors) {
