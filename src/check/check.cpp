@@ -353,8 +353,12 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
                      smallest ? where : (sc.kind == SpatialCheck::Kind::Inside ? "" : "; no pair within reach of the limit")));
 }
 
+/// Collision::other of a part that goes below the floor, in reach.
+constexpr int kFloor = -2;
+
 std::string collision_text(const Workcell& wc, const GeometryModel& geometry, int device, const Collision& c) {
   const Device& d = *geometry.objects[device].device;
+  if (c.other == kFloor) return fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth));
   if (c.other < 0)
     return fmt::format("parts {} and {} collide by {:g} m", d.parts[c.part].name, d.parts[c.other_part].name, stable(c.depth));
   std::string other = wc.objects[c.other].name;
@@ -439,6 +443,30 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   std::vector<char> is_container(wc.objects.size(), 0);
   for (const Object& x : wc.objects)
     if (x.parent >= 0) is_container[x.parent] = 1;
+  // The floor, as a run has it: the bottom of the lowest container, else z = 0. No part a joint
+  // moves may go below it (a target under the floor passed: the floor was no obstacle).
+  double floor = 0;
+  bool any_container = false;
+  for (size_t k = 0; k < wc.objects.size(); ++k)
+    if (is_container[k] && !st.geometry.objects[k].bbox_world.isEmpty()) {
+      const double bottom = st.geometry.objects[k].bbox_world.min().z();
+      floor = any_container ? std::min(floor, bottom) : bottom;
+      any_container = true;
+    }
+  std::vector<char> moved(d.parts.size(), 0);  // parts below a revolute or prismatic joint
+  for (size_t p = 0; p < d.parts.size(); ++p)
+    moved[p] = d.parts[p].parent >= 0 && (moved[d.parts[p].parent] || d.parts[p].joint.type != JointType::Fixed);
+  auto below_floor = [&](const std::vector<Eigen::Isometry3d>& X_world_part) -> std::optional<Collision> {
+    std::optional<Collision> deepest;
+    for (size_t p = 0; p < d.parts.size(); ++p) {
+      if (!moved[p]) continue;
+      for (const Shape& s : d.parts[p].shapes) {  // placed in their part's frame, as the physics places them
+        const double depth = floor - shape_bounds(s, X_world_part[p] * s.X_object_shape).min().z();
+        if (depth > kTouchTolerance && (!deepest || depth > deepest->depth)) deepest = Collision{kFloor, static_cast<int>(p), -1, depth};
+      }
+    }
+    return deepest;
+  };
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
@@ -474,6 +502,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       std::vector<Eigen::Isometry3d> X = d.part_poses(q);
       for (auto& x : X) x = g.X_world_object * x;
       auto c = world.device_collision(rc.device, X, ignore, t.object, tool_parts);
+      if (!c) c = below_floor(X);
       if (c && (!hit || c->depth < hit->depth)) hit = c;
       return !c;
     };

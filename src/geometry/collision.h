@@ -12,6 +12,8 @@ namespace sscs {
 
 /// Geometries closer than this count as touching, not overlapping (m).
 constexpr double kTouchTolerance = 1e-6;
+/// How deep a run's tool may meet its move_to target without a collision event.
+constexpr double kTargetTouch = 0.001;  // m
 
 /// An interpenetration found for a device: with another object, or between two of its parts.
 struct Collision {

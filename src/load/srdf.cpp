@@ -43,8 +43,9 @@ void load_srdf(DeviceSpec& device, const std::string& type_file, Sources& source
     diag.error(mark_of(e), fmt::format("<{}> needs both link1 and link2, found {}", what, a ? "only link1" : b ? "only link2" : "neither"));
     return std::nullopt;
   };
-  for (const TiXmlElement* e = robot->FirstChildElement("disable_collisions"); e; e = e->NextSiblingElement("disable_collisions"))
-    if (auto p = pair_of(e, "disable_collisions")) device.allowed_collisions.push_back({p->first, p->second, mark_of(e)});
+  // As MoveIt applies them: the default-disabled links' pairs, less the enabled pairs, then the
+  // disabled pairs (a pair both enabled and disabled is disabled: allowed).
+  std::vector<DeviceSpec::AllowedCollision> defaults;
   for (const TiXmlElement* e = robot->FirstChildElement("disable_default_collisions"); e;
        e = e->NextSiblingElement("disable_default_collisions")) {
     const char* link = e->Attribute("link");
@@ -59,13 +60,16 @@ void load_srdf(DeviceSpec& device, const std::string& type_file, Sources& source
       continue;
     }
     for (const PartSpec& p : device.parts)
-      if (p.name != link) device.allowed_collisions.push_back({link, p.name, mark_of(e)});
+      if (p.name != link) defaults.push_back({link, p.name, mark_of(e)});
   }
   for (const TiXmlElement* e = robot->FirstChildElement("enable_collisions"); e; e = e->NextSiblingElement("enable_collisions"))
     if (auto p = pair_of(e, "enable_collisions"))
-      std::erase_if(device.allowed_collisions, [&](const DeviceSpec::AllowedCollision& c) {
+      std::erase_if(defaults, [&](const DeviceSpec::AllowedCollision& c) {
         return (c.a == p->first && c.b == p->second) || (c.a == p->second && c.b == p->first);
       });
+  device.allowed_collisions.insert(device.allowed_collisions.end(), defaults.begin(), defaults.end());
+  for (const TiXmlElement* e = robot->FirstChildElement("disable_collisions"); e; e = e->NextSiblingElement("disable_collisions"))
+    if (auto p = pair_of(e, "disable_collisions")) device.allowed_collisions.push_back({p->first, p->second, mark_of(e)});
   // A type without `tool:` takes the link the SRDF names as its tool: its one end effector's
   // parent link, else the tip of its one chain group.
   if (device.tool_part.empty()) {

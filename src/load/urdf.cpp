@@ -260,7 +260,7 @@ class Converter {
         p.inertial = std::move(in);
       } else if (i.mass != 0 || !I.isZero()) {
         warn(fmt::format("its <inertial> is not a physical body ({}): simulated as a box around its shapes{}", why,
-                         i.mass > 0 ? fmt::format(" of {} kg", i.mass) : " of 1 kg"));
+                         simulable_mass(i.mass) ? fmt::format(" of {} kg", i.mass) : " of 1 kg"));
       }
     }
     link_.clear();

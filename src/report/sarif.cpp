@@ -87,6 +87,15 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
                      {"fullDescription", {{"text", fmt::format("{} (sscs constraint kind `{}`)", r.text, r.kind)}}},
                      {"defaultConfiguration", {{"level", "error"}}},
                      {"properties", {{"tags", {"design-rule", r.kind}}}}});
+  // After the constraint kinds (their indices stay): warnings of the inputs.
+  const int input_warning_rule = static_cast<int>(rules.size());
+  rules.push_back({{"id", "sscs/input-warning"},
+                   {"name", "InputWarning"},
+                   {"shortDescription", {{"text", "An input file has something sscs skipped or worked around."}}},
+                   {"fullDescription", {{"text", "An input file has something sscs skipped or worked around (a degenerate URDF "
+                                                 "shape, an inertia simulated as a box, a texture not read); it fails no check."}}},
+                   {"defaultConfiguration", {{"level", "warning"}}},
+                   {"properties", {{"tags", {"input"}}}}});
   // The document up to "results", then each result as it is made: no tree of them all.
   JsonWriter w(out);
   w.begin_object();
@@ -133,7 +142,8 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
     for (const Diagnostic& d : vr.input_warnings) {
       nlohmann::ordered_json res;
       res["ruleId"] = "sscs/input-warning";
-      res["kind"] = "review";
+      res["ruleIndex"] = input_warning_rule;
+      res["kind"] = "fail";  // SARIF 2.1.0 3.27.9: a level other than none goes with kind fail
       res["level"] = "warning";
       res["message"] = {{"text", d.message}};
       if (d.mark.valid()) res["locations"] = nlohmann::ordered_json::array({location(d.mark, sources, base_dir)});

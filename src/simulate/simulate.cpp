@@ -54,7 +54,6 @@ constexpr double kSettleLimit = 5.0;          // s after the last step for relea
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
 constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
-constexpr double kTargetTouch = 0.001;        // m: the tool touching its move_to target by less is no collision
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {

@@ -330,7 +330,7 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
     if (!anchored[p]) {
       // Mass: the part's, else 1 kg; inertia: the part's (URDF) when physical (the import warned of
       // one that is not), else the box of its shapes' bounds.
-      double m = part.mass > 0 ? part.mass : 1.0;
+      double m = simulable_mass(part.mass) ? part.mass : 1.0;  // the import warned of one beyond the range
       dMass mass;
       Eigen::Vector3d com = Eigen::Vector3d::Zero();
       if (part.inertia && part.com && unphysical_inertia(m, *part.inertia).empty()) {

@@ -174,6 +174,36 @@ TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
   EXPECT_EQ(rep.results[2].status, Status::Pass) << rep.results[2].message;
 }
 
+TEST_F(Check, NoReachSolutionGoesBelowTheFloor) {
+  // A lift: a carriage on a vertical slide. A target under the floor fails: the floor is an
+  // obstacle (it passed). The carriage's finger reaching 0.1 m below the tool point meets the
+  // block it reaches by 0.1 m, which today passes (docs/devices.md, known limit).
+  auto lift = [](const char* tool_z) {
+    return fmt::format("sscs: 1\ntype: lift\nkind: device\nparts:\n  - {{name: base}}\n"
+                       "  - {{name: c, parent: base, joint: {{name: z, type: prismatic, axis: [0, 0, 1], limits: {{min: -2, max: 2}}}},\n"
+                       "     geometry: [{{box: {{size: [0.02, 0.02, 0.1], xyz: [0, 0, 0.05]}}}}]}}\n"
+                       "tool: {{part: c, xyz: [0, 0, {}]}}\n", tool_z);
+  };
+  const std::string vault =
+      "objects:\n  - {type: lift, name: L}\n  - {type: block, name: K, location: [0, 0, 0.3]}\n"
+      "constraints:\n  - {name: top, reach: {device: L, targets: [K.top]}}\n"
+      "  - {name: under, reach: {device: L, targets: {xyz: [0, 0, -0.2]}}}\n";
+  const char* block = "sscs: 1\ntype: block\nframes:\n  top: {xyz: [0, 0, 0.2]}\ngeometry:\n  - box: {size: [0.4, 0.4, 0.4]}\n";
+  options.library_dirs = {type_dir({{"lift", lift("0.1")}, {"block", block}})};
+  Workcell wc = must_compile(vault);
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 2u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;  // the known limit
+  EXPECT_EQ(rep.results[1].status, Status::Fail);
+  EXPECT_NE(rep.results[1].message.find("below the floor"), std::string::npos) << rep.results[1].message;
+  options.library_dirs = {type_dir({{"lift", lift("0")}, {"block", block}})};
+  wc = must_compile(vault);
+  rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 2u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+  EXPECT_EQ(rep.results[1].status, Status::Fail);
+}
+
 TEST_F(Check, EveryFrameOfTheStandardTypesLiesOnOrOutsideItsSolid) {
   // So `reach` to any standard frame is not refused as buried: every named frame of every
   // standard type (and a device's tool), at its defaults, is on or outside the type's own solids.
