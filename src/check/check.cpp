@@ -440,22 +440,11 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   // The tool meets its target: the tool's part and the parts it carries may touch the target
   // object, the rest of the device may not.
   const std::vector<char> tool_parts = d.tool_parts();
-  std::vector<char> is_container(wc.objects.size(), 0);
-  for (const Object& x : wc.objects)
-    if (x.parent >= 0) is_container[x.parent] = 1;
-  // The floor, as a run has it: the bottom of the lowest container, else z = 0. No part a joint
-  // moves may go below it (a target under the floor passed: the floor was no obstacle).
-  double floor = 0;
-  bool any_container = false;
-  for (size_t k = 0; k < wc.objects.size(); ++k)
-    if (is_container[k] && !st.geometry.objects[k].bbox_world.isEmpty()) {
-      const double bottom = st.geometry.objects[k].bbox_world.min().z();
-      floor = any_container ? std::min(floor, bottom) : bottom;
-      any_container = true;
-    }
-  std::vector<char> moved(d.parts.size(), 0);  // parts below a revolute or prismatic joint
-  for (size_t p = 0; p < d.parts.size(); ++p)
-    moved[p] = d.parts[p].parent >= 0 && (moved[d.parts[p].parent] || d.parts[p].joint.type != JointType::Fixed);
+  const std::vector<char> is_container = containers(wc);
+  // The floor, as a run has it: no part a joint moves may go below it (a target under the floor
+  // passed: the floor was no obstacle).
+  const double floor = floor_z(wc, st.geometry);
+  const std::vector<char> moved = d.moved_parts();
   auto below_floor = [&](const std::vector<Eigen::Isometry3d>& X_world_part) -> std::optional<Collision> {
     std::optional<Collision> deepest;
     for (size_t p = 0; p < d.parts.size(); ++p) {

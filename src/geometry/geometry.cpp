@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -19,6 +20,22 @@
 namespace fs = std::filesystem;
 
 namespace sscs {
+
+std::vector<char> containers(const Workcell& wc) {
+  std::vector<char> out(wc.objects.size(), 0);
+  for (const Object& o : wc.objects)
+    if (o.parent >= 0) out[o.parent] = 1;
+  return out;
+}
+
+double floor_z(const Workcell& wc, const GeometryModel& geometry) {
+  const std::vector<char> container = containers(wc);
+  std::optional<double> floor;
+  for (size_t i = 0; i < container.size(); ++i)
+    if (container[i] && !geometry.objects[i].bbox_world.isEmpty())
+      floor = std::min(floor.value_or(INFINITY), geometry.objects[i].bbox_world.min().z());
+  return floor.value_or(0);
+}
 
 Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
   Eigen::AlignedBox3d box;

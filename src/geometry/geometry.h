@@ -65,6 +65,13 @@ struct ScenePose {
 void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object,
             const std::vector<Eigen::Isometry3d>* X_object_part = nullptr);
 
+/// Per object, whether it holds others (some object's parent: a room, a shipping container):
+/// a space, not a solid, for the physics and for reach.
+std::vector<char> containers(const Workcell& wc);
+
+/// The floor the physics and reach stand things on: the bottom of the lowest container, else z = 0.
+double floor_z(const Workcell& wc, const GeometryModel& geometry);
+
 /// World-frame axis-aligned bounds of one shape placed at X_world_shape.
 Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);
 

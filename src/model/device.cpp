@@ -45,6 +45,13 @@ std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) cons
 
 Eigen::Isometry3d Device::tool_pose(const Eigen::VectorXd& q) const { return part_poses(q)[tool_part] * X_part_tool; }
 
+std::vector<char> Device::moved_parts() const {
+  std::vector<char> out(parts.size(), 0);
+  for (size_t p = 0; p < parts.size(); ++p)  // parents come first
+    out[p] = parts[p].parent >= 0 && (out[parts[p].parent] || parts[p].joint.type != JointType::Fixed);
+  return out;
+}
+
 std::vector<char> Device::tool_parts() const {
   // The tool is a rigid body: its part and every part fixed to it, up the tree too (ROS-Industrial's
   // tool0 hangs off link_6 by a fixed joint: link_6 is the flange the tool is bolted to).

@@ -69,6 +69,10 @@ struct Device {
   /// through fixed joints (either way: the flange a tool0 frame hangs off), and the parts those
   /// carry. These may touch what the tool holds or reaches for.
   std::vector<char> tool_parts() const;
+  /// Per part, whether a joint moves it: a revolute or prismatic joint between it and the root.
+  /// The others (the root, and parts fixed to it through fixed joints only) stand where the
+  /// device stands.
+  std::vector<char> moved_parts() const;
   /// Whether q lies within every joint's limits (within `eps`).
   bool within_limits(const Eigen::VectorXd& q, double eps = 1e-9) const;
 };

@@ -76,7 +76,7 @@ class Run {
     for (const Track& t : plan_.tracks) {
       world_.add_device(t.object, t.q_start);
       devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), false,
-                          moving_parts(*geometry_.objects[t.object].device), 0, 0});
+                          geometry_.objects[t.object].device->moved_parts(), 0, 0});
     }
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
     std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
@@ -346,16 +346,6 @@ class Run {
     for (size_t o = 0; o < wc_.objects.size(); ++o)
       if (world_.dynamic(static_cast<int>(o))) p.X_world_object[o] = world_.pose(static_cast<int>(o));
     return p;
-  }
-
-  /// Parts that a joint moves: clearances of the others are the design's, not the motion's.
-  static std::vector<char> moving_parts(const Device& m) {
-    std::vector<char> out(m.parts.size(), 0);
-    for (size_t p = 0; p < m.parts.size(); ++p) {
-      const Part& part = m.parts[p];
-      out[p] = part.parent >= 0 && (out[part.parent] || part.joint.type != JointType::Fixed);
-    }
-    return out;
   }
 
   /// The object and its parents up to the root: what it stands in is not a clearance.

@@ -221,16 +221,8 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.masses.assign(n, 0);
   // Objects that hold others (rooms, containers) are spaces, not solids: they are not
   // collision geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
-  std::vector<char> container(n, 0);
-  for (const Object& o : wc.objects)
-    if (o.parent >= 0) container[o.parent] = 1;
-  bool any_container = false;
-  double floor = 0;
-  for (size_t i = 0; i < n; ++i)
-    if (container[i] && !geometry.objects[i].bbox_world.isEmpty()) {
-      floor = any_container ? std::min(floor, geometry.objects[i].bbox_world.min().z()) : geometry.objects[i].bbox_world.min().z();
-      any_container = true;
-    }
+  const std::vector<char> container = containers(wc);
+  const double floor = sscs::floor_z(wc, geometry);
   w.floor = floor;
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);
   w.tag(plane, -1, -1);
@@ -319,15 +311,11 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   for (auto& x : X) x = g.X_world_object * x;
   // The root, and parts fixed to it through fixed joints only (a URDF's `world` link holding
   // base_link), stand where the device stands: scenery, with no body to sag or touch the floor.
-  std::vector<bool> anchored(d.parts.size());
-  for (size_t p = 0; p < d.parts.size(); ++p) {
-    const Part& part = d.parts[p];
-    anchored[p] = part.parent < 0 || (anchored[part.parent] && part.joint.type == JointType::Fixed);
-  }
+  const std::vector<char> moved = d.moved_parts();
   for (size_t p = 0; p < d.parts.size(); ++p) {
     const Part& part = d.parts[p];
     dBodyID body = nullptr;
-    if (!anchored[p]) {
+    if (moved[p]) {
       // Mass: the part's, else 1 kg; inertia: the part's (URDF) when physical (the import warned of
       // one that is not), else the box of its shapes' bounds.
       double m = simulable_mass(part.mass) ? part.mass : 1.0;  // the import warned of one beyond the range
@@ -368,7 +356,7 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   db.commanded = q;
   for (size_t p = 0; p < d.parts.size(); ++p) {
     const Part& part = d.parts[p];
-    if (anchored[p] || db.kinematic) continue;
+    if (!moved[p] || db.kinematic) continue;
     const Joint& j = part.joint;
     dBodyID child = db.bodies[p], parent = db.bodies[part.parent];  // null parent: the world
     Eigen::Isometry3d X_joint = X[part.parent] * j.origin;
