@@ -538,8 +538,13 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       case IkResult::Status::Rejected:
         r.status = Status::Fail;
         r.margin = hit ? -hit->depth : 0.0;
-        r.message = fmt::format("{} reaches {} only in collision: {}", o.name, t.text,
-                                hit ? collision_text(wc, st.geometry, rc.device, *hit) : "?");
+        if (hit && hit->other >= 0 && hit->other == t.object && hit->part >= 0 && tool_parts[hit->part])
+          r.message = fmt::format("{} reaches {} only with its tool inside {}: part {} enters it by {:g} m (a tool may touch its "
+                                  "target, by {:g} mm at most)", o.name, t.text, wc.objects[t.object].name, d.parts[hit->part].name,
+                                  stable(hit->depth), kTargetTouch * 1000);
+        else
+          r.message = fmt::format("{} reaches {} only in collision: {}", o.name, t.text,
+                                  hit ? collision_text(wc, st.geometry, rc.device, *hit) : "?");
         break;
     }
     out.push_back(std::move(r));

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -237,17 +238,24 @@ int run_types(const Common& common, const std::string& format) {
   PluginSet plugins;
   for (const std::string& d : common.plugins) plugins.load_folder(d);  // PluginError: exit 3
   std::vector<ObjectType> types = load_library(dirs, sources, diag, common.package_paths, plugins.types());
-  if (report_diagnostics(diag, sources, common)) return kInputError;
   // `types` checks a library: a broken type's errors are input errors here (vaults that do not
   // use it are not affected).
   for (const ObjectType& t : types)
     if (t.broken)
       for (const Diagnostic& d : t.problems)
         if (!d.warning) diag.error(d.mark, d.message);
-  if (report_diagnostics(diag, sources, common)) return kInputError;
+  if (diag.has_errors()) {
+    report_diagnostics(diag, sources, common);
+    return kInputError;
+  }
   CompileOptions instance_options;
   instance_options.package_paths = common.package_paths;
-  write_type_listing(std::cout, std::move(types), plugins, instance_options, format == "json");
+  // The listing instances every type: what that finds in the library's files (a mesh that
+  // cannot be read, an SRDF naming no link) fails the command, before anything is printed.
+  std::ostringstream listing;
+  write_type_listing(listing, std::move(types), plugins, instance_options, format == "json", sources, diag);
+  if (report_diagnostics(diag, sources, common)) return kInputError;
+  std::cout << listing.str();
   return kOk;
 }
 

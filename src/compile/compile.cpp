@@ -714,7 +714,7 @@ void compile_values(CompileState& st) {
     for (const AttrValue& v : o.attributes) {
       int a = type.find_attribute(v.name);
       if (a < 0) {
-        std::vector<std::string> names = {"type", "name", "location", "orientation", "geomodel", "parent", "color", "array"};
+        std::vector<std::string> names(kObjectKeys.begin(), kObjectKeys.end());
         for (const AttributeDef& def : type.attributes) names.push_back(def.name);
         // Report once per written object, not once per array instance.
         if (i == 0 || st.object_spec[i - 1] != &o)

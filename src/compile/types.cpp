@@ -81,6 +81,11 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
     a.description = fmt::format("{} joint of part '{}'", j.type == JointType::Revolute ? "revolute" : "prismatic", part.name);
     if (j.min.present) a.min_si = literal_si(j.min, a.dim, fmt::format("the min of joint '{}'", j.name), diag);
     if (j.max.present) a.max_si = literal_si(j.max, a.dim, fmt::format("the max of joint '{}'", j.name), diag);
+    if (is_object_key(a.name)) {
+      diag.error(j.mark, fmt::format("joint '{}' has the name of a key of every object (an object could not set it){}", j.name,
+                                     spec.device->urdf.present ? fmt::format("; rename it in '{}'", spec.device->urdf.text) : ""));
+      continue;
+    }
     if (type.find_attribute(a.name) >= 0) {
       diag.error(j.mark, fmt::format("joint '{}' has the name of an attribute of '{}'", j.name, type.name));
       continue;
@@ -91,6 +96,15 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
       a.default_value = home->second;
       // A number with its unit: `move_joints: home` needs the value itself, for every instance.
       a.home_si = literal_si(home->second, a.dim, fmt::format("the home value of joint '{}'", j.name), diag).value_or(0);
+      // The type's fault, at its home line (it was reported at every vault object using the type).
+      const double lo = a.min_si.value_or(-INFINITY), hi = a.max_si.value_or(INFINITY);
+      if (auto in = within_bounds(a.home_si, lo, hi)) a.home_si = *in;
+      else
+        diag.error(home->second.mark, fmt::format("the home value of joint '{}' is {}, {} {}{}", j.name, with_unit(a.home_si, a.dim),
+                                                  a.home_si < lo ? "below its min" : "above its max",
+                                                  with_unit(a.home_si < lo ? lo : hi, a.dim),
+                                                  spec.device->urdf.present && !spec.device->hard_limits
+                                                      ? " (the URDF's soft limits apply: `joint_limits: hard` uses <limit>)" : ""));
     } else {
       double zero = 0;
       if (a.min_si && zero < *a.min_si) zero = *a.min_si;

@@ -567,13 +567,12 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
     const auto& theirs = impl_->of(other);
     for (const auto& [p, s] : shapes)
       for (size_t k = 0; k < theirs.size(); ++k) {
-        // The tool's parts meet the target freely (a depth limit, kTargetTouch as a run has it, would
-        // refuse the gripper corners and fork carriages today's scenarios sink into their targets:
-        // open, see the issue 19 notes).
-        if (other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p]) continue;
+        // The tool's parts may touch the target, as a run's move_to lets them (kTargetTouch), but
+        // not enter it: a gripper buried in its drum is a collision.
+        const bool touches = other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p];
         if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
         double depth = penetration(s.get(), theirs[k].get());
-        if (depth > kTouchTolerance) {
+        if (depth > (touches ? kTargetTouch : kTouchTolerance)) {
           int other_part = objects[o].shapes[k].part;
           note({other, p, other_part, depth});
         }

@@ -12,7 +12,7 @@ namespace sscs {
 
 /// Geometries closer than this count as touching, not overlapping (m).
 constexpr double kTouchTolerance = 1e-6;
-/// How deep a run's tool may meet its move_to target without a collision event.
+/// How deep a tool may meet its target (a run's move_to, a reach target) without a collision.
 constexpr double kTargetTouch = 0.001;  // m
 
 /// An interpenetration found for a device: with another object, or between two of its parts.
@@ -59,7 +59,7 @@ class CollisionWorld {
   /// the objects in the device's parent chain), and
   /// between its own non-adjacent parts. nullopt when it is free.
   /// `target` (>= 0) is the object the tool meets: the parts marked in `tool_parts` (the tool's
-  /// part and the parts it carries) may touch it; the other parts may not.
+  /// part and the parts it carries) may touch it, by up to kTargetTouch; the other parts may not.
   std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                             const std::vector<int>& ignore, int target = -1,
                                             const std::vector<char>& tool_parts = {});

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -192,6 +193,16 @@ struct AttrValue {
   SourceMark key_mark;
   Scalar value;
 };
+
+/// The keys of an object in a vault that are not attributes: no attribute or joint may be named so
+/// (an object could not set it).
+inline constexpr std::array<const char*, 8> kObjectKeys = {"type", "name", "array", "location", "orientation", "parent",
+                                                           "geomodel", "color"};
+inline bool is_object_key(std::string_view name) {
+  for (const char* k : kObjectKeys)
+    if (name == k) return true;
+  return false;
+}
 
 struct ObjectSpec {
   SourceMark mark;

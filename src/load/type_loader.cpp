@@ -16,6 +16,8 @@ AttributeDecl read_attribute(yaml::Node key, yaml::Node value, Diagnostics& diag
   AttributeDecl a;
   a.name = load::name(key, "an attribute", diag);
   a.mark = key.mark();
+  if (is_object_key(a.name))
+    diag.error(a.mark, fmt::format("an attribute may not be named '{}', a key of every object (an object could not set it)", a.name));
   static const std::vector<std::string> kTypes = {"length", "angle",   "mass",   "time", "number",
                                                   "integer", "boolean", "string", "enum"};
   MapReader r(value, fmt::format("attribute '{}'", a.name), diag);

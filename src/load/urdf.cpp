@@ -69,6 +69,10 @@ std::map<std::string, SoftLimits> read_soft_limits(const TiXmlElement& robot) {
     double v = 0;
     if (safety->QueryDoubleAttribute("soft_lower_limit", &v) == TIXML_SUCCESS) s.lower = v;
     if (safety->QueryDoubleAttribute("soft_upper_limit", &v) == TIXML_SUCCESS) s.upper = v;
+    // One side given: the other is 0, as the URDF format defines it and MoveIt reads it (the
+    // checker warns). Neither given: no soft limits.
+    if (s.lower && !s.upper) s.upper = 0.0;
+    if (s.upper && !s.lower) s.lower = 0.0;
     out[name] = s;
   }
   return out;
@@ -133,6 +137,11 @@ class Converter {
       return std::nullopt;
     }
     fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
+    if (uri.starts_with("file://") && p.is_relative()) {  // file://meshes/a.stl names host 'meshes' (RFC 8089)
+      (this->*report)(fmt::format("mesh '{}': a file:// URI names an absolute path (file:///...); write a path relative to "
+                                  "the URDF without file://", uri));
+      return std::nullopt;
+    }
     if (p.is_relative()) p = join_path(fs::path(urdf_path_).parent_path().string(), p.string());
     if (std::string why = not_a_readable_reference(p.string()); !why.empty()) {
       (this->*report)(fmt::format("mesh '{}' {} ({})", uri, why, p.string()));
@@ -334,6 +343,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
   // Read like every input file (project root, size limit, not a FIFO), so errors point into it.
   Diagnostics diag;
   auto keep = [&] {
+    for (const Diagnostic& d : diag.warnings()) device.import_problems.push_back({d.mark, d.message, true});
     for (const Diagnostic& d : diag.errors()) device.import_problems.push_back(d);
   };
   TiXmlDocument doc;
@@ -343,7 +353,9 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
   const std::string& text = sources.text(file);
   if (const char* name = robot->Attribute("name")) device.urdf_robot = name;
   check_urdf_numbers(*robot, file, diag);
-  if (diag.has_errors()) return keep();
+  if (!diag.has_errors()) check_urdf_tree(*robot, file, diag);
+  keep();  // its errors, and its warnings (reported where the type is used)
+  if (diag.has_errors()) return;
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   {

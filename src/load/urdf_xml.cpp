@@ -3,11 +3,15 @@
 #include "load/urdf_xml.h"
 
 #include <charconv>
+#include <algorithm>
+#include <map>
+#include <set>
 #include <cmath>
 #include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tinyxml.h>
 
 #include "core/files.h"
@@ -129,9 +133,31 @@ class UrdfChecker {
       numbers(*l, "upper", 1, false, "joint value");
       numbers(*l, "velocity", 1, false, "speed", Range::NotNegative);
       numbers(*l, "effort", 1, false, "force or torque", Range::NotNegative);
+      // A URDF's 0 is how many files say "not given" (urdfdom requires both attributes); sscs
+      // then uses its defaults, and says so, for a drive without speed or force is no drive.
+      const char* type = j.Attribute("type");
+      const char* name = j.Attribute("name");
+      if (type && std::string_view(type) != "fixed" && name) {
+        const bool revolute = std::string_view(type) != "prismatic";
+        if (zero(*l, "velocity"))
+          diag_.warning(mark(*attribute(*l, "velocity")),
+                        fmt::format("joint '{}': <limit velocity=\"0\"> is taken as not given: it moves at the default {} "
+                                    "(write its speed to time runs)", name, revolute ? "90 deg/s" : "0.5 m/s"));
+        if (zero(*l, "effort"))
+          diag_.warning(mark(*attribute(*l, "effort")),
+                        fmt::format("joint '{}': <limit effort=\"0\"> is taken as not given: its drive has no {} limit in a "
+                                    "run (1e5 {})", name, revolute ? "torque" : "force", revolute ? "N m" : "N"));
+      }
     }
-    if (const TiXmlElement* s = j.FirstChildElement("safety_controller"))
+    if (const TiXmlElement* s = j.FirstChildElement("safety_controller")) {
       for (const char* k : {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}) numbers(*s, k, 1, false, "number");
+      const bool lower = attribute(*s, "soft_lower_limit"), upper = attribute(*s, "soft_upper_limit");
+      if (lower != upper)
+        diag_.warning(mark(*s), fmt::format("joint '{}': <safety_controller> gives no {}: it is 0, as the URDF format "
+                                            "defines it and MoveIt reads it (write it, or choose `joint_limits: hard`)",
+                                            j.Attribute("name") ? j.Attribute("name") : "?",
+                                            lower ? "soft_upper_limit" : "soft_lower_limit"));
+    }
     if (const TiXmlElement* d = j.FirstChildElement("dynamics"))
       for (const char* k : {"damping", "friction"}) numbers(*d, k, 1, false, "number");
     if (const TiXmlElement* m = j.FirstChildElement("mimic"))
@@ -141,6 +167,17 @@ class UrdfChecker {
   }
 
  private:
+  /// Whether attribute `name` of `e` is a number equal to 0.
+  static bool zero(const TiXmlElement& e, const char* name) {
+    const TiXmlAttribute* a = attribute(e, name);
+    if (!a) return false;
+    double v = 1;
+    const std::string_view text = a->Value();
+    size_t b = text.find_first_not_of(" \t\r\n"), t = text.find_last_not_of(" \t\r\n");
+    if (b == std::string_view::npos) return false;
+    auto [ptr, ec] = std::from_chars(text.data() + b, text.data() + t + 1, v);
+    return ec == std::errc() && ptr == text.data() + t + 1 && v == 0;
+  }
   static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
   static std::string count_text(int n) { return n == 1 ? "a finite" : fmt::format("{} finite", n); }
   static const TiXmlAttribute* attribute(const TiXmlElement& e, const char* name) {
@@ -155,6 +192,32 @@ class UrdfChecker {
 
 }  // namespace
 
+namespace {
+
+/// The line and column (1-based, in bytes) of byte `offset` of `text`.
+SourceMark offset_mark(uint32_t file, const std::string& text, size_t offset) {
+  uint32_t line = 1, column = 1;
+  for (size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return {file, line, column};
+}
+
+/// The first element under `e` (itself included) in the xacro namespace, or null.
+const TiXmlElement* first_xacro(const TiXmlElement& e) {
+  if (std::string_view(e.Value()).starts_with("xacro:")) return &e;
+  for (const TiXmlElement* c = e.FirstChildElement(); c; c = c->NextSiblingElement())
+    if (const TiXmlElement* x = first_xacro(*c)) return x;
+  return nullptr;
+}
+
+}  // namespace
+
 SourceMark xml_mark(uint32_t file, const TiXmlBase& at) {
   return {file, static_cast<uint32_t>(std::max(1, at.Row())), static_cast<uint32_t>(std::max(1, at.Column()))};
 }
@@ -165,27 +228,116 @@ const TiXmlElement* read_robot_xml(const char* what, const std::string& type_fil
   if (missing_reference(what, type_file, at.text, at.mark, diag)) return nullptr;
   file = read_source(resolve_mesh_path(type_file, at.text), sources, diag, at.mark);
   if (file == 0) return nullptr;
-  doc.Parse(sources.text(file).c_str(), nullptr, TIXML_ENCODING_UTF8);
+  const std::string& text = sources.text(file);
+  // The parser stops at a NUL byte, so what follows would be lost (and the error put at 1:1).
+  if (size_t nul = text.find('\0'); nul != std::string::npos) {
+    diag.error(offset_mark(file, text, nul), fmt::format("cannot read {} '{}': a NUL byte; an XML file is text", what, at.text));
+    return nullptr;
+  }
+  doc.Parse(text.c_str(), nullptr, TIXML_ENCODING_UTF8);
   if (doc.Error()) {
     SourceMark where{file, static_cast<uint32_t>(std::max(1, doc.ErrorRow())), static_cast<uint32_t>(std::max(1, doc.ErrorCol()))};
     diag.error(where, fmt::format("cannot read {} '{}': {}", what, at.text, doc.ErrorDesc()));
     return nullptr;
   }
-  const TiXmlElement* robot = doc.RootElement();
+  const TiXmlElement* robot = nullptr;
+  for (const TiXmlNode* n = doc.FirstChild(); n; n = n->NextSibling()) {
+    if (const TiXmlUnknown* u = n->ToUnknown()) {
+      // TinyXML reads no DTD: entities declared there would stay unexpanded, or end the parse.
+      if (std::string_view(u->Value()).starts_with("!DOCTYPE")) {
+        diag.error(xml_mark(file, *u), fmt::format("cannot read {} '{}': it has a <!DOCTYPE>, which sscs does not read "
+                                                   "(robot files have none; expand its entities and remove it)", what, at.text));
+        return nullptr;
+      }
+    } else if (const TiXmlElement* e = n->ToElement()) {
+      if (robot) {  // the parser stops at the end of the first element: anything after it is lost
+        diag.error(xml_mark(file, *e), fmt::format("{} '{}': <{}> after </{}>: a file holds one robot", what, at.text,
+                                                   e->Value(), robot->Value()));
+        return nullptr;
+      }
+      robot = e;
+    } else if (const TiXmlText* t = n->ToText()) {
+      diag.error(xml_mark(file, *t), fmt::format("{} '{}': text outside the <robot> element", what, at.text));
+      return nullptr;
+    }
+  }
   if (!robot || std::string_view(robot->Value()) != "robot") {
-    diag.error(at.mark, fmt::format("{} '{}' has no <robot> element at its top", what, at.text));
+    if (robot) diag.error(xml_mark(file, *robot), fmt::format("{} '{}' has <{}> at its top, not <robot>", what, at.text, robot->Value()));
+    else diag.error(at.mark, fmt::format("{} '{}' has no <robot> element at its top", what, at.text));
+    return nullptr;
+  }
+  // A xacro file is a program that writes a URDF: read as one, its macros' links would vanish.
+  if (const TiXmlElement* x = first_xacro(*robot)) {
+    diag.error(xml_mark(file, *x), fmt::format("{} '{}' is a xacro file (<{}>): expand it first, `xacro {} > robot.urdf`, "
+                                               "and name the expanded file", what, at.text, x->Value(), at.text));
     return nullptr;
   }
   return robot;
 }
 
+void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag) {
+  // child link -> the joint that makes it a child, and that joint's parent link
+  std::map<std::string, std::pair<const TiXmlElement*, std::string>> parent_of;
+  auto link_of = [](const TiXmlElement& joint, const char* role) -> std::string {
+    const TiXmlElement* e = joint.FirstChildElement(role);
+    const char* name = e ? e->Attribute("link") : nullptr;
+    return name ? name : "";
+  };
+  auto name_of = [](const TiXmlElement& e) -> std::string { return e.Attribute("name") ? e.Attribute("name") : "?"; };
+  for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const std::string parent = link_of(*j, "parent"), child = link_of(*j, "child");
+    if (parent.empty() || child.empty()) continue;  // urdfdom reports it
+    auto [it, fresh] = parent_of.try_emplace(child, j, parent);
+    if (!fresh) {
+      diag.error(xml_mark(file, *j), fmt::format("joint '{}': link '{}' is already the child of joint '{}': a link has one parent "
+                                                 "(a device is a tree)", name_of(*j), child, name_of(*it->second.first)));
+      return;
+    }
+  }
+  // Follow each link's parents up: coming back to a link is a loop of joints.
+  std::set<std::string> done;
+  for (const auto& [start, unused] : parent_of) {
+    std::vector<std::string> path;
+    std::string link = start;
+    while (!done.count(link)) {
+      if (std::find(path.begin(), path.end(), link) != path.end()) {
+        std::vector<std::string> loop(std::find(path.begin(), path.end(), link), path.end());
+        std::reverse(loop.begin(), loop.end());
+        loop.push_back(loop.front());
+        const TiXmlElement* closing = parent_of.at(link).first;
+        diag.error(xml_mark(file, *closing), fmt::format("joint '{}' closes a loop of links ({}): a device is a tree (model the loop's "
+                                                         "last joint as a constraint in a plugin, or drop it)",
+                                                         name_of(*closing), fmt::join(loop, " -> ")));
+        return;
+      }
+      path.push_back(link);
+      auto up = parent_of.find(link);
+      if (up == parent_of.end()) break;
+      link = up->second.second;
+    }
+    done.insert(path.begin(), path.end());
+  }
+}
+
 void check_urdf_numbers(const TiXmlElement& robot, uint32_t file, Diagnostics& diag) {
   UrdfChecker check(file, diag);
+  std::set<std::string_view> joints;
+  for (const TiXmlElement* e = robot.FirstChildElement("joint"); e; e = e->NextSiblingElement("joint"))
+    if (const char* name = e->Attribute("name")) joints.insert(name);
   for (const TiXmlElement* e = robot.FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string_view kind = e->Value();
     if (kind == "link") check.link(*e);
     else if (kind == "joint") check.joint(*e);
     else if (kind == "material") check.color(*e);
+    if (kind != "joint") continue;
+    // sscs moves a mimic joint on its own, but a mimic of no joint is a broken file elsewhere.
+    if (const TiXmlElement* m = e->FirstChildElement("mimic")) {
+      const char* of = m->Attribute("joint");
+      if (!of || !joints.count(of))
+        diag.warning(xml_mark(file, *m), fmt::format("joint '{}': <mimic joint=\"{}\"> names no joint of this robot (sscs moves "
+                                                     "mimic joints on their own, so nothing changes here)",
+                                                     e->Attribute("name") ? e->Attribute("name") : "?", of ? of : ""));
+    }
   }
 }
 

@@ -33,4 +33,8 @@ const TiXmlElement* read_robot_xml(const char* what, const std::string& type_fil
 /// channel outside 0..1.
 void check_urdf_numbers(const TiXmlElement& robot, uint32_t file, Diagnostics& diag);
 
+/// Reports a link that is the child of two joints, or joints that close a loop of links, at the
+/// joint's line in `file`: a device is a tree (urdfdom's messages do not name the loop).
+void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag);
+
 }  // namespace sscs

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <set>
+#include <tuple>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
@@ -19,9 +21,8 @@
 namespace sscs {
 
 TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<ObjectType>>& library, const ObjectType& type,
-                                  const CompileOptions& base) {
+                                  const CompileOptions& base, Sources& sources, Diagnostics& problems) {
   TypeInstance out;
-  Sources sources;
   Diagnostics diag;
   CompileOptions options = base;
   options.library = library;
@@ -31,6 +32,11 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   if (spec && !diag.has_errors()) wc = compile(*spec, options, sources, diag);
   GeometryModel geometry;
   if (wc) geometry = build_geometry(*wc, diag);
+  // Problems in the library's files are the library's (errors of the instance itself, such as a
+  // required attribute, only say the type has no instance at its defaults).
+  for (const Diagnostic& d : diag.warnings()) problems.warning(d.mark, d.message);
+  for (const Diagnostic& d : diag.errors())
+    if (d.mark.file != file) problems.error(d.mark, d.message);
   if (!wc || diag.has_errors() || geometry.objects.empty()) {
     out.unbuilt = diag.errors().empty() ? "it cannot be instanced" : diag.errors()[0].message;
     return out;
@@ -170,11 +176,17 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
 }  // namespace
 
 void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const PluginSet& plugins, const CompileOptions& instance_options,
-                        bool json) {
+                        bool json, Sources& sources, Diagnostics& problems) {
   // One instance of each type at its defaults shows where its frames, bounds and reach are.
   auto library = std::make_shared<const std::vector<ObjectType>>(types);
   std::map<std::string, TypeInstance> instances;
-  for (const ObjectType& t : *library) instances[t.name] = instance_at_defaults(library, t, instance_options);
+  Diagnostics found;
+  for (const ObjectType& t : *library) instances[t.name] = instance_at_defaults(library, t, instance_options, sources, found);
+  // A base type's problem meets every type extending it: report it once.
+  std::set<std::tuple<uint32_t, uint32_t, uint32_t, std::string>> seen;
+  for (const Diagnostic& d : found.warnings()) problems.warning(d.mark, d.message);
+  for (const Diagnostic& d : found.errors())
+    if (seen.insert({d.mark.file, d.mark.line, d.mark.column, d.message}).second) problems.error(d.mark, d.message);
   std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
   // Sorting moved them: base indices refer to the old order, so look bases up by name below.
   std::map<std::string, std::string> base_of;

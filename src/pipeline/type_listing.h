@@ -27,16 +27,19 @@ struct TypeInstance {
   std::optional<Eigen::AlignedBox3d> reach;  ///< devices: the tool's envelope over the joint ranges
 };
 
-/// Compiles one instance of `type` at its defaults (with the library already loaded) and reads
-/// its geometry. Never fails: a type that cannot be instanced says why in `unbuilt`.
+/// Compiles one instance of `type` at its defaults (with the library already loaded into
+/// `sources`) and reads its geometry. A type that cannot be instanced says why in `unbuilt`;
+/// what stopped it inside the library's files (a mesh that cannot be read, an SRDF naming no
+/// link, a home outside the limits: problems a vault using the type meets) is also reported to
+/// `problems` at its place, with the warnings of the import.
 TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<ObjectType>>& library, const ObjectType& type,
-                                  const CompileOptions& options);
+                                  const CompileOptions& options, Sources& sources, Diagnostics& problems);
 
 /// Writes what `sscs types` shows: each type of the loaded library `types` (sorted by name) with
 /// its attributes, where an instance at its defaults puts its frames, bounds and meshes, a
 /// device's parts, tool and reach; then the constraint kinds and the plugins' constraint
-/// classes. Text, or JSON (`json`).
+/// classes. Text, or JSON (`json`). The instances' problems in the library go to `problems`.
 void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const PluginSet& plugins, const CompileOptions& instance_options,
-                        bool json);
+                        bool json, Sources& sources, Diagnostics& problems);
 
 }  // namespace sscs

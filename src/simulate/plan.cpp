@@ -9,9 +9,11 @@
 #include <fmt/format.h>
 
 #include "compile/values.h"
+#include "core/inertia.h"
 #include "core/names.h"
 #include "core/pose.h"
 #include "kinematics/ik.h"
+#include "simulate/world.h"
 
 namespace sscs {
 
@@ -425,6 +427,12 @@ class Planner {
       }
     if (o == d || geometry_.objects[o].bbox_world.isEmpty()) {
       diag_.error(where.mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.text));
+      return;
+    }
+    // A body the physics cannot integrate (ODE aborts, or loses every digit) is no run.
+    if (const double m = object_mass(wc_, geometry_, o); !simulable_mass(m)) {
+      diag_.error(where.mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
+                                          where.text, m));
       return;
     }
     // The tool must be at the object: within kGraspReach of its bounds where it is now.

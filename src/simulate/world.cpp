@@ -20,6 +20,7 @@ namespace {
 constexpr double kGravity = 9.80665;
 constexpr int kMaxContacts = 8;      // per geom pair and step
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
+constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
 
 void init_ode() {
   static std::once_flag once;
@@ -42,8 +43,8 @@ Eigen::Isometry3d from_ode(const dReal* p, const dReal* R) {
   return X;
 }
 
-/// An object's mass: what its type declares (`mass:`), else its `mass` attribute, else its
-/// bounds' volume at 500 kg/m^3.
+}  // namespace
+
 double object_mass(const Workcell& wc, const GeometryModel& geometry, int o) {
   if (double m = geometry.objects[o].declared_mass; m > 0) return m;
   const Object& obj = wc.objects[o];
@@ -52,8 +53,6 @@ double object_mass(const Workcell& wc, const GeometryModel& geometry, int o) {
   Eigen::Vector3d size = geometry.objects[o].bbox_world.sizes();
   return std::max(kDefaultDensity * size.prod(), 0.1);
 }
-
-}  // namespace
 
 /// What a geom belongs to: an object (-1: the floor) and, for devices, a part.
 struct GeomTag {
@@ -254,7 +253,8 @@ void PhysicsWorld::make_dynamic(int o) {
   // Inertia: the single primitive's own, or a box of the object's bounds; the body sits at the
   // centre of mass (ODE's convention), the object's frame at an offset from it.
   dMass mass;
-  Eigen::Vector3d centre;
+  dMassSetZero(&mass);
+  Eigen::Vector3d centre = g.bbox_world.center();
   if (g.shapes.size() == 1 && g.shapes[0].kind != Shape::Kind::Mesh) {
     const Shape& s = g.shapes[0];
     switch (s.kind) {
@@ -266,7 +266,13 @@ void PhysicsWorld::make_dynamic(int o) {
     to_ode(s.X_object_shape.linear(), R);
     dMassRotate(&mass, R);
     centre = g.X_world_object * s.X_object_shape.translation();
-  } else {
+  }
+  Eigen::Matrix3d I;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) I(r, c) = mass.I[r * 4 + c];
+  // A primitive too small for its mass (a 1 mm sphere of 20 kg) is simulated as the box around it
+  // at least 1 mm a side, as an object of meshes is; the plan refused masses beyond the range.
+  if (g.shapes.size() != 1 || g.shapes[0].kind == Shape::Kind::Mesh || !unphysical_inertia(m, I).empty()) {
     Eigen::Vector3d size = g.bbox_world.sizes().cwiseMax(1e-3);
     dMassSetBoxTotal(&mass, m, size.x(), size.y(), size.z());
     centre = g.bbox_world.center();
@@ -391,8 +397,12 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
     };
     set(dParamFMax, fmax);
     set(dParamVel, 0);
-    // Stops, measured from the attach value; ODE's hinge stops must lie within +-pi.
-    double lo = j.lower - q0, hi = j.upper - q0;
+    // Stops, measured from the attach value, kStopMargin beyond the limits: a motor powered away
+    // from a stop it rests on gets its whole force for a step (ODE's "fudge factor" case), and a
+    // joint planned to its limit (a gripper's closed finger) jumped: 1e5 N on a 2 g finger threw
+    // it 50 m. Within the limits the motor alone holds the plan. ODE's hinge stops must lie within
+    // +-pi.
+    double lo = j.lower - kStopMargin - q0, hi = j.upper + kStopMargin - q0;
     if (std::isfinite(lo) && std::isfinite(hi) && (!hinge || (lo >= -3.14159 && hi <= 3.14159))) {
       set(dParamLoStop, lo);
       set(dParamHiStop, hi);

@@ -23,6 +23,10 @@ struct dxGeom;
 
 namespace sscs {
 
+/// An object's mass in a run: what its type declares (`mass:`), else its `mass` attribute when
+/// above 0, else its bounds' volume at 500 kg/m^3 (at least 0.1 kg).
+double object_mass(const Workcell& wc, const GeometryModel& geometry, int object);
+
 /// The raw ODE objects of a PhysicsWorld: for tools/bench/sim_vs_bare_ode, which steps the same
 /// bodies, joints and geoms in a bare loop to measure what sscs adds around ODE.
 struct OdeHandles {

@@ -174,10 +174,10 @@ TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
   EXPECT_EQ(rep.results[2].status, Status::Pass) << rep.results[2].message;
 }
 
-TEST_F(Check, NoReachSolutionGoesBelowTheFloor) {
+TEST_F(Check, NoReachSolutionGoesBelowTheFloorOrIntoItsTarget) {
   // A lift: a carriage on a vertical slide. A target under the floor fails: the floor is an
-  // obstacle (it passed). The carriage's finger reaching 0.1 m below the tool point meets the
-  // block it reaches by 0.1 m, which today passes (docs/devices.md, known limit).
+  // obstacle (it passed). A carriage whose finger reaches 0.1 m below the tool point sinks 0.1 m
+  // into the block it reaches: the tool may touch its target (1 mm), not enter it (it passed).
   auto lift = [](const char* tool_z) {
     return fmt::format("sscs: 1\ntype: lift\nkind: device\nparts:\n  - {{name: base}}\n"
                        "  - {{name: c, parent: base, joint: {{name: z, type: prismatic, axis: [0, 0, 1], limits: {{min: -2, max: 2}}}},\n"
@@ -193,7 +193,9 @@ TEST_F(Check, NoReachSolutionGoesBelowTheFloor) {
   Workcell wc = must_compile(vault);
   CheckReport rep = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(rep.results.size(), 2u);
-  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;  // the known limit
+  EXPECT_EQ(rep.results[0].status, Status::Fail);
+  EXPECT_EQ(rep.results[0].message,
+            "L reaches K.top only with its tool inside K: part c enters it by 0.1 m (a tool may touch its target, by 1 mm at most)");
   EXPECT_EQ(rep.results[1].status, Status::Fail);
   EXPECT_NE(rep.results[1].message.find("below the floor"), std::string::npos) << rep.results[1].message;
   options.library_dirs = {type_dir({{"lift", lift("0")}, {"block", block}})};

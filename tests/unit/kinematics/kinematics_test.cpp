@@ -1,6 +1,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numbers>
 #include <regex>
 #include <set>
@@ -554,6 +555,41 @@ TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
   EXPECT_EQ(diag.warnings()[0].message,
             dir + "/rx6.urdf: link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
   EXPECT_EQ(d->parts[d->find_part("base_link")].shapes.size(), 1u);  // the vendor's own cylinder stays
+}
+
+TEST_F(Vendor, WhatTheUrdfLeavesToDefaultsIsWarnedAtItsLine) {
+  // A URDF's velocity="0" and effort="0" say "not given"; a mimic of no joint; a safety
+  // controller with one soft limit (the other is 0, as the format and MoveIt have it).
+  std::string original;
+  const std::string dir = rx6_dir([&](std::string& text) {
+    auto replace = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+    replace("<limit lower=\"-1.6\" upper=\"1.6\" effort=\"300\" velocity=\"2.6\"/>",
+            "<limit lower=\"-1.6\" upper=\"1.6\" effort=\"0\" velocity=\"0.0\"/>");
+    replace("<mimic joint=\"finger_left_joint\"", "<mimic joint=\"finger_joint\"");
+    replace("soft_lower_limit=\"-2.5\" soft_upper_limit=\"2.5\"", "soft_upper_limit=\"2.5\"");
+    original = text;
+  });
+  auto line_of = [&](const std::string& what) { return 1u + std::count(original.begin(), original.begin() + original.find(what), '\n'); };
+  auto d = device("  - {type: rx6, name: R}\n", dir);
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 4u) << diag.format(sources);
+  std::map<std::string, uint32_t> warnings;
+  for (const Diagnostic& w : diag.warnings()) {
+    EXPECT_EQ(sources.path(w.mark.file), dir + "/rx6.urdf") << w.message;
+    warnings[w.message] = w.mark.line;
+  }
+  EXPECT_EQ(warnings["joint 'joint_2': <limit velocity=\"0\"> is taken as not given: it moves at the default 90 deg/s (write its "
+                     "speed to time runs)"], line_of("effort=\"0\""));
+  EXPECT_EQ(warnings["joint 'joint_2': <limit effort=\"0\"> is taken as not given: its drive has no torque limit in a run (1e5 N m)"],
+            line_of("effort=\"0\""));
+  EXPECT_EQ(warnings["joint 'finger_right_joint': <mimic joint=\"finger_joint\"> names no joint of this robot (sscs moves mimic "
+                     "joints on their own, so nothing changes here)"], line_of("<mimic"));
+  EXPECT_EQ(warnings["joint 'joint_1': <safety_controller> gives no soft_lower_limit: it is 0, as the URDF format defines it and "
+                     "MoveIt reads it (write it, or choose `joint_limits: hard`)"], line_of("<safety_controller"));
+  EXPECT_DOUBLE_EQ(d->joint(0).lower, 0.0);
+  EXPECT_DOUBLE_EQ(d->joint(0).upper, 2.5);
+  EXPECT_EQ(d->joint(1).velocity, 0.0);  // the run's default speed applies
+  EXPECT_EQ(d->joint(1).effort, 0.0);
 }
 
 TEST_F(Vendor, EveryNumberOfTheUrdfThatIsNotFiniteIsAnErrorAtItsLine) {

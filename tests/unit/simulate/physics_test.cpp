@@ -184,6 +184,63 @@ TEST_F(Articulated, MotorsTrackAPlannedMove) {
   EXPECT_LT(consistency(*w), 1e-3);
 }
 
+TEST_F(Articulated, ALightFingerOnAHeavyArmStaysWithinItsLimits) {
+  // A 2 g finger on a 20 kg arm (and lighter, down to 1 mg) shook in ODE: +-1 cm every 10 ms, a
+  // false joint_limit at once, 50 m at 1 mg. Every joint must track its plan within its limits.
+  for (const char* finger_mass : {"0.000001", "0.002", "0.02", "0.5", "20"}) {
+    SCOPED_TRACE(finger_mass);
+    options.library_dirs = {type_dir({{"hand", fmt::format(R"(sscs: 1
+type: hand
+kind: device
+parts:
+  - {{name: base, geometry: [{{box: {{size: [0.4, 0.4, 0.2], xyz: [0, 0, 0.1]}}}}]}}
+  - name: arm
+    parent: base
+    joint: {{name: turn, type: revolute, axis: [0, 0, 1], xyz: [0, 0, 0.2], limits: {{min: -180, max: 180, velocity: 90, acceleration: 180}}}}
+    geometry: [{{box: {{size: [1.0, 0.15, 0.15], xyz: [0.5, 0, 0.1]}}}}]
+    mass: 20
+  - name: finger
+    parent: arm
+    joint: {{name: grip, type: prismatic, axis: [0, 1, 0], xyz: [1.0, 0, 0.1], limits: {{min: 0, max: 0.04, velocity: 0.1, acceleration: 0.5}}}}
+    geometry: [{{box: {{size: [0.02, 0.01, 0.06], xyz: [0, 0, -0.03]}}}}]
+    mass: {}
+tool: {{part: finger}}
+)", finger_mass)}})};
+    auto w = world_of("  - {type: hand, name: H}\n", "H");
+    // Open the finger from its closed limit while turning, close it onto the limit, open again.
+    Eigen::VectorXd open = q0;
+    open[0] += 1.5;  // turn
+    open[1] = 0.03;  // grip
+    Eigen::VectorXd closed = open;
+    closed[1] = 0;
+    Eigen::VectorXd v(2), a(2);
+    for (int k = 0; k < 2; ++k) {
+      v[k] = model->joint(k).velocity;
+      a[k] = model->joint(k).acceleration;
+    }
+    const std::vector<JointMove> moves = {JointMove(q0, open, v, a), JointMove(open, closed, v, a), JointMove(closed, open, v, a)};
+    double worst = 0;
+    const double dt = 1e-3;
+    for (const JointMove& move : moves) {
+      const double start = w->time();
+      while (w->time() < start + move.duration() + 0.2) {
+        const double t = w->time() + dt - start;  // where the joints should be after this step
+        w->drive(d, move.position(t), move.velocity(t));
+        w->step();
+        const Eigen::VectorXd q = w->joints(d);
+        ASSERT_TRUE(q.allFinite());
+        worst = std::max(worst, (q - move.position(w->time() - start)).cwiseAbs().maxCoeff());
+        for (int k = 0; k < 2; ++k) {
+          ASSERT_GE(q[k], model->joint(k).lower - 1e-3) << "t = " << w->time();
+          ASSERT_LE(q[k], model->joint(k).upper + 1e-3) << "t = " << w->time();
+        }
+      }
+    }
+    EXPECT_LT(worst, 0.01) << "largest tracking error";
+    EXPECT_LT(consistency(*w), 1e-3);
+  }
+}
+
 TEST_F(Articulated, AGraspedDrumMovesWithTheToolAndFallsWhenReleased) {
   // The drum hangs where the tool is at home (its top on the tool), empty: 22 kg.
   wc = must_compile("objects:\n  - {type: arm6, name: R}\n");
