@@ -32,6 +32,7 @@ struct State {
   const std::vector<double>& values;
   const GeometryModel& geometry;
   bool describe_passes;
+  const CheckOptions& options;
 };
 
 double read(const Operand& op, const State& st) {
@@ -459,7 +460,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
-  for (const ReachCheck::Target& t : rc.targets) {
+  for (size_t target = 0; target < rc.targets.size(); ++target) {
+    const ReachCheck::Target& t = rc.targets[target];
     Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
     if (rc.match_orientation) X_world_target = X_world_target * rc.offset;
     // The tool may touch its target, but a point inside the target's solid is reached only by a
@@ -522,6 +524,11 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     std::string angle = rc.match_orientation ? fmt::format(", angle error {:g} deg", stable(si_to_file(ik.angle_error, Dim::Angle))) : "";
     switch (ik.status) {
       case IkResult::Status::Reached: {
+        if (st.options.on_reach_solution) {
+          Eigen::VectorXd q = q0;
+          chain.to_device(ik.q, q);
+          st.options.on_reach_solution(index, static_cast<int>(target), q);
+        }
         double margin = rc.position_tol_si - ik.position_error;
         if (!smallest || margin < *smallest) {
           smallest = margin;
@@ -594,7 +601,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const Check
 
 CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::vector<double>& slot_values,
                   const CheckOptions& options) {
-  State values{slot_values, geometry, options.describe_passes};
+  State values{slot_values, geometry, options.describe_passes, options};
   CheckReport report;
   report.results.reserve(wc.constraints.size());
   CollisionWorld world(geometry);

@@ -1,5 +1,6 @@
 #pragma once
 /// The check stage: evaluate every constraint of a Workcell into results with margins.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +48,10 @@ struct CheckOptions {
   /// Spatial comparisons (clearance, inside) hold within the larger of each constraint's eps and
   /// this (m): a run's re-checks see ODE contacts sink by micrometres.
   double spatial_tolerance = 0;
+  /// Called with each reach solution accepted: the constraint's index, the target's index in its
+  /// list, the device's joint vector (all its joints, in its order). What a report could draw;
+  /// what the tests replay in the physics.
+  std::function<void(int constraint, int target, const Eigen::VectorXd& q)> on_reach_solution;
 };
 
 /// Checks every constraint at the workcell's values and geometry.
