@@ -434,14 +434,16 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   opt.iterations_per_attempt = 60;
   opt.max_attempts = 100;
   opt.time_limit = 2.0;  // a backstop only: the iteration budget ends a solve, deterministically
-  // Objects the device may touch: the ones it stands in or on (its parent chain).
-  std::vector<int> related;
+  // Objects of its parent chain: the rooms it stands in are spaces; what it stands on (a
+  // pedestal) its base may touch, but no part a joint moves may enter it.
+  std::vector<int> related, stands_on;
+  const std::vector<char> is_container = containers(wc);
   for (size_t k = 0; k < wc.objects.size(); ++k)
-    if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k))) related.push_back(static_cast<int>(k));
+    if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k)))
+      (is_container[k] ? related : stands_on).push_back(static_cast<int>(k));
   // The tool meets its target: the tool's part and the parts it carries may touch the target
   // object, the rest of the device may not.
   const std::vector<char> tool_parts = d.tool_parts();
-  const std::vector<char> is_container = containers(wc);
   // The floor, as a run has it: no part a joint moves may go below it (a target under the floor
   // passed: the floor was no obstacle).
   const double floor = floor_z(wc, st.geometry);
@@ -478,29 +480,42 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         r.lhs = depth;
         r.rhs = rc.position_tol_si;
         r.margin = -depth;
-        r.message = fmt::format("{} lies {:g} m inside the solid of {}: a tool reaches it only buried in the object "
-                                "(aim at a frame on its surface, such as top)",
-                                t.text, stable(depth), wc.objects[t.object].name);
+        const bool offset = rc.match_orientation && !rc.offset.isApprox(Eigen::Isometry3d::Identity());
+        r.message = fmt::format("{}{} lies {:g} m inside the solid of {}: a tool reaches it only buried in the object "
+                                "(aim at a frame on its surface, such as top{})",
+                                t.text, offset ? " with the offset" : "", stable(depth), wc.objects[t.object].name,
+                                offset ? ", with an offset that keeps the point outside" : "");
         out.push_back(std::move(r));
         continue;
       }
     }
     const std::vector<int>& ignore = related;
+    // A candidate is rejected at its first collision (its depth a lower bound: exact mesh depths
+    // cost seconds a target); the one reported is measured exactly once the search is over.
     std::optional<Collision> hit;
-    auto accept = [&](const Eigen::VectorXd& chain_q) {
+    Eigen::VectorXd hit_q;
+    auto collision_at = [&](const Eigen::VectorXd& chain_q, bool first) {
       Eigen::VectorXd q = q0;
       chain.to_device(chain_q, q);
       std::vector<Eigen::Isometry3d> X = d.part_poses(q);
       for (auto& x : X) x = g.X_world_object * x;
-      auto c = world.device_collision(rc.device, X, ignore, t.object, tool_parts);
+      auto c = world.device_collision(rc.device, X, ignore, t.object, tool_parts, stands_on, first);
       if (!c) c = below_floor(X);
-      if (c && (!hit || c->depth < hit->depth)) hit = c;
+      return c;
+    };
+    auto accept = [&](const Eigen::VectorXd& chain_q) {
+      auto c = collision_at(chain_q, true);
+      if (c && (!hit || c->depth < hit->depth)) {
+        hit = c;
+        hit_q = chain_q;
+      }
       return !c;
     };
     IkResult ik = solve_ik(chain, X_root_world * X_world_target, seed, opt, accept);
     if (ik.status == IkResult::Status::Rejected && !rc.match_orientation)
       ik = reach_by_approach(chain, X_root_world * X_world_target, seed, opt, accept, ik);
     if (ik.ok() && ik.position_error < 1e-9) ik.position_error = 0;  // rounding: keep reports stable
+    if (ik.status == IkResult::Status::Rejected && hit) hit = collision_at(hit_q, false);
     // A search the time backstop cut short proves nothing: no verdict, an error result.
     if (!ik.ok() && ik.timed_out) {
       CheckResult r;

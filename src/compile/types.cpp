@@ -103,8 +103,7 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
         diag.error(home->second.mark, fmt::format("the home value of joint '{}' is {}, {} {}{}", j.name, with_unit(a.home_si, a.dim),
                                                   a.home_si < lo ? "below its min" : "above its max",
                                                   with_unit(a.home_si < lo ? lo : hi, a.dim),
-                                                  spec.device->urdf.present && !spec.device->hard_limits
-                                                      ? " (the URDF's soft limits apply: `joint_limits: hard` uses <limit>)" : ""));
+                                                  j.soft_limited ? " (the URDF's soft limits apply: `joint_limits: hard` uses <limit>)" : ""));
     } else {
       double zero = 0;
       if (a.min_si && zero < *a.min_si) zero = *a.min_si;
@@ -362,6 +361,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     t.description = spec.description;
     t.spec = specs[i];
     t.device = spec.device.has_value();
+    t.container = spec.container;
     if (auto p = file_problems.find(spec.name); p != file_problems.end()) {
       t.problems = p->second;
       if (std::any_of(p->second.begin(), p->second.end(), [](const Diagnostic& x) { return !x.warning; })) {
@@ -388,6 +388,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       }
       t.attributes = types[base->second].attributes;
       t.device = t.device || types[base->second].device;
+      t.container = t.container || types[base->second].container;
     }
     for (const AttributeDecl& decl : spec.attributes) {
       AttributeDef a = make_attribute(decl, d);

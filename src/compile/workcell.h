@@ -44,6 +44,8 @@ struct ObjectType {
   int base = -1;  ///< index of the type it extends, -1 for `object`
   std::string description;
   bool device = false;
+  /// A space that holds objects (its type file, or one it extends, says `container: true`).
+  bool container = false;
   std::vector<AttributeDef> attributes;
   std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
   /// Errors in the type file and the files it names (a typo in an expression, a mesh that cannot

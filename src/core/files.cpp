@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -112,6 +114,60 @@ std::vector<std::string> ros_package_path() {
       if (!dir.empty()) out.push_back(dir);
   }
   return out;
+}
+
+namespace {
+
+/// The <name> of the ROS package whose manifest is `manifest`, or "".
+std::string package_name(const fs::path& manifest) {
+  std::ifstream in(manifest);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  // The manifest's first <name> element (package.xml formats 1 to 3 put it first).
+  const size_t open = s.find("<name>"), close = s.find("</name>", open);
+  if (open == std::string::npos || close == std::string::npos) return "";
+  std::string name = s.substr(open + 6, close - open - 6);
+  const size_t b = name.find_first_not_of(" \t\r\n"), e = name.find_last_not_of(" \t\r\n");
+  return b == std::string::npos ? "" : name.substr(b, e - b + 1);
+}
+
+/// Every package below `root` (to `depth` levels) by its manifest's name; a package's own
+/// folders are not searched further (packages do not nest), nor are hidden ones.
+void index_packages(const fs::path& root, int depth, std::map<std::string, std::string>& out) {
+  std::error_code ec;
+  if (fs::is_regular_file(root / "package.xml", ec)) {
+    if (std::string name = package_name(root / "package.xml"); !name.empty()) out.emplace(name, root.string());
+    return;
+  }
+  if (depth == 0) return;
+  std::vector<fs::path> children;
+  for (fs::directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) && !it->path().filename().string().starts_with(".")) children.push_back(it->path());
+  std::sort(children.begin(), children.end());  // the first found wins, whatever the file system's order
+  for (const fs::path& child : children) index_packages(child, depth - 1, out);
+}
+
+}  // namespace
+
+std::string find_ros_package(const std::string& root_text, const std::string& package) {
+  fs::path root = fs::path(root_text).lexically_normal();
+  if (root.filename().empty()) root = root.parent_path();  // DIR/ is DIR
+  // Indexed once per folder: a URDF names its package for every mesh.
+  static std::mutex mutex;
+  static std::map<std::string, std::map<std::string, std::string>> indexes;
+  std::map<std::string, std::string> index;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto [it, fresh] = indexes.try_emplace(fs::absolute(root).string());
+    if (fresh) index_packages(root, 5, it->second);
+    index = it->second;
+  }
+  if (auto found = index.find(package); found != index.end()) return found->second;
+  std::error_code ec;
+  if (fs::is_directory(root / package, ec)) return (root / package).string();
+  if (root.filename() == package && fs::is_directory(root, ec)) return root.string();
+  return "";
 }
 
 std::string not_a_readable_reference(const std::string& path) {

@@ -47,6 +47,12 @@ std::string resolve_mesh_path(const std::string& type_file, const std::string& r
 /// `package://` references after --package-path, and trusted like it.
 std::vector<std::string> ros_package_path();
 
+/// The folder of ROS package `package` under `root` (a --package-path or $ROS_PACKAGE_PATH
+/// folder), as ROS finds it: `root` itself or a folder below it (at most 5 levels, as in a
+/// colcon workspace's src/) whose package.xml has `<name>package</name>`; failing that, as a
+/// folder name: `root/package`, or `root` when it is named `package`. Empty when none.
+std::string find_ros_package(const std::string& root, const std::string& package);
+
 /// Why a file named in an input file cannot be read: outside_roots(), else not_a_file().
 std::string not_a_readable_reference(const std::string& path);
 

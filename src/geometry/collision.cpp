@@ -271,7 +271,10 @@ double common_depth(const Surface& surface, const Solid& own, const Solid& other
 /// surfaces cross, points leading from the crossing into the other solid (a face pushed into a
 /// solid has its vertices outside: pallets side by side too close, a drum half into a rack).
 /// An open mesh is a surface: only its points inside the other count (`a_solid`, `b_solid`).
-double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, bool a_solid, bool b_solid) {
+/// `enough`: a depth beyond which the caller needs no more (a collision is a collision): the
+/// search stops at the first point deeper, and returns that depth, a lower bound of the deepest.
+double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, bool a_solid, bool b_solid,
+                           double enough = INFINITY) {
   const Surface sa(a), sb(b);
   const Solid solid_a(a), solid_b(b);
   SurfaceDepth in_b{sa, solid_b, 0, 0, {}}, in_a{sb, solid_a, 0, 0, {}};
@@ -282,10 +285,12 @@ double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionO
   auto near_box = [](const fcl::AABBd& box, const Eigen::AlignedBox3d& t) {
     return (t.min().array() <= box.max_.array() + kTouchTolerance).all() && (t.max().array() >= box.min_.array() - kTouchTolerance).all();
   };
+  // How deep the points found so far are, counting only the solid sides.
+  auto found = [&] { return std::max(b_solid ? in_b.best : 0.0, a_solid ? in_a.best : 0.0); };
   // Triangles of each surface within the other's bounds, with their vertices as seeds.
   auto candidates = [&](const Surface& s, const fcl::AABBd& other_box, SurfaceDepth& depth) {
     std::vector<int> out;
-    for (int k = 0; k < static_cast<int>(s.t.size()); ++k) {
+    for (int k = 0; k < static_cast<int>(s.t.size()) && found() <= enough; ++k) {
       if (!near_box(other_box, s.box(k))) continue;
       out.push_back(k);
       for (int c = 0; c < 3; ++c)
@@ -294,7 +299,10 @@ double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionO
     }
     return out;
   };
-  const std::vector<int> ta = candidates(sa, bb, in_b), tb = candidates(sb, ba, in_a);
+  const std::vector<int> ta = candidates(sa, bb, in_b);
+  if (found() > enough) return found();
+  const std::vector<int> tb = candidates(sb, ba, in_a);
+  if (found() > enough) return found();
   // Where the surfaces cross: each pair of triangles whose bounds meet.
   std::vector<Eigen::AlignedBox3d> boxes_b;
   for (int j : tb) boxes_b.push_back(sb.box(j));
@@ -347,15 +355,16 @@ bool contained_in_closed_mesh(const fcl::CollisionObjectd* outer, const fcl::Col
 }
 
 /// The depth of a collision FCL found between two shapes, with closed meshes as solids.
-double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, const fcl::CollisionResultd& res) {
+double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, const fcl::CollisionResultd& res,
+                     double enough) {
   const Shape &A = shape_of(a), &B = shape_of(b);
   const bool a_solid = A.kind != Shape::Kind::Mesh || closed_mesh(A);
   const bool b_solid = B.kind != Shape::Kind::Mesh || closed_mesh(B);
   double depth = 0;
   if (closed_mesh(A) || closed_mesh(B)) {
-    if (a_solid && b_solid) return solid_overlap_depth(a, b, true, true);
+    if (a_solid && b_solid) return solid_overlap_depth(a, b, true, true, enough);
     // A surface against a solid: FCL's depth of the crossing, or how deep the surface lies inside.
-    depth = solid_overlap_depth(a, b, a_solid, b_solid);
+    depth = solid_overlap_depth(a, b, a_solid, b_solid, enough);
   }
   for (size_t k = 0; k < res.numContacts(); ++k) depth = std::max(depth, res.getContact(k).penetration_depth);
   // A contact without depth (two open surfaces) still is a collision: count it as touching.
@@ -364,10 +373,11 @@ double contact_depth(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd
 
 /// Penetration depth of two placed shapes: > 0 when they interpenetrate, 0 when apart or touching.
 /// A shape wholly inside a closed mesh interpenetrates it by its distance to the mesh's surface.
-double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+/// Beyond `enough` the depth may be a lower bound (closed meshes: the search stops there).
+double penetration(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, double enough = INFINITY) {
   fcl::CollisionRequestd req(1, /*enable_contact=*/true);
   fcl::CollisionResultd res;
-  if (fcl::collide(a, b, req, res) != 0) return contact_depth(a, b, res);
+  if (fcl::collide(a, b, req, res) != 0) return contact_depth(a, b, res, enough);
   if (!contained_in_closed_mesh(a, b) && !contained_in_closed_mesh(b, a)) return 0;
   fcl::DistanceRequestd dreq(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
   fcl::DistanceResultd dres;
@@ -389,7 +399,7 @@ double signed_distance(const fcl::CollisionObjectd* a, const fcl::CollisionObjec
   fcl::CollisionRequestd creq(1, /*enable_contact=*/true);
   fcl::CollisionResultd cres;
   if (fcl::collide(a, b, creq, cres) == 0) return 0;
-  return -contact_depth(a, b, cres);
+  return -contact_depth(a, b, cres, INFINITY);
 }
 
 /// How far any point of a placed shape has moved since it was at `X_then`: the displacement of
@@ -539,9 +549,11 @@ std::vector<Collision> CollisionWorld::self_collisions(int object) {
 
 std::optional<Collision> CollisionWorld::device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                                           const std::vector<int>& ignore, int target,
-                                                          const std::vector<char>& tool_parts) {
+                                                          const std::vector<char>& tool_parts, const std::vector<int>& stands_on,
+                                                          bool first) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return std::nullopt;
+  const std::vector<char> moved = stands_on.empty() ? std::vector<char>() : g.device->moved_parts();
   auto shapes = impl_->placed(*g.device, X_world_part);
   std::optional<Collision> deepest;
   auto note = [&](const Collision& c) {
@@ -564,15 +576,18 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
     if ((b.min().array() > box.max_.array() + kTouchTolerance).any() || (b.max().array() < box.min_.array() - kTouchTolerance).any())
       continue;
     if (std::find(ignore.begin(), ignore.end(), other) != ignore.end()) continue;
+    const bool support = std::find(stands_on.begin(), stands_on.end(), other) != stands_on.end();
     const auto& theirs = impl_->of(other);
     for (const auto& [p, s] : shapes)
       for (size_t k = 0; k < theirs.size(); ++k) {
+        if (support && !moved[p]) continue;  // the base on its pedestal
         // The tool's parts may touch the target, as a run's move_to lets them (kTargetTouch), but
         // not enter it: a gripper buried in its drum is a collision.
         const bool touches = other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p];
         if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
-        double depth = penetration(s.get(), theirs[k].get());
-        if (depth > (touches ? kTargetTouch : kTouchTolerance)) {
+        const double limit = touches ? kTargetTouch : kTouchTolerance;
+        double depth = penetration(s.get(), theirs[k].get(), first ? limit : INFINITY);
+        if (depth > limit) {
           int other_part = objects[o].shapes[k].part;
           note({other, p, other_part, depth});
         }
@@ -609,10 +624,12 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
     if (other == object || objects[o].shapes.empty()) continue;
     if (std::find(skip.begin(), skip.end(), other) != skip.end()) continue;
     const double limit = below ? std::min(reach, below(other)) : reach;
-    if (box_gap(box, impl_->bounds(other)) > limit) continue;
+    // Boxes apart bound the distance from below; overlapping boxes bound no depth (a pair seen
+    // overlapping, limit < 0, was never measured again: its deepest went unseen).
+    if (const double gap = box_gap(box, impl_->bounds(other)); gap > limit && gap > 0) continue;
     // Branch and bound: shape pairs in order of a lower bound of their distance, until no bound
-    // is below the nearest pair found. The bound: their boxes' gap, or the distance measured
-    // last time less how far either shape has moved since (conservative advancement).
+    // is below the nearest pair found. The bound: their boxes' gap when apart, or the distance
+    // measured last time less how far either shape has moved since (conservative advancement).
     const auto& theirs = impl_->of(other);
     std::vector<std::tuple<double, size_t, size_t>> pairs;
     for (size_t i = 0; i < mine.size(); ++i)
@@ -620,6 +637,7 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
         int part = objects[object].shapes[i].part;
         if (!parts.empty() && (part < 0 || !parts[part])) continue;
         double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
+        if (bound == 0) bound = -INFINITY;  // overlapping boxes: any depth
         auto last = impl_->measured.find({object, other, i, k});
         if (last != impl_->measured.end())
           bound = std::max(bound, last->second.distance - travel(*mine[i], last->second.X_a) - travel(*theirs[k], last->second.X_b));

@@ -60,9 +60,14 @@ class CollisionWorld {
   /// between its own non-adjacent parts. nullopt when it is free.
   /// `target` (>= 0) is the object the tool meets: the parts marked in `tool_parts` (the tool's
   /// part and the parts it carries) may touch it, by up to kTargetTouch; the other parts may not.
+  /// `stands_on`: objects the device's unmoved parts (its root and what is fixed to it) may touch
+  /// (the pedestal it stands on); the parts a joint moves may not. `first`: a collision's depth
+  /// need not be exact (a search rejecting a candidate): a closed mesh's depth search stops at
+  /// the limit that makes it a collision, so its depth may be a lower bound.
   std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                             const std::vector<int>& ignore, int target = -1,
-                                            const std::vector<char>& tool_parts = {});
+                                            const std::vector<char>& tool_parts = {}, const std::vector<int>& stands_on = {},
+                                            bool first = false);
 
   /// Places `object` at a new world pose (a carried or fallen object).
   void move(int object, const Eigen::Isometry3d& X_world_object);

@@ -14,6 +14,7 @@
 #include "compile/values.h"
 #include "core/expr.h"
 #include "core/files.h"
+#include "core/inertia.h"
 #include "geometry/mesh_io.h"
 #include "model/device.h"
 
@@ -23,8 +24,7 @@ namespace sscs {
 
 std::vector<char> containers(const Workcell& wc) {
   std::vector<char> out(wc.objects.size(), 0);
-  for (const Object& o : wc.objects)
-    if (o.parent >= 0) out[o.parent] = 1;
+  for (size_t i = 0; i < wc.objects.size(); ++i) out[i] = wc.types[wc.objects[i].type].container;
   return out;
 }
 
@@ -250,6 +250,16 @@ class Builder {
       part.shapes = shapes(ps->geometry, spec.path, obj);
       if (visuals) part.visual_shapes = shapes(ps->visual, spec.path, obj, /*split_colours=*/true);
       part.mass = eval_.value(ps->mass, Dim::Mass, obj, 0);
+      // A type file's part mass (a URDF's is checked by its import): above 0, else no body; in
+      // the range ODE integrates, else it was simulated as 1 kg without a word.
+      if (ps->mass.present && !spec.device->urdf.present) {
+        if (!(part.mass > 0) || !std::isfinite(part.mass))
+          diag_.error(ps->mass.mark, fmt::format("the mass of part '{}' is {} kg; a mass is a finite number above 0", ps->name,
+                                                 number_text(part.mass)));
+        else if (!simulable_mass(part.mass))
+          diag_.warning(ps->mass.mark, fmt::format("the mass of part '{}', {} kg, is beyond the 1e-6 to 1e7 kg the physics "
+                                                   "integrates: a run simulates it as 1 kg", ps->name, number_text(part.mass)));
+      }
       part.color = ps->color.text;
       if (ps->inertial) {
         part.com = eval_.pose(ps->inertial->origin, obj).translation();

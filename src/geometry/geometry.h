@@ -65,8 +65,9 @@ struct ScenePose {
 void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object,
             const std::vector<Eigen::Isometry3d>* X_object_part = nullptr);
 
-/// Per object, whether it holds others (some object's parent: a room, a shipping container):
-/// a space, not a solid, for the physics and for reach.
+/// Per object, whether it is a container (its type says `container: true`: a room, a shipping
+/// container): a space, not a solid, for the physics and for reach. Being some object's parent
+/// does not make one (a drum on a pallet, an arm on a pedestal: both solid).
 std::vector<char> containers(const Workcell& wc);
 
 /// The floor the physics and reach stand things on: the bottom of the lowest container, else z = 0.

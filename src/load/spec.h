@@ -91,6 +91,7 @@ struct JointSpec {
   std::array<Scalar, 3> axis;
   PoseSpec origin;
   Scalar min, max, velocity, acceleration, effort;
+  bool soft_limited = false;  ///< a URDF's <safety_controller> narrowed min/max
 };
 
 /// A part's centre of mass and inertia (kg m^2) about it: imported from URDF.
@@ -160,6 +161,10 @@ struct TypeSpec {
   /// attributes (`tare_mass + fill_mass`). Absent: a `mass` attribute, else an estimate from the
   /// bounds. Devices weigh their parts.
   Scalar mass;
+  /// `container: true`: the type is a space that holds objects (a room, a shipping container):
+  /// its geometry is its outline, and the physics and `reach` treat its inside as empty.
+  /// Inherited by the types that extend it.
+  bool container = false;
   std::optional<DeviceSpec> device;
 };
 

@@ -31,7 +31,10 @@ void load_srdf(DeviceSpec& device, const std::string& type_file, Sources& source
   if (!robot) return keep();
   auto mark_of = [&](const TiXmlElement* e) { return xml_mark(file, *e); };
   const char* robot_name = robot->Attribute("name");
-  if (robot_name && !device.urdf_robot.empty() && device.urdf_robot != robot_name)
+  if (!robot_name || !*robot_name)  // MoveIt refuses an SRDF without the robot's name
+    diag.warning(mark_of(robot), fmt::format("this SRDF's <robot> has no name (MoveIt requires one: the URDF's, '{}')",
+                                             device.urdf_robot));
+  else if (!device.urdf_robot.empty() && device.urdf_robot != robot_name)
     diag.warning(mark_of(robot), fmt::format("this SRDF is for robot '{}', but the URDF is robot '{}' (is the SRDF another robot's?)",
                                              robot_name, device.urdf_robot));
   // Pairs: <disable_collisions link1 link2/>, and <disable_default_collisions link/> (MoveIt 1.1 and

@@ -197,6 +197,8 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   t.has_geometry = geometry.valid();
   t.geometry = load::geometry_list(geometry, diag);
   t.color = load::scalar(root.take("color"), "color", diag);
+  t.container = load::boolean(root.take("container"), "container", diag);
+  if (t.container && device) diag.error(t.mark, "a device is no container: 'container' is for objects that hold others");
   if (yaml::Node mass = root.take("mass"); mass.valid()) {
     if (device) diag.error(mass.mark(), "a device's mass is its parts' masses; 'mass' is for objects that are not devices");
     else t.mass = load::scalar(mass, "mass", diag);

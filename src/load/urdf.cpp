@@ -78,11 +78,36 @@ std::map<std::string, SoftLimits> read_soft_limits(const TiXmlElement& robot) {
   return out;
 }
 
+/// Where each link's <visual> and <collision> shapes are in the URDF, in file order (urdfdom
+/// keeps that order): a mesh's filename attribute, another shape's element. So what is found
+/// wrong with a shape later (a mesh that cannot be read) is reported at its line.
+using ShapeMarks = std::map<std::string, std::map<std::string, std::vector<SourceMark>>>;
+
+ShapeMarks read_shape_marks(const TiXmlElement& robot, uint32_t file) {
+  ShapeMarks out;
+  for (const TiXmlElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+    const char* name = l->Attribute("name");
+    if (!name) continue;
+    for (const char* kind : {"visual", "collision"})
+      for (const TiXmlElement* e = l->FirstChildElement(kind); e; e = e->NextSiblingElement(kind)) {
+        const TiXmlElement* g = e->FirstChildElement("geometry");
+        const TiXmlElement* shape = g ? g->FirstChildElement() : nullptr;
+        SourceMark mark = xml_mark(file, shape ? *shape : *e);
+        if (shape)
+          for (const TiXmlAttribute* a = shape->FirstAttribute(); a; a = a->Next())
+            if (std::string_view(a->Name()) == "filename") mark = xml_mark(file, *a);
+        out[name][kind].push_back(mark);
+      }
+  }
+  return out;
+}
+
 class Converter {
  public:
-  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, DeviceSpec& device)
+  Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, DeviceSpec& device,
+            ShapeMarks shape_marks)
       : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), problems_(device.import_problems),
-        mesh_refs_(device.urdf_mesh_refs) {}
+        mesh_refs_(device.urdf_mesh_refs), shape_marks_(std::move(shape_marks)) {}
 
   Scalar number(double v, const char* unit = "") const {
     Scalar s;
@@ -124,13 +149,10 @@ class Converter {
       std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
       std::vector<std::string> roots = package_paths_;
       for (const std::string& dir : ros_package_path()) roots.push_back(dir);
-      for (const std::string& written : roots) {
-        // DIR/pkg/path (a folder of packages), or DIR itself when it is the package ("DIR/" too).
-        fs::path root = fs::path(written).lexically_normal();
-        if (root.filename().empty()) root = root.parent_path();
-        for (const fs::path& candidate : {root / package / inside, root.filename() == package ? root / inside : fs::path()})
-          if (!candidate.empty() && fs::is_regular_file(candidate, ec)) return fs::absolute(candidate).lexically_normal().string();
-      }
+      for (const std::string& root : roots)
+        if (const std::string dir = find_ros_package(root, package); !dir.empty())
+          if (const fs::path candidate = fs::path(dir) / inside; fs::is_regular_file(candidate, ec))
+            return fs::absolute(candidate).lexically_normal().string();
       (this->*report)(fmt::format("mesh '{}' not found: no package '{}' holding '{}' under {}", uri, package, inside,
                                   roots.empty() ? std::string("any --package-path (none given)")
                                                 : fmt::format("the package paths ({})", fmt::join(roots, ", "))));
@@ -156,7 +178,7 @@ class Converter {
   /// A mesh a `needed` shape names that cannot be found is an error; one of a visual the link
   /// does not need (it has collision shapes) is a warning: that visual is not drawn.
   std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* element,
-                                       bool needed = true) const {
+                                       size_t index, bool needed = true) const {
     if (!g) return std::nullopt;
     auto degenerate = [&](const char* shape, const std::string& what) {
       warn(fmt::format("its <{}> {} has {}: skipped, for it has no volume", element, shape, what));
@@ -188,6 +210,8 @@ class Converter {
     }
     GeometrySpec out;
     out.mark = at_.mark;
+    if (auto l = shape_marks_.find(link_); l != shape_marks_.end())
+      if (auto e = l->second.find(element); e != l->second.end() && index < e->second.size()) out.mark = e->second[index];
     out.pose = pose(origin);
     switch (g->type) {
       case urdf::Geometry::BOX: {
@@ -211,6 +235,7 @@ class Converter {
         MeshSpec mesh;
         mesh.file = number(0);
         mesh.file.text = *path;
+        mesh.file.mark = out.mark;  // a mesh that cannot be read is reported at its line of the URDF
         mesh.scale = {number(m->scale.x), number(m->scale.y), number(m->scale.z)};
         out.shape = std::move(mesh);
         break;
@@ -237,14 +262,15 @@ class Converter {
     // visuals, each with its material's colour, are what the link looks like.
     std::vector<GeometrySpec> visual;
     const bool visuals_needed = link.collision_array.empty();  // else checks never read them
-    for (const auto& v : link.visual_array)
-      if (auto g = geometry(v->geometry, v->origin, "visual", visuals_needed)) {
+    for (size_t k = 0; k < link.visual_array.size(); ++k)
+      if (const auto& v = link.visual_array[k]; auto g = geometry(v->geometry, v->origin, "visual", k, visuals_needed)) {
         if (v->material && has_color(*v->material)) g->color = hex(v->material->color);
         visual.push_back(std::move(*g));
       }
     if (!link.collision_array.empty()) {
-      for (const auto& c : link.collision_array)
-        if (auto g = geometry(c->geometry, c->origin, "collision")) p.geometry.push_back(std::move(*g));
+      for (size_t k = 0; k < link.collision_array.size(); ++k)
+        if (const auto& c = link.collision_array[k]; auto g = geometry(c->geometry, c->origin, "collision", k))
+          p.geometry.push_back(std::move(*g));
       p.visual = std::move(visual);
     } else {
       p.geometry = visual;  // checked as what it looks like
@@ -310,6 +336,7 @@ class Converter {
         double lower = j.limits->lower, upper = j.limits->upper;
         if (soft.lower) lower = std::max(lower, *soft.lower);
         if (soft.upper) upper = std::min(upper, *soft.upper);
+        out.soft_limited = lower != j.limits->lower || upper != j.limits->upper;
         if (!(lower <= upper)) {
           error(fmt::format("joint '{}' has soft limits [{}, {}] that leave nothing of its limits [{}, {}] (joint_limits: hard "
                             "ignores the soft limits)", j.name, soft.lower.value_or(-INFINITY), soft.upper.value_or(INFINITY),
@@ -331,6 +358,7 @@ class Converter {
   const std::vector<std::string>& package_paths_;
   std::vector<Diagnostic>& problems_;
   std::vector<std::pair<std::string, std::string>>& mesh_refs_;
+  ShapeMarks shape_marks_;
   mutable std::string link_;  ///< the link being converted, for messages
 };
 
@@ -377,7 +405,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
         {at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log)});
     return;
   }
-  Converter convert(at, urdf_path, package_paths, device);
+  Converter convert(at, urdf_path, package_paths, device, read_shape_marks(*robot, file));
   const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(*robot);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};

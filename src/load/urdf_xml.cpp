@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <cmath>
+#include <cstdlib>
 #include <string_view>
 #include <vector>
 
@@ -52,7 +53,10 @@ class UrdfChecker {
       double v = 0;
       const char* first = token.data() + (token.starts_with('+') ? 1 : 0);  // from_chars takes no '+'
       auto [ptr, ec] = std::from_chars(first, token.data() + token.size(), v);
-      if (ec == std::errc::result_out_of_range) bad = fmt::format("'{}' is beyond the range of a double", token);
+      if (ec == std::errc::result_out_of_range)  // 1e999 overflows; 1e-400 underflows
+        bad = std::abs(std::strtod(std::string(token).c_str(), nullptr)) < 1
+                  ? fmt::format("'{}' is closer to 0 than a double can hold (write 0)", token)
+                  : fmt::format("'{}' is beyond the range of a double", token);
       else if (ec != std::errc() || ptr != token.data() + token.size()) bad = fmt::format("'{}' is not a number", token);
       else if (!std::isfinite(v)) bad = fmt::format("'{}' is not a finite number", token);
       else if (range == Range::NotNegative && v < 0) bad = fmt::format("{} is negative", token);
@@ -127,7 +131,15 @@ class UrdfChecker {
 
   void joint(const TiXmlElement& j) {
     origin(j);
-    if (const TiXmlElement* a = j.FirstChildElement("axis")) numbers(*a, "xyz", 3, false, "axis components");
+    if (const TiXmlElement* a = j.FirstChildElement("axis")) {
+      numbers(*a, "xyz", 3, false, "axis components");
+      // urdfdom reads "0 0 0" and normalises it to NaN: a joint that moves along no direction.
+      const char* type = j.Attribute("type");
+      if (attribute(*a, "xyz") && zero_vector(attribute(*a, "xyz")->Value()) && type && std::string_view(type) != "fixed")
+        diag_.error(mark(*attribute(*a, "xyz")), fmt::format("joint '{}': <axis xyz=\"{}\"> is the zero vector: a joint needs a "
+                                                             "direction (write its unit axis, such as \"0 0 1\")",
+                                                             j.Attribute("name") ? j.Attribute("name") : "?", attribute(*a, "xyz")->Value()));
+    }
     if (const TiXmlElement* l = j.FirstChildElement("limit")) {
       numbers(*l, "lower", 1, false, "joint value");
       numbers(*l, "upper", 1, false, "joint value");
@@ -139,14 +151,15 @@ class UrdfChecker {
       const char* name = j.Attribute("name");
       if (type && std::string_view(type) != "fixed" && name) {
         const bool revolute = std::string_view(type) != "prismatic";
-        if (zero(*l, "velocity"))
-          diag_.warning(mark(*attribute(*l, "velocity")),
-                        fmt::format("joint '{}': <limit velocity=\"0\"> is taken as not given: it moves at the default {} "
-                                    "(write its speed to time runs)", name, revolute ? "90 deg/s" : "0.5 m/s"));
-        if (zero(*l, "effort"))
-          diag_.warning(mark(*attribute(*l, "effort")),
-                        fmt::format("joint '{}': <limit effort=\"0\"> is taken as not given: its drive has no {} limit in a "
-                                    "run (1e5 {})", name, revolute ? "torque" : "force", revolute ? "N m" : "N"));
+        for (const TiXmlAttribute* a = l->FirstAttribute(); a; a = a->Next()) {  // in the file's order
+          const std::string_view key = a->Name();
+          if (key == "velocity" && zero(*l, "velocity"))
+            diag_.warning(mark(*a), fmt::format("joint '{}': <limit velocity=\"0\"> is taken as not given: it moves at the default {} "
+                                                "(write its speed to time runs)", name, revolute ? "90 deg/s" : "0.5 m/s"));
+          if (key == "effort" && zero(*l, "effort"))
+            diag_.warning(mark(*a), fmt::format("joint '{}': <limit effort=\"0\"> is taken as not given: a run drives it with the "
+                                                "default {}, 1e5 {}", name, revolute ? "torque" : "force", revolute ? "N m" : "N"));
+        }
       }
     }
     if (const TiXmlElement* s = j.FirstChildElement("safety_controller")) {
@@ -167,6 +180,23 @@ class UrdfChecker {
   }
 
  private:
+  /// Whether `text` is three numbers, all 0.
+  static bool zero_vector(std::string_view text) {
+    int zeros = 0;
+    for (size_t i = 0; i < text.size();) {
+      while (i < text.size() && is_space(text[i])) ++i;
+      if (i == text.size()) break;
+      size_t end = i;
+      while (end < text.size() && !is_space(text[end])) ++end;
+      double v = 1;
+      const char* first = text.data() + i + (text[i] == '+' ? 1 : 0);
+      auto [ptr, ec] = std::from_chars(first, text.data() + end, v);
+      if (ec != std::errc() || ptr != text.data() + end || v != 0) return false;
+      ++zeros;
+      i = end;
+    }
+    return zeros == 3;
+  }
   /// Whether attribute `name` of `e` is a number equal to 0.
   static bool zero(const TiXmlElement& e, const char* name) {
     const TiXmlAttribute* a = attribute(e, name);
@@ -207,6 +237,8 @@ SourceMark offset_mark(uint32_t file, const std::string& text, size_t offset) {
   }
   return {file, line, column};
 }
+
+bool is_xml_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
 /// The first element under `e` (itself included) in the xacro namespace, or null.
 const TiXmlElement* first_xacro(const TiXmlElement& e) {
@@ -259,6 +291,25 @@ const TiXmlElement* read_robot_xml(const char* what, const std::string& type_fil
     } else if (const TiXmlText* t = n->ToText()) {
       diag.error(xml_mark(file, *t), fmt::format("{} '{}': text outside the <robot> element", what, at.text));
       return nullptr;
+    }
+  }
+  // TinyXML drops text after the root element without a word: only space and comments may follow.
+  if (robot) {
+    const std::string closing = fmt::format("</{}", robot->Value());
+    if (size_t end = text.rfind(closing); end != std::string::npos && (end = text.find('>', end)) != std::string::npos) {
+      size_t i = end + 1;
+      while (i < text.size()) {
+        if (is_xml_space(text[i])) {
+          ++i;
+        } else if (text.compare(i, 4, "<!--") == 0 && text.find("-->", i + 4) != std::string::npos) {
+          i = text.find("-->", i + 4) + 3;
+        } else {
+          diag.error(offset_mark(file, text, i), fmt::format("{} '{}': '{}' after </{}>: a file holds one robot and nothing after it",
+                                                           what, at.text, printable(text.substr(i, std::min(text.find_first_of("\r\n", i), i + 20) - i)),
+                                                           robot->Value()));
+          return nullptr;
+        }
+      }
     }
   }
   if (!robot || std::string_view(robot->Value()) != "robot") {

@@ -317,9 +317,7 @@ struct Renderer::Impl {
   /// One vertex buffer per distinct shape (an array of 200 racks shares its meshes).
   void upload(const Workcell& wc) {
     std::map<std::string, size_t> known;
-    std::vector<char> container(wc.objects.size(), 0);
-    for (const Object& o : wc.objects)
-      if (o.parent >= 0) container[o.parent] = 1;
+    const std::vector<char> container = containers(wc);
     for (size_t o = 0; o < geometry.objects.size(); ++o) {
       const ObjectGeometry& g = geometry.objects[o];
       bounds.extend(g.bbox_world);

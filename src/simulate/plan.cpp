@@ -429,10 +429,17 @@ class Planner {
       diag_.error(where.mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.text));
       return;
     }
+    if (wc_.types[wc_.objects[o].type].container) {
+      diag_.error(where.mark, fmt::format("grasp: {} is a container (a space that holds objects, such as a room): nothing lifts it",
+                                          where.text));
+      st.held = o;  // as if held: its release is no second error
+      return;
+    }
     // A body the physics cannot integrate (ODE aborts, or loses every digit) is no run.
     if (const double m = object_mass(wc_, geometry_, o); !simulable_mass(m)) {
       diag_.error(where.mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
                                           where.text, m));
+      st.held = o;  // as if held: its release is no second error
       return;
     }
     // The tool must be at the object: within kGraspReach of its bounds where it is now.

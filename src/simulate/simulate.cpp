@@ -102,10 +102,27 @@ class Run {
             for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
               supports_.insert({ps.object, other});
             if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
+            // What stands on the load (its children in the vault, and theirs) rides with it as
+            // free bodies: drums on a pallet a forklift lifts (they stood still in the air).
+            for (size_t k = 0; k < wc_.objects.size(); ++k)
+              for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
+                if (up == ps.object) {
+                  world_.make_dynamic(static_cast<int>(k));
+                  rider_of_[static_cast<int>(k)] = ps.object;
+                  break;
+                }
           } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
             world_.release(ps.device);
             released_[o] = false;
+            // Its riders stay where they are, on it: free bodies, watched until they rest.
+            for (auto it = rider_of_.begin(); it != rider_of_.end();)
+              if (it->second == o) {
+                released_[it->first] = true;
+                it = rider_of_.erase(it);
+              } else {
+                ++it;
+              }
             events_.add(t, EventKind::Release, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
           }
         }
@@ -228,17 +245,19 @@ class Run {
     return false;
   }
 
-  /// The gripper touching a load it handles (about to grasp, holding, has just released) is
-  /// not a collision: the tool's part (and the parts it carries) against handled(device, t).
-  /// Nor is the tool touching, by less than kTargetTouch, the object its current move_to goes to
-  /// (a tool set down on a drum's top, as `reach` lets the tool touch its target).
+  /// The gripper holding its load is not a collision: the tool's part (and the parts it
+  /// carries) against what it holds. Nor is it touching, by less than kTargetTouch, a load it
+  /// is about to grasp or has just released, or the object its current move_to goes to (a tool
+  /// set down on a drum's top, as `reach` lets the tool touch its target); deeper is.
   bool gripper_meets_its_load(const PhysicsContact& c, double t) const {
     for (auto [dev, part, other] : {std::tuple{c.a, c.part_a, c.b}, std::tuple{c.b, c.part_b, c.a}}) {
       if (dev < 0 || part < 0 || other < 0 || !geometry_.objects[dev].device) continue;
       if (!geometry_.objects[dev].device->tool_parts()[part]) continue;
+      if (world_.held(dev) == other) return true;
+      if (c.depth >= kTargetTouch) continue;
       std::vector<int> loads = handled(dev, t);
       if (std::find(loads.begin(), loads.end(), other) != loads.end()) return true;
-      if (c.depth < kTargetTouch && move_target(dev, t) == other) return true;
+      if (move_target(dev, t) == other) return true;
     }
     return false;
   }
@@ -251,6 +270,14 @@ class Run {
     return target;
   }
 
+  /// The load a device holds that `o` is or rides on, else -1.
+  int moving_load(int o) const {
+    if (o < 0) return -1;
+    if (held_anywhere(o)) return o;
+    auto r = rider_of_.find(o);
+    return r != rider_of_.end() && held_anywhere(r->second) ? r->second : -1;
+  }
+
   bool held_anywhere(int o) const {
     for (const DeviceRun& dr : devices_)
       if (world_.held(dr.object) == o) return true;
@@ -260,14 +287,20 @@ class Run {
   void after_step(double t) {
     // Contacts: a pair is one event until it has been apart for kApart (contacts flicker).
     for (const PhysicsContact& c : world_.contacts()) {
+      // An excused contact (a tool touching its target by less than 1 mm, a load lifting off)
+      // does not open an episode: the same pair going deeper later is a collision (it was taken
+      // for the ongoing touch, and a tool 4 cm inside its target ran `ok`).
+      if (gripper_meets_its_load(c, t) || lifting_off(c)) continue;
+      // A load and what rides on it move together: their contacts are support, not collisions.
+      const int load_a = moving_load(c.a), load_b = moving_load(c.b);
+      if (load_a >= 0 && load_a == load_b) continue;
       auto key = std::make_tuple(c.a, c.part_a, c.b, c.part_b);
       auto last = last_contact_.find(key);
       bool ongoing = last != last_contact_.end() && t - last->second <= kApart;
       last_contact_[key] = t;
       if (ongoing) continue;
-      if (gripper_meets_its_load(c, t) || lifting_off(c)) continue;
       bool device_part = (c.a >= 0 && c.part_a >= 0) || (c.b >= 0 && c.part_b >= 0);
-      bool carried = (c.a >= 0 && held_anywhere(c.a)) || (c.b >= 0 && held_anywhere(c.b));
+      bool carried = load_a >= 0 || load_b >= 0;
       if (device_part || carried) {
         events_.add(t, EventKind::Collision, {{"a", part_name(c.a, c.part_a)}, {"b", part_name(c.b, c.part_b)},
                                {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)}});
@@ -348,10 +381,12 @@ class Run {
     return p;
   }
 
-  /// The object and its parents up to the root: what it stands in is not a clearance.
+  /// The object and the containers it stands in (its room): what it stands in is not a
+  /// clearance. Other parents (an arm's pedestal, a drum's pallet) are solids like any other.
   std::vector<int> chain(int o) const {
-    std::vector<int> out;
-    for (int k = o; k >= 0; k = wc_.objects[k].parent) out.push_back(k);
+    std::vector<int> out = {o};
+    for (int k = wc_.objects[o].parent; k >= 0; k = wc_.objects[k].parent)
+      if (wc_.types[wc_.objects[k].type].container) out.push_back(k);
     return out;
   }
 
@@ -516,6 +551,7 @@ class Run {
   EventLog events_;
   std::map<std::tuple<int, int, int, int>, double> last_contact_;
   std::map<int, bool> released_;  // released objects: landed yet?
+  std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::set<int> rested_;
   std::set<std::pair<int, int>> over_limit_;
   bool failed_ = false;

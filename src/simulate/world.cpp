@@ -1,6 +1,9 @@
 #include "simulate/world.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdarg>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <deque>
@@ -22,9 +25,24 @@ constexpr int kMaxContacts = 8;      // per geom pair and step
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
 
+/// ODE's messages (not its errors): "LCP internal error" when a step's solver gives up on a
+/// contact, printed for every step (592 lines for a 1 mg drum in a gripper). Shown once a run.
+std::atomic<bool> ode_message_shown{false};
+void ode_message(int num, const char* msg, va_list ap) {
+  if (ode_message_shown.exchange(true)) return;
+  std::fprintf(stderr, "warning: ODE message %d: ", num);
+  std::vfprintf(stderr, msg, ap);
+  std::fprintf(stderr, " (the physics solver struggled with a contact, usually a body far lighter than what touches it; "
+                       "further ODE messages of this run are not shown)\n");
+}
+
 void init_ode() {
   static std::once_flag once;
-  std::call_once(once, [] { dInitODE2(0); });
+  std::call_once(once, [] {
+    dInitODE2(0);
+    dSetMessageHandler(ode_message);
+  });
+  ode_message_shown = false;
 }
 
 void to_ode(const Eigen::Matrix3d& R, dMatrix3 out) {
@@ -218,8 +236,8 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.bodies.assign(n, nullptr);
   w.X_body_object.assign(n, Eigen::Isometry3d::Identity());
   w.masses.assign(n, 0);
-  // Objects that hold others (rooms, containers) are spaces, not solids: they are not
-  // collision geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
+  // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
+  // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
   const double floor = sscs::floor_z(wc, geometry);
   w.floor = floor;
@@ -478,6 +496,7 @@ void PhysicsWorld::grasp(int device, int o) {
   auto it = w.devices.find(device);
   if (it == w.devices.end() || w.grips.count(device)) return;
   make_dynamic(o);
+  if (!w.bodies[o]) return;  // no solid (the plan refuses containers): nothing to hold
   const Device& d = *w.geometry.objects[device].device;
   Impl::Grip grip;
   grip.object = o;

@@ -516,6 +516,45 @@ def simulate(sscs, root):
     print("ok simulate")
 
 
+def agreement(sscs, root):
+    """check and simulate agree where a new user found them apart (tests/data/agreement): a
+    pedestal an arm stands on is a solid to both, forks pushed into a pallet's blocks fail reach
+    and collide in the run (the first touch under 1 mm hid the rest), min_clearance follows the
+    deepest penetration, and a drum on a lifted pallet rides on it."""
+    data = "tests/data/agreement"
+    p = run(sscs, root, ["check", f"{data}/pedestal.yaml"])
+    if p.returncode != 1 or "Robot reaches [5, 4.6, 0.5] only in collision: part link6 hits Ped by 0.2 m" not in p.stdout:
+        fail("reach into the arm's own pedestal must fail", p)
+    p = run(sscs, root, ["check", f"{data}/forks.yaml"])
+    if p.returncode != 1 or "1 passed, 1 failed" not in p.stdout or \
+            "Truck reaches P.fork_pockets only with its tool inside P: part carriage enters it by 0.039 m" not in p.stdout:
+        fail("forks from the long side pass, from the short side fail", p)
+    with tempfile.TemporaryDirectory() as tmp:
+        def events_of(name):
+            out = os.path.join(tmp, name)
+            p = run(sscs, root, ["simulate", f"{data}/{name}.yaml", "--out", out, "--quiet"])
+            summary = json.load(open(os.path.join(out, "summary.json")))
+            events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+            return p, summary, events, out
+        p, summary, events, _ = events_of("pedestal-dive")
+        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"Ped", "Robot.link6"}]
+        if p.returncode != 1 or summary["status"] != "violations" or not hits:
+            fail(f"the arm diving into its pedestal must collide: {events}", p)
+        p, summary, events, _ = events_of("forks-short-side")
+        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"P", "Truck.carriage"}]
+        if p.returncode != 1 or not hits or summary["min_clearance"]["distance"] > -0.035:
+            fail(f"forks into the blocks must collide, min_clearance about -0.039: {summary['min_clearance']} {events}", p)
+        p, summary, events, out = events_of("forks-lift")
+        if p.returncode != 0 or summary["status"] != "ok" or any(e["kind"] == "collision" for e in events):
+            fail(f"lifting a pallet with a drum on it runs ok: {events}", p)
+        last = {}
+        for row in open(os.path.join(out, "objects.csv")).read().splitlines()[1:]:
+            cols = row.split(",")
+            last[cols[1]] = [float(x) for x in cols[2:5]]
+        if abs(last["P"][2] - 0.5) > 0.005 or abs(last["D"][2] - 0.644) > 0.005:
+            fail(f"the drum rides on the lifted pallet (P z 0.5, D z 0.644): {last}")
+
+
 def read_png(path):
     """(width, height, rows of RGB bytes) of an 8-bit RGB PNG, without third-party modules."""
     import struct
@@ -1556,7 +1595,7 @@ def tutorials(sscs, root):
     print("ok tutorials")
 
 
-MODES = {"simulate": simulate, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+MODES = {"simulate": simulate, "agreement": agreement, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "cli": cli, "tutorials": tutorials}
 
 

@@ -25,6 +25,7 @@
 #include <vector>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainiksolverpos_nr_jl.hpp>
@@ -111,8 +112,11 @@ std::pair<double, double> sample_range(const sscs::Chain& chain, int k) {
   return {lo, hi};
 }
 
-/// `type` of the standard library (or of `options.library_dirs`).
-int run(const std::string& type, int samples, const sscs::CompileOptions& options = {}, const std::string& base = "") {
+/// `type` of the standard library (or of `options.library_dirs`), printed as `label` (else its
+/// name); `type_file` (a temporary file standing for `--urdf ...`) is named as `label` in errors.
+int run(const std::string& type, int samples, const sscs::CompileOptions& options = {}, const std::string& base = "",
+        const std::string& label = "", const std::string& type_file = "") {
+  const std::string name = label.empty() ? type : label;
   sscs::Sources sources;
   sscs::Diagnostics diag;
   uint32_t file = sources.add("bench.yaml", "sscs: 1\nvault: Bench\nobjects:\n  - {type: " + type + ", name: R}\n");
@@ -122,7 +126,13 @@ int run(const std::string& type, int samples, const sscs::CompileOptions& option
   sscs::GeometryModel geometry;
   if (wc) geometry = sscs::build_geometry(*wc, diag);
   if (diag.has_errors() || !wc) {
-    std::fputs(diag.format(sources).c_str(), stderr);
+    std::string text = diag.format(sources);
+    // An error at the temporary type's `urdf:` line is the URDF's: say which one, not the file.
+    for (size_t at; !type_file.empty() && (at = text.find(type_file)) != std::string::npos;)
+      text.replace(at, text.find(": ", at) - at, name);
+    for (size_t at; !type_file.empty() && (at = text.find("'" + type + "'")) != std::string::npos;)
+      text.replace(at, type.size() + 2, "the robot");
+    std::fputs(text.c_str(), stderr);
     return 2;
   }
   const sscs::Device& d = *geometry.objects[0].device;
@@ -133,6 +143,10 @@ int run(const std::string& type, int samples, const sscs::CompileOptions& option
   }
   sscs::Chain chain(d);
   const int n = chain.size();
+  if (n == 0) {  // base = tip, or only fixed joints between them: there is nothing to solve
+    std::fprintf(stderr, "ik_vs_kdl: %s has no joint between its base and its tool: nothing to solve\n", name.c_str());
+    return 2;
+  }
   KDL::Chain kchain = kdl_chain(d);
   KDL::JntArray ll(n), ul(n), nominal(n);
   Eigen::VectorXd nominal_q(n);
@@ -163,7 +177,7 @@ int run(const std::string& type, int samples, const sscs::CompileOptions& option
     fk.JntToCart(q, F);
     worst = std::max(worst, sscs::pose_error(from_kdl(F), chain.forward(configs[i])).cwiseAbs().maxCoeff());
   }
-  std::printf("%s: %d joints, %d samples, KDL and sscs forward kinematics agree to %.1e\n", type.c_str(), n, samples, worst);
+  std::printf("%s: %d joints, %d samples, KDL and sscs forward kinematics agree to %.1e\n", name.c_str(), n, samples, worst);
   if (worst > 1e-9) return 1;
 
   Stats ours, theirs;
@@ -230,7 +244,8 @@ int run_urdf(const std::string& urdf, const std::string& base, const std::string
   sscs::CompileOptions options;
   options.library_dirs = {dir.string()};
   options.package_paths = package_paths;
-  int status = run("bench_robot", samples, options, base);
+  const fs::path type_file = dir / "types" / "bench_robot.yaml";
+  int status = run("bench_robot", samples, options, base, fmt::format("{} ({} to {})", urdf, base, tip), type_file.string());
   std::error_code ec;
   fs::remove_all(dir, ec);
   return status;

@@ -151,27 +151,33 @@ TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
 
 TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
   // The tool may touch its target, but a point inside the target's solid is reached only by a
-  // tool buried in it: that was a pass. A frame on the surface passes; a container (an object
-  // that holds others) is a space, not a solid.
+  // tool buried in it: that was a pass. A frame on the surface passes; a container (a type with
+  // `container: true`) is a space, not a solid; a block that merely is a parent is a solid.
   options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
                                                 "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
                                                 "tool: {part: c, xyz: [0, 0, 0.5]}\n"},
                                     {"block", "sscs: 1\ntype: block\nframes:\n  side: {xyz: [-0.2, 0, 0]}\n"
-                                              "geometry:\n  - box: {size: [0.4, 0.4, 0.4]}\n"}})};
+                                              "geometry:\n  - box: {size: [0.4, 0.4, 0.4]}\n"},
+                                    {"bin", "sscs: 1\ntype: bin\nextends: block\ncontainer: true\n"}})};
   Workcell wc = must_compile(
       "objects:\n  - {type: slider, name: S}\n  - {type: block, name: K, location: [2, 0, 0.5]}\n"
-      "  - {type: block, name: Box, location: [3.5, 0, 0.5]}\n  - {type: drum, name: D, parent: Box, location: [0, 0, -0.1], diameter: 0.1, height: 0.1}\n"
+      "  - {type: bin, name: Box, location: [3.5, 0, 0.5]}\n  - {type: drum, name: D, parent: Box, location: [0, 0, -0.1], diameter: 0.1, height: 0.1}\n"
+      "  - {type: block, name: Plinth, location: [1, 1.5, 0.5]}\n  - {type: drum, name: E, parent: Plinth, location: [0, 0, 0.2], diameter: 0.1, height: 0.1}\n"
       "constraints:\n  - {name: buried, reach: {device: S, targets: [K]}}\n"
       "  - {name: surface, reach: {device: S, targets: [K.side]}}\n"
-      "  - {name: container, reach: {device: S, targets: [Box]}}\n");
+      "  - {name: container, reach: {device: S, targets: [Box]}}\n"
+      "  - {name: parent, reach: {device: S, targets: [Plinth]}}\n");
   CheckReport rep = check(wc, build_geometry(wc, diag));
-  ASSERT_EQ(rep.results.size(), 3u);
+  ASSERT_EQ(rep.results.size(), 4u);
   EXPECT_EQ(rep.results[0].status, Status::Fail);
   EXPECT_NEAR(*rep.results[0].margin, -0.2, 1e-12);
   EXPECT_EQ(rep.results[0].message, "K lies 0.2 m inside the solid of K: a tool reaches it only buried in the object "
                                     "(aim at a frame on its surface, such as top)");
   EXPECT_EQ(rep.results[1].status, Status::Pass) << rep.results[1].message;
   EXPECT_EQ(rep.results[2].status, Status::Pass) << rep.results[2].message;
+  EXPECT_EQ(rep.results[3].status, Status::Fail);  // being a parent made it a space: a pass
+  EXPECT_EQ(rep.results[3].message, "Plinth lies 0.2 m inside the solid of Plinth: a tool reaches it only buried in the object "
+                                    "(aim at a frame on its surface, such as top)");
 }
 
 TEST_F(Check, NoReachSolutionGoesBelowTheFloorOrIntoItsTarget) {

@@ -580,7 +580,7 @@ TEST_F(Vendor, WhatTheUrdfLeavesToDefaultsIsWarnedAtItsLine) {
   }
   EXPECT_EQ(warnings["joint 'joint_2': <limit velocity=\"0\"> is taken as not given: it moves at the default 90 deg/s (write its "
                      "speed to time runs)"], line_of("effort=\"0\""));
-  EXPECT_EQ(warnings["joint 'joint_2': <limit effort=\"0\"> is taken as not given: its drive has no torque limit in a run (1e5 N m)"],
+  EXPECT_EQ(warnings["joint 'joint_2': <limit effort=\"0\"> is taken as not given: a run drives it with the default torque, 1e5 N m"],
             line_of("effort=\"0\""));
   EXPECT_EQ(warnings["joint 'finger_right_joint': <mimic joint=\"finger_joint\"> names no joint of this robot (sscs moves mimic "
                      "joints on their own, so nothing changes here)"], line_of("<mimic"));
@@ -590,6 +590,73 @@ TEST_F(Vendor, WhatTheUrdfLeavesToDefaultsIsWarnedAtItsLine) {
   EXPECT_DOUBLE_EQ(d->joint(0).upper, 2.5);
   EXPECT_EQ(d->joint(1).velocity, 0.0);  // the run's default speed applies
   EXPECT_EQ(d->joint(1).effort, 0.0);
+}
+
+TEST_F(Vendor, PackagesAreFoundByTheirManifestsNameInANestedWorkspace) {
+  // A colcon workspace: the package's folder is named after its git repository, not the package;
+  // ROS finds it by package.xml's <name>, and so does sscs (it did not: "no package").
+  namespace fs = std::filesystem;
+  const fs::path ws = fs::temp_directory_path() / "sscs_ws_test";
+  fs::remove_all(ws);
+  const fs::path pkg = ws / "src" / "acme" / "rx6-support-git";
+  fs::create_directories(pkg);
+  fs::copy(data + "/acme_rx6_support/meshes", pkg / "meshes", fs::copy_options::recursive);
+  std::ofstream(pkg / "package.xml") << "<?xml version=\"1.0\"?>\n<package format=\"3\">\n  <name>acme_rx6_support</name>\n"
+                                        "  <version>1.0.0</version>\n</package>\n";
+  const std::string dir = rx6_dir([&](std::string& text) {
+    const std::string absolute = data + "/acme_rx6_support/meshes/visual/";
+    for (size_t at; (at = text.find(absolute)) != std::string::npos;)
+      text.replace(at, absolute.size(), "package://acme_rx6_support/meshes/visual/");
+  });
+  options.package_paths = {ws.string()};
+  auto d = device("  - {type: rx6, name: R}\n", dir);
+  ASSERT_TRUE(d) << diag.format(sources);
+  EXPECT_TRUE(diag.warnings().empty()) << diag.format(sources);  // its visual meshes were found
+  // Without the manifest only a folder named like the package would do: the visual is not found
+  // (a warning: the link has collision shapes), naming the package.
+  const fs::path plain = fs::temp_directory_path() / "sscs_ws_test_plain";
+  fs::remove_all(plain);
+  fs::create_directories(plain / "src");
+  fs::copy(ws / "src", plain / "src", fs::copy_options::recursive);
+  fs::remove(plain / "src" / "acme" / "rx6-support-git" / "package.xml");
+  diag = Diagnostics();
+  options.package_paths = {plain.string()};
+  d = device("  - {type: rx6, name: R}\n", dir);
+  ASSERT_TRUE(d);
+  ASSERT_FALSE(diag.warnings().empty());
+  EXPECT_NE(diag.warnings()[0].message.find("no package 'acme_rx6_support'"), std::string::npos) << diag.warnings()[0].message;
+  fs::remove_all(ws);
+  fs::remove_all(plain);
+}
+
+TEST_F(Vendor, AZeroAxisAnUnderflowAndAnUnnamedSrdfAreReportedInTheirFiles) {
+  struct Case {
+    const char* written;
+    const char* made;
+    const char* error;
+  };
+  const Case cases[] = {
+      {"<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 0\"/>",
+       "joint 'joint_2': <axis xyz=\"0 0 0\"> is the zero vector: a joint needs a direction (write its unit axis, such as \"0 0 1\")"},
+      {"<mass value=\"20\"/>", "<mass value=\"1e-400\"/>",
+       "<mass value>: expected a finite mass in kg (not negative), found '1e-400': '1e-400' is closer to 0 than a double can hold (write 0)"},
+  };
+  for (const Case& c : cases) {
+    const std::string dir = rx6_dir([&](std::string& text) { text.replace(text.find(c.written), std::strlen(c.written), c.made); });
+    diag = Diagnostics();
+    options.library_dirs = {dir};
+    EXPECT_EQ(first_error("objects:\n  - {type: rx6, name: R}\n"), c.error);
+    ASSERT_FALSE(diag.errors().empty());
+    EXPECT_EQ(sources.path(diag.errors()[0].mark.file), dir + "/rx6.urdf");
+  }
+  auto dir = std::filesystem::path(type_dir({}));
+  std::ofstream(dir / "rx6.srdf") << "<robot>\n  <disable_collisions link1=\"link_4\" link2=\"link_6\"/>\n</robot>\n";
+  std::ofstream(dir / "rx6.yaml") << rx6_type("srdf: rx6.srdf\n");
+  diag = Diagnostics();
+  auto d = device("  - {type: rx6, name: R}\n", dir.string());
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 1u) << diag.format(sources);
+  EXPECT_EQ(diag.warnings()[0].message, "this SRDF's <robot> has no name (MoveIt requires one: the URDF's, 'acme_rx6')");
 }
 
 TEST_F(Vendor, EveryNumberOfTheUrdfThatIsNotFiniteIsAnErrorAtItsLine) {
