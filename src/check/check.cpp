@@ -434,13 +434,15 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   opt.iterations_per_attempt = 60;
   opt.max_attempts = 100;
   opt.time_limit = 2.0;  // a backstop only: the iteration budget ends a solve, deterministically
-  // Objects of its parent chain: the rooms it stands in are spaces; what it stands on (a
-  // pedestal) its base may touch, but no part a joint moves may enter it.
+  // Containers (rooms) are spaces, as in a run: no obstacle, the device's own or another. What it
+  // stands on (a pedestal of its parent chain) its base may touch; no part a joint moves may.
   std::vector<int> related, stands_on;
   const std::vector<char> is_container = containers(wc);
-  for (size_t k = 0; k < wc.objects.size(); ++k)
-    if (static_cast<int>(k) != rc.device && wc.related(rc.device, static_cast<int>(k)))
-      (is_container[k] ? related : stands_on).push_back(static_cast<int>(k));
+  for (size_t k = 0; k < wc.objects.size(); ++k) {
+    if (static_cast<int>(k) == rc.device) continue;
+    if (is_container[k]) related.push_back(static_cast<int>(k));
+    else if (wc.related(rc.device, static_cast<int>(k))) stands_on.push_back(static_cast<int>(k));
+  }
   // The tool meets its target: the tool's part and the parts it carries may touch the target
   // object, the rest of the device may not.
   const std::vector<char> tool_parts = d.tool_parts();

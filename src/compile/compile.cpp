@@ -34,7 +34,7 @@ int Workcell::find_object(std::string_view n) const {
 
 std::vector<std::string> Workcell::frame_names(int t) const {
   std::vector<std::string> names = {"origin", "top"};
-  for (int k = t; k >= 0; k = types[k].base) {
+  for (int k : lineage(t)) {
     const TypeSpec& spec = *types[k].spec;
     for (const FrameSpec& f : spec.frames) names.push_back(f.name);
     if (spec.device) {
@@ -73,10 +73,15 @@ std::optional<std::vector<int>> Workcell::select(std::string_view item) const {
   return out;
 }
 
+std::vector<int> Workcell::lineage(int t) const {
+  std::vector<int> out;
+  for (; t >= 0; t = types[t].base) out.push_back(t);
+  return out;
+}
+
 bool Workcell::is_a(int t, int ancestor) const {
-  for (; t >= 0; t = types[t].base)
-    if (t == ancestor) return true;
-  return false;
+  const std::vector<int> line = lineage(t);
+  return std::find(line.begin(), line.end(), ancestor) != line.end();
 }
 
 bool Workcell::related(int a, int b) const {
@@ -515,7 +520,7 @@ void expand_objects(CompileState& st) {
     int type = static_cast<int>(t - st.wc.types.begin());
     // A type whose files are broken is an error where it is used (once), its base's problems too;
     // no object is built of it.
-    for (int k = type; k >= 0; k = st.wc.types[k].base)
+    for (int k : st.wc.lineage(type))
       if (st.reported_types.insert(k).second)
         for (const Diagnostic& d : st.wc.types[k].problems) {
           if (d.warning) st.diag.warning(d.mark, d.message);

@@ -390,6 +390,12 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       t.device = t.device || types[base->second].device;
       t.container = t.container || types[base->second].container;
     }
+    // A container's geometry is all space: a column drawn into a room would stop nothing.
+    if (t.container && spec.geometry.size() > 1)
+      d.warning(spec.geometry[1].mark, fmt::format("type '{}' is a container (a space, as a room's box is its inside): all {} of its "
+                                                   "shapes are space, none stops a device or a falling drum; make a solid inside "
+                                                   "it, such as a column, an object of its own",
+                                                   spec.name, spec.geometry.size()));
     for (const AttributeDecl& decl : spec.attributes) {
       AttributeDef a = make_attribute(decl, d);
       int existing = t.find_attribute(a.name);

@@ -195,6 +195,9 @@ struct Workcell {
   /// does not exist (a glob that matches nothing selects nothing).
   std::optional<std::vector<int>> select(std::string_view item) const;
   /// Whether type `t` is `ancestor` or derives from it.
+  /// Type `t`, then the type it extends, and so on up to `object` (the one walk of the
+  /// inheritance chain; reverse it for the root first).
+  std::vector<int> lineage(int t) const;
   bool is_a(int t, int ancestor) const;
   /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.
   bool related(int a, int b) const;

@@ -333,8 +333,8 @@ class Builder {
 
 /// The type (itself or an ancestor) that carries an object type's device parts, or nullptr.
 const TypeSpec* device_spec(const Workcell& wc, int t) {
-  for (; t >= 0; t = wc.types[t].base)
-    if (wc.types[t].spec->device) return wc.types[t].spec.get();
+  for (int k : wc.lineage(t))
+    if (wc.types[k].spec->device) return wc.types[k].spec.get();
   return nullptr;
 }
 
@@ -369,7 +369,8 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
     const Object& o = wc.objects[i];
     // A type without its own geometry inherits its base type's.
     int t = o.type;
-    while (!wc.types[t].spec->has_geometry && wc.types[t].base >= 0) t = wc.types[t].base;
+    const std::vector<int> line = wc.lineage(t);  // the nearest with geometry, else the root type
+    t = *std::find_if(line.begin(), line.end() - 1, [&](int k) { return wc.types[k].spec->has_geometry; });
     const TypeSpec& spec = *wc.types[t].spec;
     ObjectGeometry& g = model.objects[i];
     int obj = static_cast<int>(i);
@@ -410,7 +411,7 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
-    for (int k = o.type; k >= 0; k = wc.types[k].base)
+    for (int k : wc.lineage(o.type))
       if (const Scalar& m = wc.types[k].spec->mass; m.present) {
         g.declared_mass = build.value(m, Dim::Mass, obj, NAN);
         if (!(g.declared_mass > 0) || !std::isfinite(g.declared_mass))
@@ -425,8 +426,8 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       diag.error(o.mark, fmt::format("'{}' reaches {} m from the origin (its parents' locations added), beyond the "
                                      "{:g} m (1000 km) sscs places things within", o.name, number_text(far.maxCoeff()), kMaxLengthSi));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
-    std::vector<int> chain;
-    for (int k = o.type; k >= 0; k = wc.types[k].base) chain.insert(chain.begin(), k);
+    std::vector<int> chain = wc.lineage(o.type);
+    std::reverse(chain.begin(), chain.end());
     for (int k : chain)
       for (const FrameSpec& f : wc.types[k].spec->frames) {
         Eigen::Isometry3d X = g.X_world_object * build.pose(f.pose, obj);

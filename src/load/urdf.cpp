@@ -158,7 +158,9 @@ class Converter {
                                                 : fmt::format("the package paths ({})", fmt::join(roots, ", "))));
       return std::nullopt;
     }
-    fs::path p = uri.starts_with("file://") ? fs::path(uri.substr(7)) : fs::path(uri);
+    // file:///abs/path, or file://localhost/abs/path (RFC 8089's explicit local host).
+    const std::string local = uri.starts_with("file://localhost/") ? uri.substr(16) : uri.starts_with("file://") ? uri.substr(7) : uri;
+    fs::path p(local);
     if (uri.starts_with("file://") && p.is_relative()) {  // file://meshes/a.stl names host 'meshes' (RFC 8089)
       (this->*report)(fmt::format("mesh '{}': a file:// URI names an absolute path (file:///...); write a path relative to "
                                   "the URDF without file://", uri));

@@ -46,7 +46,7 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   // `top` (what a reach or move_to targets by default), then the frames the type files name.
   out.frames.emplace_back("top", g.frame_pose("top"));
   std::vector<std::string> named;
-  for (int k = wc->objects[0].type; k >= 0; k = wc->types[k].base)
+  for (int k : wc->lineage(wc->objects[0].type))
     for (const FrameSpec& f : wc->types[k].spec->frames) named.push_back(f.name);
   std::sort(named.begin(), named.end());
   named.erase(std::unique(named.begin(), named.end()), named.end());

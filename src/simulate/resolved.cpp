@@ -172,7 +172,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   // The types the vault's objects use, with the types they extend.
   std::set<int> used;
   for (const Object& o : wc.objects)
-    for (int t = o.type; t >= 0 && used.insert(t).second; t = wc.types[t].base) {}
+    for (int t : wc.lineage(o.type)) used.insert(t);
   std::set<std::string> meshes;
   for (int t : used) {
     const TypeSpec& spec = *wc.types[t].spec;

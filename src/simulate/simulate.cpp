@@ -99,8 +99,11 @@ class Run {
             world_.grasp(ps.device, ps.object);
             events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
             // What the load stood on when lifted is no clearance to report.
+            // What it stands on: near it, and below its bottom (a drum resting on the pallet is
+            // no support of the pallet: lifting the pallet 4 mm into it was excused).
+            const double bottom = live_.objects[ps.object].bbox_world.min().z();
             for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
-              supports_.insert({ps.object, other});
+              if (live_.objects[other].bbox_world.max().z() <= bottom + kSupportGap) supports_.insert({ps.object, other});
             if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
             // What stands on the load (its children in the vault, and theirs) rides with it as
             // free bodies: drums on a pallet a forklift lifts (they stood still in the air).
@@ -230,6 +233,16 @@ class Run {
 
   std::string part_name(int o, int part) const { return run_part_name(wc_, geometry_, o, part); }
 
+  /// How far device `d`'s tool is from where its plan puts it at t (m).
+  double lag_now(int d, double t) const {
+    for (const DeviceRun& dr : devices_)
+      if (dr.object == d) {
+        const Device& m = *geometry_.objects[d].device;
+        return (tool_now(d) - (geometry_.objects[d].X_world_object * m.tool_pose(dr.track->at(t))).translation()).norm();
+      }
+    return 0;
+  }
+
   void step_event(double t, EventKind kind, const PlannedStep& ps) {
     nlohmann::ordered_json f = {{"step", ps.index}, {"action", step_kind_name(ps.kind)}};
     if (ps.device >= 0) f["device"] = wc_.objects[ps.device].name;
@@ -255,6 +268,9 @@ class Run {
       if (!geometry_.objects[dev].device->tool_parts()[part]) continue;
       if (world_.held(dev) == other) return true;
       if (c.depth >= kTargetTouch) continue;
+      // A touch that holds the tool back from its plan is a collision too: motors do not sink a
+      // tool into scenery, it is stopped (a tool planned 4 mm into a drum touched it by 5 um).
+      if (lag_now(dev, t) > kTargetTouch) continue;
       std::vector<int> loads = handled(dev, t);
       if (std::find(loads.begin(), loads.end(), other) != loads.end()) return true;
       if (move_target(dev, t) == other) return true;
@@ -381,12 +397,12 @@ class Run {
     return p;
   }
 
-  /// The object and the containers it stands in (its room): what it stands in is not a
-  /// clearance. Other parents (an arm's pedestal, a drum's pallet) are solids like any other.
+  /// The object and the containers (rooms): spaces, as the physics has them, not clearances.
+  /// Other parents (an arm's pedestal, a drum's pallet) are solids like any other.
   std::vector<int> chain(int o) const {
     std::vector<int> out = {o};
-    for (int k = wc_.objects[o].parent; k >= 0; k = wc_.objects[k].parent)
-      if (wc_.types[wc_.objects[k].type].container) out.push_back(k);
+    for (size_t k = 0; k < wc_.objects.size(); ++k)
+      if (wc_.types[wc_.objects[k].type].container && static_cast<int>(k) != o) out.push_back(static_cast<int>(k));
     return out;
   }
 
