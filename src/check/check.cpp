@@ -448,7 +448,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   const std::vector<char> tool_parts = d.tool_parts();
   // The floor, as a run has it: no part a joint moves may go below it (a target under the floor
   // passed: the floor was no obstacle).
-  const double floor = floor_z(wc, st.geometry);
+  const double floor = floor_under(wc, st.geometry, rc.device);
   const std::vector<char> moved = d.moved_parts();
   auto below_floor = [&](const std::vector<Eigen::Isometry3d>& X_world_part) -> std::optional<Collision> {
     std::optional<Collision> deepest;

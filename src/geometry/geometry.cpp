@@ -37,6 +37,53 @@ double floor_z(const Workcell& wc, const GeometryModel& geometry) {
   return floor.value_or(0);
 }
 
+double floor_under(const Workcell& wc, const GeometryModel& geometry, int object) {
+  for (int k = wc.objects[object].parent; k >= 0; k = wc.objects[k].parent)
+    if (wc.types[wc.objects[k].type].container && !geometry.objects[k].bbox_world.isEmpty())
+      return geometry.objects[k].bbox_world.min().z();
+  return floor_z(wc, geometry);
+}
+
+std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryModel& geometry, double thickness) {
+  const double plane = floor_z(wc, geometry);
+  const std::vector<char> container = containers(wc);
+  std::vector<Eigen::AlignedBox3d> out;
+  for (size_t c = 0; c < wc.objects.size(); ++c) {
+    const Eigen::AlignedBox3d& box = geometry.objects[c].bbox_world;
+    if (!container[c] || box.isEmpty() || box.min().z() <= plane + 1e-9) continue;
+    const double z = box.min().z();
+    // The footprint as rectangles, each pit (a container below it, opening lower) cut out.
+    std::vector<Eigen::AlignedBox2d> pieces = {Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())};
+    for (size_t h = 0; h < wc.objects.size(); ++h) {
+      const Eigen::AlignedBox3d& pit = geometry.objects[h].bbox_world;
+      bool inside = false;  // h stands in c (a descendant, not an ancestor)
+      for (int k = wc.objects[h].parent; k >= 0 && !inside; k = wc.objects[k].parent) inside = k == static_cast<int>(c);
+      if (!inside || !container[h] || pit.isEmpty() || pit.min().z() >= z - 1e-9) continue;
+      const Eigen::AlignedBox2d hole(pit.min().head<2>(), pit.max().head<2>());
+      std::vector<Eigen::AlignedBox2d> kept;
+      for (const Eigen::AlignedBox2d& r : pieces) {
+        const Eigen::AlignedBox2d cut = r.intersection(hole);
+        if (cut.isEmpty() || (cut.sizes().array() <= 0).any()) {
+          kept.push_back(r);
+          continue;
+        }
+        // Up to four rectangles around the hole: the strips left and right of it, then below and above it.
+        auto add = [&](double x0, double y0, double x1, double y1) {
+          if (x1 > x0 && y1 > y0) kept.emplace_back(Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y1));
+        };
+        add(r.min().x(), r.min().y(), cut.min().x(), r.max().y());
+        add(cut.max().x(), r.min().y(), r.max().x(), r.max().y());
+        add(cut.min().x(), r.min().y(), cut.max().x(), cut.min().y());
+        add(cut.min().x(), cut.max().y(), cut.max().x(), r.max().y());
+      }
+      pieces = std::move(kept);
+    }
+    for (const Eigen::AlignedBox2d& r : pieces)
+      out.emplace_back(Eigen::Vector3d(r.min().x(), r.min().y(), z - thickness), Eigen::Vector3d(r.max().x(), r.max().y(), z));
+  }
+  return out;
+}
+
 Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
   Eigen::AlignedBox3d box;
   const Eigen::Matrix3d& R = X.linear();

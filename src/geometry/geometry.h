@@ -73,6 +73,16 @@ std::vector<char> containers(const Workcell& wc);
 /// The floor the physics and reach stand things on: the bottom of the lowest container, else z = 0.
 double floor_z(const Workcell& wc, const GeometryModel& geometry);
 
+/// The floor under `object`: the bottom of the nearest container it stands in (its room: a
+/// mezzanine room's floor is its own), else floor_z().
+double floor_under(const Workcell& wc, const GeometryModel& geometry, int object);
+
+/// The floors the physics adds above its plane at floor_z(): for each container whose bottom
+/// lies above it, its footprint at its bottom (world boxes `thickness` deep), less the footprints
+/// of the containers inside it that open below it (a pit in a hall). Axis-aligned: a container
+/// turned about z gives the box around it.
+std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryModel& geometry, double thickness);
+
 /// World-frame axis-aligned bounds of one shape placed at X_world_shape.
 Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);
 

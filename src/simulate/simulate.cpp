@@ -104,7 +104,7 @@ class Run {
             const double bottom = live_.objects[ps.object].bbox_world.min().z();
             for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
               if (live_.objects[other].bbox_world.max().z() <= bottom + kSupportGap) supports_.insert({ps.object, other});
-            if (live_.objects[ps.object].bbox_world.min().z() <= kSupportGap) supports_.insert({ps.object, -1});  // the floor
+            if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
             // What stands on the load (its children in the vault, and theirs) rides with it as
             // free bodies: drums on a pallet a forklift lifts (they stood still in the air).
             for (size_t k = 0; k < wc_.objects.size(); ++k)

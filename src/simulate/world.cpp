@@ -24,6 +24,7 @@ constexpr double kGravity = 9.80665;
 constexpr int kMaxContacts = 8;      // per geom pair and step
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
+constexpr double kSlabThickness = 0.2;  // m: the floor of a room above the lowest
 
 /// ODE's messages (not its errors): "LCP internal error" when a step's solver gives up on a
 /// contact, printed for every step (592 lines for a 1 mg drum in a gripper). Shown once a run.
@@ -243,6 +244,13 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.floor = floor;
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);
   w.tag(plane, -1, -1);
+  // Rooms above the lowest (a mezzanine, a hall beside a pit) stand on floors of their own.
+  for (const Eigen::AlignedBox3d& slab : floor_slabs(wc, geometry, kSlabThickness)) {
+    const Eigen::Vector3d size = slab.sizes(), centre = slab.center();
+    dGeomID g = dCreateBox(w.space, size.x(), size.y(), size.z());
+    dGeomSetPosition(g, centre.x(), centre.y(), centre.z());
+    w.tag(g, -1, -1);
+  }
   for (size_t i = 0; i < n; ++i) {
     if (container[i]) continue;
     const ObjectGeometry& g = geometry.objects[i];

@@ -88,6 +88,35 @@ TEST_F(Physics, TheFloorIsTheBottomOfTheRoom) {
   EXPECT_NEAR(world.pose(d).translation().z(), 2.0, 5e-3);  // dropped 0.3 m onto the room's floor
 }
 
+TEST_F(Physics, EveryRoomStandsOnItsOwnFloorAndAPitOpensInIt) {
+  // The plane is the bottom of the lowest room (a 2 m pit in the hall); the hall and a mezzanine
+  // room have floors of their own (a drum in the hall fell through to the pit's depth).
+  const std::string rooms = "  - {type: room, name: Hall, length: 10, width: 10, height: 6}\n"
+                            "  - {type: room, name: Pit, parent: Hall, location: [6, 6, -2], length: 2, width: 2, height: 2}\n"
+                            "  - {type: room, name: Mezz, parent: Hall, location: [1, 1, 3], length: 3, width: 3, height: 2}\n";
+  struct Case {
+    const char* drum;
+    double rest_z;
+  };
+  for (const Case& c : {Case{"  - {type: drum, name: D, parent: Hall, location: [3, 7, 0.3]}\n", 0.0},
+                        Case{"  - {type: drum, name: D, parent: Pit, location: [1, 1, 2.5]}\n", -2.0},
+                        Case{"  - {type: drum, name: D, parent: Mezz, location: [1.5, 1.5, 0.3]}\n", 3.0}}) {
+    SCOPED_TRACE(c.drum);
+    auto w = world_of(rooms + c.drum, "D");
+    EXPECT_NEAR(w->floor_z(), -2.0, 1e-12);
+    while (w->time() < 2.5) w->step();
+    EXPECT_NEAR(w->pose(d).translation().z(), c.rest_z, 5e-3);
+  }
+  // Reach keeps a device above the floor of the room it stands in.
+  diag = Diagnostics();
+  Workcell cell = must_compile("objects:\n" + rooms + "  - {type: arm6, name: R, parent: Mezz, location: [1.5, 1.5, 0]}\n"
+                               "constraints:\n  - {name: below, reach: {device: R, targets: {xyz: [3.2, 2.5, 2.7]}}}\n");
+  CheckReport rep = check(cell, build_geometry(cell, diag));
+  ASSERT_EQ(rep.results.size(), 1u);
+  EXPECT_EQ(rep.results[0].status, Status::Fail);
+  EXPECT_NE(rep.results[0].message.find("below the floor"), std::string::npos) << rep.results[0].message;
+}
+
 }  // namespace
 }  // namespace sscs::testing
 
