@@ -103,6 +103,7 @@ class Planner {
       if (diag_.full()) break;
     }
     plan_.end = plan_.failure ? plan_.failure->t : t;
+    carried_devices();
     if (diag_.has_errors()) return std::nullopt;
     return std::move(plan_);
   }
@@ -117,6 +118,24 @@ class Planner {
   };
 
   const Device& model(int d) const { return *geometry_.objects[d].device; }
+
+  /// A device standing on another (an arm whose parent is an AGV) is not carried when that one
+  /// moves: it stayed where it was, in the air. An input error at the carrier's first motion.
+  void carried_devices() {
+    for (const PlannedStep& ps : plan_.steps) {
+      if (ps.device < 0 || (ps.kind != StepKind::MoveTo && ps.kind != StepKind::MoveJoints)) continue;
+      for (size_t k = 0; k < wc_.objects.size(); ++k) {
+        if (!geometry_.objects[k].device || static_cast<int>(k) == ps.device) continue;
+        for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
+          if (up == ps.device) {
+            diag_.error(ps.mark, fmt::format("{} stands on {}, which this step moves: sscs does not carry one device on another "
+                                             "(make them one device type, the arm's joints after the vehicle's)",
+                                             wc_.objects[k].name, wc_.objects[ps.device].name));
+            return;
+          }
+      }
+    }
+  }
 
   /// The device named by a step, or -1 (reported).
   int device(const Scalar& s) {
