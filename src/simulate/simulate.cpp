@@ -233,13 +233,16 @@ class Run {
 
   std::string part_name(int o, int part) const { return run_part_name(wc_, geometry_, o, part); }
 
+  /// Where the plan puts a device's tool at t (world).
+  Eigen::Vector3d planned_tool(const DeviceRun& dr, double t) const {
+    const ObjectGeometry& g = geometry_.objects[dr.object];
+    return (g.X_world_object * g.device->tool_pose(dr.track->at(t))).translation();
+  }
+
   /// How far device `d`'s tool is from where its plan puts it at t (m).
   double lag_now(int d, double t) const {
     for (const DeviceRun& dr : devices_)
-      if (dr.object == d) {
-        const Device& m = *geometry_.objects[d].device;
-        return (tool_now(d) - (geometry_.objects[d].X_world_object * m.tool_pose(dr.track->at(t))).translation()).norm();
-      }
+      if (dr.object == d) return (tool_now(d) - planned_tool(dr, t)).norm();
     return 0;
   }
 
@@ -366,9 +369,7 @@ class Run {
   /// it first passed) and `largest_at` when that was.
   void check_tracking(double t) {
     for (DeviceRun& dr : devices_) {
-      const Device& m = *geometry_.objects[dr.object].device;
-      Eigen::Vector3d planned = (geometry_.objects[dr.object].X_world_object * m.tool_pose(dr.track->at(t))).translation();
-      double lag = (dr.tool_prev - planned).norm();
+      double lag = (dr.tool_prev - planned_tool(dr, t)).norm();
       if (lag > kTrackingTolerance && !dr.lagging) {
         dr.lagging = true;
         dr.largest_lag = lag;
