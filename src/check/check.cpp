@@ -355,11 +355,10 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
 }
 
 /// Collision::other of a part that goes below the floor, in reach.
-constexpr int kFloor = -2;
 
 std::string collision_text(const Workcell& wc, const GeometryModel& geometry, int device, const Collision& c) {
   const Device& d = *geometry.objects[device].device;
-  if (c.other == kFloor) return fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth));
+  if (c.other == kFloorObject) return fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth));
   if (c.other < 0)
     return fmt::format("parts {} and {} collide by {:g} m", d.parts[c.part].name, d.parts[c.other_part].name, stable(c.depth));
   std::string other = wc.objects[c.other].name;
@@ -434,33 +433,10 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   opt.iterations_per_attempt = 60;
   opt.max_attempts = 100;
   opt.time_limit = 2.0;  // a backstop only: the iteration budget ends a solve, deterministically
-  // Containers (rooms) are spaces, as in a run: no obstacle, the device's own or another. What it
-  // stands on (a pedestal of its parent chain) its base may touch; no part a joint moves may.
-  std::vector<int> related, stands_on;
+  // Containers are spaces, what the device stands on its base may touch, its tool may touch the
+  // target, no moving part goes into the floors: as the planner and a run judge it.
+  const DeviceClearance clearance(wc, st.geometry, rc.device);
   const std::vector<char> is_container = containers(wc);
-  for (size_t k = 0; k < wc.objects.size(); ++k) {
-    if (static_cast<int>(k) == rc.device) continue;
-    if (is_container[k]) related.push_back(static_cast<int>(k));
-    else if (wc.related(rc.device, static_cast<int>(k))) stands_on.push_back(static_cast<int>(k));
-  }
-  // The tool meets its target: the tool's part and the parts it carries may touch the target
-  // object, the rest of the device may not.
-  const std::vector<char> tool_parts = d.tool_parts();
-  // The floor, as a run has it: no part a joint moves may go below it (a target under the floor
-  // passed: the floor was no obstacle).
-  const double floor = floor_under(wc, st.geometry, rc.device);
-  const std::vector<char> moved = d.moved_parts();
-  auto below_floor = [&](const std::vector<Eigen::Isometry3d>& X_world_part) -> std::optional<Collision> {
-    std::optional<Collision> deepest;
-    for (size_t p = 0; p < d.parts.size(); ++p) {
-      if (!moved[p]) continue;
-      for (const Shape& s : d.parts[p].shapes) {  // placed in their part's frame, as the physics places them
-        const double depth = floor - shape_bounds(s, X_world_part[p] * s.X_object_shape).min().z();
-        if (depth > kTouchTolerance && (!deepest || depth > deepest->depth)) deepest = Collision{kFloor, static_cast<int>(p), -1, depth};
-      }
-    }
-    return deepest;
-  };
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
@@ -491,7 +467,6 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         continue;
       }
     }
-    const std::vector<int>& ignore = related;
     // A candidate is rejected at its first collision (its depth a lower bound: exact mesh depths
     // cost seconds a target); the one reported is measured exactly once the search is over.
     std::optional<Collision> hit;
@@ -499,11 +474,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     auto collision_at = [&](const Eigen::VectorXd& chain_q, bool first) {
       Eigen::VectorXd q = q0;
       chain.to_device(chain_q, q);
-      std::vector<Eigen::Isometry3d> X = d.part_poses(q);
-      for (auto& x : X) x = g.X_world_object * x;
-      auto c = world.device_collision(rc.device, X, ignore, t.object, tool_parts, stands_on, first);
-      if (!c) c = below_floor(X);
-      return c;
+      return clearance.at(world, q, t.object, first);
     };
     auto accept = [&](const Eigen::VectorXd& chain_q) {
       auto c = collision_at(chain_q, true);
@@ -562,7 +533,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       case IkResult::Status::Rejected:
         r.status = Status::Fail;
         r.margin = hit ? -hit->depth : 0.0;
-        if (hit && hit->other >= 0 && hit->other == t.object && hit->part >= 0 && tool_parts[hit->part])
+        if (hit && hit->other >= 0 && hit->other == t.object && hit->part >= 0 && d.tool_parts()[hit->part])
           r.message = fmt::format("{} reaches {} only with its tool inside {}: part {} enters it by {:g} m (a tool may touch its "
                                   "target, by {:g} mm at most)", o.name, t.text, wc.objects[t.object].name, d.parts[hit->part].name,
                                   stable(hit->depth), kTargetTouch * 1000);

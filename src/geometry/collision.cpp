@@ -596,6 +596,105 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
   return deepest;
 }
 
+namespace {
+
+/// The lowest and highest z of the part of a shape (placed in the world) that lies over the
+/// rectangle `plan` (xy), or nullopt when none does. Spheres exactly; other shapes as triangles
+/// clipped to the rectangle (cylinders as the 32-sided prism around them: never shallower).
+std::optional<std::pair<double, double>> z_over(const Shape& shape, const Eigen::Isometry3d& X_world_shape,
+                                                const Eigen::AlignedBox2d& plan) {
+  if (shape.kind == Shape::Kind::Sphere) {
+    const Eigen::Vector3d c = X_world_shape.translation();
+    const Eigen::Vector2d nearest = c.head<2>().cwiseMax(plan.min()).cwiseMin(plan.max());
+    const double d = (nearest - c.head<2>()).norm();
+    if (d > shape.radius) return std::nullopt;
+    const double h = std::sqrt(shape.radius * shape.radius - d * d);
+    return std::pair{c.z() - h, c.z() + h};
+  }
+  Shape placed = shape;
+  placed.X_object_shape = X_world_shape;
+  if (placed.kind == Shape::Kind::Cylinder) placed.radius /= std::cos(std::numbers::pi / 32);
+  const TriangleMesh m = tessellate(placed);
+  std::optional<std::pair<double, double>> range;
+  std::vector<Eigen::Vector3d> poly, next;
+  for (const Eigen::Vector3i& t : m.triangles) {
+    poly = {m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
+    // Sutherland-Hodgman against the rectangle's four sides.
+    for (int side = 0; side < 4 && !poly.empty(); ++side) {
+      const int axis = side / 2;
+      const double bound = side % 2 ? plan.max()[axis] : plan.min()[axis];
+      auto inside = [&](const Eigen::Vector3d& p) { return side % 2 ? p[axis] <= bound : p[axis] >= bound; };
+      next.clear();
+      for (size_t i = 0; i < poly.size(); ++i) {
+        const Eigen::Vector3d &p = poly[i], &q = poly[(i + 1) % poly.size()];
+        if (inside(p)) next.push_back(p);
+        if (inside(p) != inside(q)) next.push_back(p + (q - p) * ((bound - p[axis]) / (q[axis] - p[axis])));
+      }
+      poly.swap(next);
+    }
+    for (const Eigen::Vector3d& v : poly) {
+      if (!range) range = std::pair{v.z(), v.z()};
+      range->first = std::min(range->first, v.z());
+      range->second = std::max(range->second, v.z());
+    }
+  }
+  return range;
+}
+
+}  // namespace
+
+std::optional<Collision> CollisionWorld::into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                                     const std::vector<char>& parts, double plane,
+                                                     const std::vector<Eigen::AlignedBox3d>& slabs) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  if (!g.device) return std::nullopt;
+  std::optional<Collision> deepest;
+  for (size_t p = 0; p < g.device->parts.size(); ++p) {
+    if (p >= parts.size() || !parts[p]) continue;
+    for (const Shape& shape : g.device->parts[p].shapes) {
+      const Eigen::Isometry3d X = X_world_part[p] * shape.X_object_shape;
+      const Eigen::AlignedBox3d bounds = shape_bounds(shape, X);
+      double depth = plane - bounds.min().z();
+      for (const Eigen::AlignedBox3d& slab : slabs) {
+        if (!bounds.intersects(slab)) continue;
+        // How far into the slab the part over its footprint goes, from above or from below.
+        auto z = z_over(shape, X, Eigen::AlignedBox2d(slab.min().head<2>(), slab.max().head<2>()));
+        if (z && z->first < slab.max().z() && z->second > slab.min().z())
+          depth = std::max(depth, std::min(slab.max().z() - z->first, z->second - slab.min().z()));
+      }
+      if (depth > kTouchTolerance && (!deepest || depth > deepest->depth)) deepest = Collision{kFloorObject, static_cast<int>(p), -1, depth};
+    }
+  }
+  return deepest;
+}
+
+DeviceClearance::DeviceClearance(const Workcell& wc, const GeometryModel& geometry, int device)
+    : geometry_(geometry), device_(device) {
+  const std::vector<char> is_container = containers(wc);
+  for (size_t k = 0; k < wc.objects.size(); ++k) {
+    if (static_cast<int>(k) == device) continue;
+    if (is_container[k]) containers_.push_back(static_cast<int>(k));
+    else if (wc.related(device, static_cast<int>(k))) stands_on_.push_back(static_cast<int>(k));
+  }
+  const Device& d = *geometry.objects[device].device;
+  tool_parts_ = d.tool_parts();
+  moved_ = d.moved_parts();
+  plane_ = floor_z(wc, geometry);
+  slabs_ = floor_slabs(wc, geometry, kFloorSlabThickness);
+}
+
+std::optional<Collision> DeviceClearance::at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
+                                             const std::vector<int>& ignore) const {
+  const ObjectGeometry& g = geometry_.objects[device_];
+  std::vector<Eigen::Isometry3d> X = g.device->part_poses(q);
+  for (auto& x : X) x = g.X_world_object * x;
+  std::vector<int> skip = containers_;
+  skip.insert(skip.end(), ignore.begin(), ignore.end());
+  auto c = world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, first);
+  if (!c) c = world.into_floors(device_, X, moved_, plane_, slabs_);
+  return c;
+}
+
 void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   std::vector<Eigen::Isometry3d> X;

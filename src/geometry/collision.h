@@ -15,9 +15,12 @@ constexpr double kTouchTolerance = 1e-6;
 /// How deep a tool may meet its target (a run's move_to, a reach target) without a collision.
 constexpr double kTargetTouch = 0.001;  // m
 
+/// Collision::other of a part that goes into the floor.
+constexpr int kFloorObject = -2;
+
 /// An interpenetration found for a device: with another object, or between two of its parts.
 struct Collision {
-  int other = -1;       ///< the other object, or -1 for a self-collision
+  int other = -1;       ///< the other object, -1 for a self-collision, kFloorObject for the floor
   int part = -1;        ///< the device's part
   int other_part = -1;  ///< the other part (self-collision, or a part of another device)
   double depth = 0;     ///< penetration depth, m
@@ -69,6 +72,14 @@ class CollisionWorld {
                                             const std::vector<char>& tool_parts = {}, const std::vector<int>& stands_on = {},
                                             bool first = false);
 
+  /// The deepest a device's parts marked in `parts`, placed at `X_world_part`, go into the floors
+  /// the physics has (floor_slabs): below the plane at `plane` (their lowest point), or into a
+  /// slab of `slabs` (FCL, exact for the shape: a link reaching over a pit's edge into the pit
+  /// does not touch the slab its bounds overlap). Deeper than kTouchTolerance only;
+  /// Collision::other is kFloorObject.
+  std::optional<Collision> into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                       const std::vector<char>& parts, double plane, const std::vector<Eigen::AlignedBox3d>& slabs);
+
   /// Places `object` at a new world pose (a carried or fallen object).
   void move(int object, const Eigen::Isometry3d& X_world_object);
   /// Places a device's parts at new world poses (one per part: its current joint values).
@@ -100,5 +111,28 @@ class CollisionWorld {
 /// container is not such a shape, the faces do not apply to it, or the object has no geometry.
 std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
                                     uint8_t faces = SpatialCheck::All, double min = 0);
+
+/// How a device's configuration is judged free, the same for `reach` and for the joint values a
+/// scenario's move_to plans (a run's physics has it so): containers (rooms) are spaces; what the
+/// device stands on (its parent chain: a pedestal) only its unmoved parts may touch; the tool's
+/// parts may touch the target object by kTargetTouch; no part a joint moves may go into the
+/// floors (the plane under the lowest room, the slabs of the higher ones, pits open).
+class DeviceClearance {
+ public:
+  DeviceClearance(const Workcell& wc, const GeometryModel& geometry, int device);
+  /// The deepest collision of the device with its joints at `q` (the device's joint vector) in
+  /// `world` as it is placed now, or nullopt. `target`: the object the tool meets (-1: none);
+  /// `ignore`: further objects (a load the tool holds). `first`: see device_collision.
+  std::optional<Collision> at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
+                              const std::vector<int>& ignore = {}) const;
+
+ private:
+  const GeometryModel& geometry_;
+  int device_;
+  std::vector<int> containers_, stands_on_;
+  std::vector<char> tool_parts_, moved_;
+  double plane_ = 0;
+  std::vector<Eigen::AlignedBox3d> slabs_;
+};
 
 }  // namespace sscs

@@ -82,6 +82,9 @@ double floor_under(const Workcell& wc, const GeometryModel& geometry, int object
 /// of the containers inside it that open below it (a pit in a hall). Axis-aligned: a container
 /// turned about z gives the box around it.
 std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryModel& geometry, double thickness);
+/// How deep the physics makes the floor of a room above the lowest (floor_slabs' thickness).
+constexpr double kFloorSlabThickness = 0.2;  // m
+
 
 /// World-frame axis-aligned bounds of one shape placed at X_world_shape.
 Eigen::AlignedBox3d shape_bounds(const Shape& shape, const Eigen::Isometry3d& X_world_shape);

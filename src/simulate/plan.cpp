@@ -5,6 +5,7 @@
 #include <numbers>
 #include <tuple>
 #include <map>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -12,6 +13,7 @@
 #include "core/inertia.h"
 #include "core/names.h"
 #include "core/pose.h"
+#include "geometry/collision.h"
 #include "kinematics/ik.h"
 #include "simulate/world.h"
 
@@ -242,7 +244,7 @@ class Planner {
       if (!target) return t0;
       Eigen::Isometry3d X = *target * offset;
       if (mt->linear) end = move_linear(st, d, X, step, index, start);
-      else end = move_to_joint(st, d, X, speed_fraction(step, false), index, start);
+      else end = move_to_joint(st, d, X, ps.target, speed_fraction(step, false), index, start);
     } else if (const auto* g = std::get_if<GraspSpec>(&step.action)) {
       int o = object(g->object, "grasp");
       ps.object = o;
@@ -339,11 +341,42 @@ class Planner {
     return false;
   }
 
-  double move_to_joint(DeviceState& st, int d, const Eigen::Isometry3d& X_world, double f, size_t index, double start) {
+  /// The collision world as planning has the scene now: loads where they are carried or were
+  /// set down, the other devices at their last planned joint values.
+  CollisionWorld& scene_now() {
+    if (!collisions_) collisions_ = std::make_unique<CollisionWorld>(geometry_);
+    for (const auto& [o, X] : moved_) collisions_->move(o, X);
+    for (const auto& [dev, s] : states_) {
+      if (s.held >= 0) collisions_->move(s.held, object_pose(s.held));
+      std::vector<Eigen::Isometry3d> X = model(dev).part_poses(s.q);
+      for (auto& x : X) x = geometry_.objects[dev].X_world_object * x;
+      collisions_->move_parts(dev, X);
+    }
+    return *collisions_;
+  }
+
+  /// A joint-space move_to ends at joint values that are free as `reach` judges them
+  /// (DeviceClearance, against the scene as planned so far) when the solver finds such: the
+  /// solution nearest the start was taken before, and an arm `check` passed collided in the run
+  /// where a free solution existed. With none free, the nearest (the run shows its collision).
+  /// The path to it is not planned around obstacles.
+  double move_to_joint(DeviceState& st, int d, const Eigen::Isometry3d& X_world, int target_object, double f, size_t index,
+                       double start) {
     const Device& m = model(d);
     Chain chain(m);
     Eigen::Isometry3d target = geometry_.objects[d].X_world_object.inverse() * X_world;
-    IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
+    auto [it, fresh] = clearances_.try_emplace(d, wc_, geometry_, d);
+    const DeviceClearance& clearance = it->second;
+    CollisionWorld& scene = scene_now();
+    std::vector<int> held;
+    if (st.held >= 0) held.push_back(st.held);
+    auto free = [&](const Eigen::VectorXd& chain_q) {
+      Eigen::VectorXd q = st.q;
+      chain.to_device(chain_q, q);
+      return !clearance.at(scene, q, target_object, true, held);
+    };
+    IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options(), free);
+    if (r.status == IkResult::Status::Rejected) r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
     if (!r.ok()) {
       fail(start, EventKind::Unreachable, index, d,
            fmt::format("{} cannot reach the move_to target: best position error {:g} m{}", wc_.objects[d].name, stable(r.position_error),
@@ -482,6 +515,8 @@ class Planner {
   Plan plan_;
   std::map<int, DeviceState> states_;
   std::map<int, Eigen::Isometry3d> moved_;
+  std::unique_ptr<CollisionWorld> collisions_;    // built at the first move_to
+  std::map<int, DeviceClearance> clearances_;     // per device moved to a target
 };
 
 }  // namespace

@@ -97,6 +97,10 @@ class Run {
           step_event(t, EventKind::StepStart, ps);
           if (ps.kind == StepKind::Grasp) {
             world_.grasp(ps.device, ps.object);
+            // Taken again after a release: held, not watched for rest (the run waited 5 s after
+            // its last step for a drum in the gripper to settle).
+            released_.erase(ps.object);
+            rested_.erase(ps.object);
             events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
             // What the load stood on when lifted is no clearance to report.
             // What it stands on: near it, and below its bottom (a drum resting on the pallet is
@@ -112,6 +116,8 @@ class Run {
                 if (up == ps.object) {
                   world_.make_dynamic(static_cast<int>(k));
                   rider_of_[static_cast<int>(k)] = ps.object;
+                  rode_on_[static_cast<int>(k)] = ps.object;
+                  X_load_rider_[static_cast<int>(k)] = world_.pose(ps.object).inverse() * world_.pose(static_cast<int>(k));
                   break;
                 }
           } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
@@ -151,8 +157,19 @@ class Run {
       if (t >= plan_.end - dt / 2) {
         if (settle_until < 0) settle_until = t + kSettleLimit;
         bool settled = true;
-        for (const auto& [o, landed] : released_) settled = settled && world_.at_rest(o);
-        if (settled || t >= settle_until) break;
+        for (int o : loose()) settled = settled && world_.at_rest(o);
+        if (settled) break;
+        if (t >= settle_until) {
+          // Still moving 5 s after the last step (rolling off a rack, rocking, sliding): where it
+          // ends is unknown, so the operation is not shown to hold.
+          for (int o : loose())
+            if (!world_.at_rest(o)) {
+              const Eigen::Vector3d p = world_.pose(o).translation();
+              events_.add(t, EventKind::NotAtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}},
+                                                    {"speed", r9(world_.velocity(o).norm())}});
+            }
+          break;
+        }
       }
       if (t >= s.limit - dt / 2) {
         events_.add(t, EventKind::TimeLimit, {{"limit", s.limit}});
@@ -297,6 +314,41 @@ class Run {
     return r != rider_of_.end() && held_anywhere(r->second) ? r->second : -1;
   }
 
+  /// The free bodies no device holds: released objects and what rides (or rode) on a load.
+  std::set<int> loose() const {
+    std::set<int> out;
+    for (const auto& [o, landed] : released_) out.insert(o);
+    for (const auto& [o, load] : rider_of_) out.insert(o);
+    std::erase_if(out, [&](int o) { return held_anywhere(o); });
+    return out;
+  }
+
+  /// Whether a and b are a load and what rode on it when it was lifted (or two of its riders).
+  bool one_stack(int a, int b) const {
+    auto carrier = [&](int o) {
+      auto it = rode_on_.find(o);
+      return it == rode_on_.end() ? o : it->second;
+    };
+    return a >= 0 && b >= 0 && carrier(a) == carrier(b);
+  }
+
+  /// At the trajectory rate: a rider that moved on its carried load by more than
+  /// kTrackingTolerance (a drum sliding on a pallet the forks swing) is an event, once a rider,
+  /// its `shift` the largest seen while carried.
+  void check_riders(double t) {
+    for (const auto& [o, load] : rider_of_) {
+      if (!held_anywhere(load)) continue;
+      const double shift = ((world_.pose(load).inverse() * world_.pose(o)).translation() - X_load_rider_.at(o).translation()).norm();
+      auto ev = shifted_.find(o);
+      if (ev == shifted_.end() && shift > kTrackingTolerance) {
+        shifted_[o] = {events_.add(t, EventKind::LoadShifted, {{"object", wc_.objects[o].name}, {"on", wc_.objects[load].name}, {"shift", r9(shift)}}), shift};
+      } else if (ev != shifted_.end() && shift > ev->second.second) {
+        ev->second.second = shift;
+        events_.update(ev->second.first, "shift", r9(shift));
+      }
+    }
+  }
+
   bool held_anywhere(int o) const {
     for (const DeviceRun& dr : devices_)
       if (world_.held(dr.object) == o) return true;
@@ -325,6 +377,7 @@ class Run {
                                {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)}});
         continue;
       }
+      if (one_stack(c.a, c.b)) continue;  // a released pallet touching its own drum has not landed
       for (int o : {c.a, c.b}) {
         auto it = released_.find(o);
         if (it != released_.end() && !it->second) {
@@ -467,6 +520,7 @@ class Run {
       clearances_.measure(t, o, skip);
     }
     check_tracking(t);
+    check_riders(t);
     if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
   }
 
@@ -503,7 +557,7 @@ class Run {
     s.events = events_.size();
     s.collisions = events_.count(EventKind::Collision);
     bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
-                      rechecks_.failures() > 0;
+                      events_.count(EventKind::LoadShifted) || events_.count(EventKind::NotAtRest) || rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;
@@ -569,6 +623,9 @@ class Run {
   std::map<std::tuple<int, int, int, int>, double> last_contact_;
   std::map<int, bool> released_;  // released objects: landed yet?
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
+  std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
+  std::map<int, Eigen::Isometry3d> X_load_rider_;  // a rider's pose on its load when the load was grasped
+  std::map<int, std::pair<size_t, double>> shifted_;  // rider -> its load_shifted event, the largest shift
   std::set<int> rested_;
   std::set<std::pair<int, int>> over_limit_;
   bool failed_ = false;

@@ -1,6 +1,9 @@
 #include "simulate/world.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
+#include <vector>
 #include <cstdio>
 #include <cstdarg>
 #include <atomic>
@@ -21,10 +24,12 @@ namespace sscs {
 namespace {
 
 constexpr double kGravity = 9.80665;
-constexpr int kMaxContacts = 8;      // per geom pair and step
+constexpr int kMaxContacts = 8;      // per geom pair and step, after reduction
+constexpr int kGatherContacts = 256; // what ODE may report per geom pair and step, before it
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
+// A body slower than these for kRestTime is at rest.
+constexpr double kRestSpeed = 0.005, kRestTurn = 0.01, kRestTime = 0.2;  // m/s, rad/s, s
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
-constexpr double kSlabThickness = 0.2;  // m: the floor of a room above the lowest
 
 /// ODE's messages (not its errors): "LCP internal error" when a step's solver gives up on a
 /// contact, printed for every step (592 lines for a 1 mg drum in a gripper). Shown once a run.
@@ -60,6 +65,31 @@ Eigen::Isometry3d from_ode(const dReal* p, const dReal* R) {
     for (int c = 0; c < 3; ++c) X.linear()(r, c) = R[r * 4 + c];
   }
   return X;
+}
+
+/// Keeps `keep` of the `n` contacts of one geom pair, spread over the contact area: the deepest,
+/// then each time the one farthest from those kept. ODE fills the contacts of a mesh pair in
+/// triangle order and stops at the count it is given, so the first 8 of a drum's 48-vertex rim
+/// all lay on one side: the drum rocked, walked 3 cm in 20 s and never came to rest, on a
+/// pallet it turned 54° and hopped. A spread subset holds it still (tests/unit/physics_test.cpp).
+int spread_contacts(dContactGeom* c, int n, int keep) {
+  if (n <= keep) return n;
+  int deepest = 0;
+  for (int i = 1; i < n; ++i)
+    if (c[i].depth > c[deepest].depth) deepest = i;
+  std::swap(c[0], c[deepest]);
+  std::vector<double> d2(n, std::numeric_limits<double>::infinity());  // squared distance to the kept
+  for (int m = 1; m < keep; ++m) {
+    int far = m;
+    for (int i = m; i < n; ++i) {
+      const double dx = c[i].pos[0] - c[m - 1].pos[0], dy = c[i].pos[1] - c[m - 1].pos[1], dz = c[i].pos[2] - c[m - 1].pos[2];
+      d2[i] = std::min(d2[i], dx * dx + dy * dy + dz * dz);
+      if (d2[i] > d2[far]) far = i;
+    }
+    std::swap(c[m], c[far]);
+    std::swap(d2[m], d2[far]);
+  }
+  return keep;
 }
 
 }  // namespace
@@ -107,6 +137,7 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> bodies;              // per object; null when static
   std::vector<Eigen::Isometry3d> X_body_object;
   std::vector<double> masses;
+  std::vector<double> still_for;  // per object: how long its body has been slower than the rest thresholds (s)
   std::vector<dTriMeshDataID> meshes;
   std::vector<std::vector<double>> mesh_vertices;
   std::vector<std::vector<int>> mesh_indices;
@@ -189,10 +220,20 @@ struct PhysicsWorld::Impl {
     if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;  // joined parts
     if (gripping(t1, t2)) return;
     int o1 = t1.object, o2 = t2.object;
-    dContact contact[kMaxContacts];
-    int n = dCollide(g1, g2, kMaxContacts, &contact[0].geom, sizeof(dContact));
+    thread_local std::array<dContactGeom, kGatherContacts> found;
+    const int all = dCollide(g1, g2, kGatherContacts, found.data(), sizeof(dContactGeom));
+    // The deepest point of the pair is recorded from all contacts, the solver gets a spread few.
+    double deepest = -1;
+    Eigen::Vector3d deepest_at = Eigen::Vector3d::Zero();
+    for (int i = 0; i < all; ++i)
+      if (found[i].depth > deepest) {
+        deepest = found[i].depth;
+        deepest_at = {found[i].pos[0], found[i].pos[1], found[i].pos[2]};
+      }
+    const int n = spread_contacts(found.data(), all, kMaxContacts);
     for (int i = 0; i < n; ++i) {
-      dContact& c = contact[i];
+      dContact c{};
+      c.geom = found[i];
       c.surface.mode = dContactBounce | dContactSoftCFM | dContactApprox1;
       c.surface.mu = options.friction;
       c.surface.bounce = options.restitution;
@@ -200,16 +241,17 @@ struct PhysicsWorld::Impl {
       c.surface.soft_cfm = 1e-6;
       dJointID j = dJointCreateContact(world, contact_group, &c);
       dJointAttach(j, b1, b2);
-      bool swap = std::make_pair(o1, t1.part) > std::make_pair(o2, t2.part);
-      const GeomTag& a = swap ? t2 : t1;
-      const GeomTag& b = swap ? t1 : t2;
-      auto [it, fresh] = contact_index.try_emplace({a.object, a.part, b.object, b.part}, contacts.size());
-      if (fresh) contacts.push_back({a.object, b.object, a.part, b.part, Eigen::Vector3d::Zero(), -1});
-      PhysicsContact& pc = contacts[it->second];
-      if (c.geom.depth > pc.depth) {
-        pc.depth = c.geom.depth;
-        pc.point = Eigen::Vector3d(c.geom.pos[0], c.geom.pos[1], c.geom.pos[2]);
-      }
+    }
+    if (all == 0) return;
+    bool swap = std::make_pair(o1, t1.part) > std::make_pair(o2, t2.part);
+    const GeomTag& a = swap ? t2 : t1;
+    const GeomTag& b = swap ? t1 : t2;
+    auto [it, fresh] = contact_index.try_emplace({a.object, a.part, b.object, b.part}, contacts.size());
+    if (fresh) contacts.push_back({a.object, b.object, a.part, b.part, Eigen::Vector3d::Zero(), -1});
+    PhysicsContact& pc = contacts[it->second];
+    if (deepest > pc.depth) {
+      pc.depth = deepest;
+      pc.point = deepest_at;
     }
   }
 };
@@ -225,9 +267,9 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   // A body slower than 5 mm/s and 0.01 rad/s for 0.2 s is at rest: ODE stops integrating it
   // (which also ends the contact jitter of meshes) until something touches or moves it.
   dWorldSetAutoDisableFlag(w.world, 1);
-  dWorldSetAutoDisableLinearThreshold(w.world, 0.005);
-  dWorldSetAutoDisableAngularThreshold(w.world, 0.01);
-  dWorldSetAutoDisableTime(w.world, 0.2);
+  dWorldSetAutoDisableLinearThreshold(w.world, kRestSpeed);
+  dWorldSetAutoDisableAngularThreshold(w.world, kRestTurn);
+  dWorldSetAutoDisableTime(w.world, kRestTime);
   dWorldSetAutoDisableSteps(w.world, 0);
   w.space = dHashSpaceCreate(nullptr);
   dHashSpaceSetLevels(w.space, -4, 6);  // cells from 6 cm to 64 m
@@ -237,6 +279,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.bodies.assign(n, nullptr);
   w.X_body_object.assign(n, Eigen::Isometry3d::Identity());
   w.masses.assign(n, 0);
+  w.still_for.assign(n, 0);
   // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
   // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
@@ -245,7 +288,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);
   w.tag(plane, -1, -1);
   // Rooms above the lowest (a mezzanine, a hall beside a pit) stand on floors of their own.
-  for (const Eigen::AlignedBox3d& slab : floor_slabs(wc, geometry, kSlabThickness)) {
+  for (const Eigen::AlignedBox3d& slab : floor_slabs(wc, geometry, kFloorSlabThickness)) {
     const Eigen::Vector3d size = slab.sizes(), centre = slab.center();
     dGeomID g = dCreateBox(w.space, size.x(), size.y(), size.z());
     dGeomSetPosition(g, centre.x(), centre.y(), centre.z());
@@ -523,6 +566,7 @@ void PhysicsWorld::release(int device) {
   if (it == w.grips.end()) return;
   dJointDestroy(it->second.joint);
   dBodyEnable(w.bodies[it->second.object]);
+  w.still_for[it->second.object] = 0;  // held still is no rest: it is judged from its release
   w.grips.erase(it);
 }
 
@@ -533,7 +577,10 @@ int PhysicsWorld::held(int device) const {
 
 bool PhysicsWorld::dynamic(int o) const { return impl_->bodies[o] != nullptr; }
 
-bool PhysicsWorld::at_rest(int o) const { return impl_->bodies[o] && !dBodyIsEnabled(impl_->bodies[o]); }
+bool PhysicsWorld::at_rest(int o) const {
+  const Impl& w = *impl_;
+  return w.bodies[o] && (!dBodyIsEnabled(w.bodies[o]) || w.still_for[o] >= kRestTime - 1e-9);
+}
 
 void PhysicsWorld::step() {
   Impl& w = *impl_;
@@ -551,6 +598,16 @@ void PhysicsWorld::step() {
       rec.unwrapped += d;
       rec.raw = now;
     }
+  // Rest as ODE's auto-disable judges it, measured here too: a body touching a driven part
+  // (a pallet set down on the forks still in its pockets) is never disabled, being in one
+  // island with parts that never sleep, though it lies still.
+  for (size_t o = 0; o < w.bodies.size(); ++o) {
+    if (!w.bodies[o]) continue;
+    const dReal* v = dBodyGetLinearVel(w.bodies[o]);
+    const dReal* a = dBodyGetAngularVel(w.bodies[o]);
+    const bool still = Eigen::Vector3d(v[0], v[1], v[2]).norm() < kRestSpeed && Eigen::Vector3d(a[0], a[1], a[2]).norm() < kRestTurn;
+    w.still_for[o] = still ? w.still_for[o] + w.options.timestep : 0;
+  }
   w.time += w.options.timestep;
 }
 

@@ -520,7 +520,8 @@ def agreement(sscs, root):
     """check and simulate agree where a new user found them apart (tests/data/agreement): a
     pedestal an arm stands on is a solid to both, forks pushed into a pallet's blocks fail reach
     and collide in the run (the first touch under 1 mm hid the rest), min_clearance follows the
-    deepest penetration, and a drum on a lifted pallet rides on it."""
+    deepest penetration, a drum on a lifted pallet rides on it, a pallet and its hooped drum
+    (meshes) set down rest where they were, and a drum that rolls off is no `ok`."""
     data = "tests/data/agreement"
     p = run(sscs, root, ["check", f"{data}/pedestal.yaml"])
     if p.returncode != 1 or "Robot reaches [5, 4.6, 0.5] only in collision: part link6 hits Ped by 0.2 m" not in p.stdout:
@@ -553,6 +554,25 @@ def agreement(sscs, root):
             last[cols[1]] = [float(x) for x in cols[2:5]]
         if abs(last["P"][2] - 0.5) > 0.005 or abs(last["D"][2] - 0.644) > 0.005:
             fail(f"the drum rides on the lifted pallet (P z 0.5, D z 0.644): {last}")
+        # Mesh on mesh (a hooped drum on the pallet's boards): set down and released, both rest
+        # where they stood; the drum used to walk and turn (54 deg) and never rest, and the
+        # pallet "landed" on its own drum.
+        p, summary, events, out = events_of("forks-set-down")
+        rest = {e["object"]: e["position"] for e in events if e["kind"] == "at_rest"}
+        landed = [(e["object"], e["on"]) for e in events if e["kind"] == "landed"]
+        if p.returncode != 0 or summary["status"] != "ok" or landed != [("P", "floor")] or set(rest) != {"D", "P"} or \
+                max(abs(a - b) for a, b in zip(rest["D"], [8.6, 8.4, 0.144])) > 0.002 or \
+                max(abs(a - b) for a, b in zip(rest["P"], [8.0, 8.0, 0.0])) > 0.002:
+            fail(f"the pallet and its hooped drum rest where they were set down: {events}", p)
+        # A drum lying on its side rolls off the pallet the truck drives away: it moved on its
+        # load (load_shifted), fell (a collision: it rode on a carried load) and still rolls
+        # 5 s after the last step (not_at_rest): violations, not ok.
+        p, summary, events, out = events_of("roll-carry")
+        kinds = [e["kind"] for e in events]
+        shifted = [e for e in events if e["kind"] == "load_shifted"]
+        if p.returncode != 1 or summary["status"] != "violations" or "not_at_rest" not in kinds or len(shifted) != 1 or \
+                shifted[0]["object"] != "D" or shifted[0]["on"] != "P" or shifted[0]["shift"] < 1:
+            fail(f"the drum rolling off the driven pallet is load_shifted and not_at_rest: {events}", p)
 
 
 def read_png(path):

@@ -79,6 +79,34 @@ TEST_F(Physics, ADrumLandsOnAMeshPallet) {
   EXPECT_TRUE(world.at_rest(d));
 }
 
+TEST_F(Physics, MeshesSetDownOnMeshesStayWhereTheyWereSet) {
+  // A hooped drum (a 48-sided lathe mesh) set down on the pallet's deck boards (a mesh), on the
+  // floor, and a pallet on the floor: ODE reports such pairs' contacts in triangle order, and the
+  // first 8 of them lay on one side of the rim; the drum rocked and walked (3 cm in 20 s, 54 deg
+  // of turn on a lifted pallet) and never came to rest. Placements spread over the deck.
+  struct Case {
+    std::string objects, free;
+    Eigen::Vector3d at;
+  };
+  std::vector<Case> cases;
+  for (double x : {0.35, 0.6, 0.85})
+    for (double y : {0.32, 0.48})
+      for (double yaw : {0.0, 17.0})
+        cases.push_back({fmt::format("  - {{type: pallet, name: P}}\n  - {{type: drum_hooped, name: D, location: [{}, {}, 0.1445], orientation: [0, 0, {}]}}\n", x, y, yaw),
+                         "D", {x, y, 0.144}});
+  cases.push_back({"  - {type: drum_hooped, name: D, location: [2, 2, 0.0005]}\n", "D", {2, 2, 0}});
+  cases.push_back({"  - {type: pallet, name: D, location: [2, 2, 0.0005], orientation: [0, 0, 30]}\n", "D", {2, 2, 0}});
+  for (const Case& c : cases) {
+    auto w = world_of(c.objects, c.free);
+    PhysicsWorld& world = *w;
+    while (world.time() < 4.0) world.step();
+    const Eigen::Isometry3d X = world.pose(d);
+    EXPECT_LT((X.translation() - c.at).norm(), 1e-3) << c.objects << X.translation().transpose();
+    EXPECT_GT(X.linear().col(2).z(), std::cos(1e-3)) << c.objects;
+    EXPECT_TRUE(world.at_rest(d)) << c.objects;
+  }
+}
+
 TEST_F(Physics, TheFloorIsTheBottomOfTheRoom) {
   auto w = world_of("  - {type: room, name: R, length: 5, width: 5, height: 3, location: [0, 0, 2]}\n"
                     "  - {type: drum, name: D, parent: R, location: [1, 1, 0.3]}\n", "D");
@@ -115,6 +143,17 @@ TEST_F(Physics, EveryRoomStandsOnItsOwnFloorAndAPitOpensInIt) {
   ASSERT_EQ(rep.results.size(), 1u);
   EXPECT_EQ(rep.results[0].status, Status::Fail);
   EXPECT_NE(rep.results[0].message.find("below the floor"), std::string::npos) << rep.results[0].message;
+  // An arm at the pit's edge reaches down into the pit (it failed: the hall's floor was taken for
+  // a plane over the pit), and not into the hall's floor beside it.
+  diag = Diagnostics();
+  Workcell edge = must_compile("objects:\n" + rooms + "  - {type: arm6, name: R, parent: Hall, location: [5.6, 7, 0]}\n"
+                               "constraints:\n  - {name: pit, reach: {device: R, targets: {xyz: [6.9, 7, -0.4]}}}\n"
+                               "  - {name: hall, reach: {device: R, targets: {xyz: [4.6, 7, -0.1]}}}\n");
+  rep = check(edge, build_geometry(edge, diag));
+  ASSERT_EQ(rep.results.size(), 2u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+  EXPECT_EQ(rep.results[1].status, Status::Fail);
+  EXPECT_NE(rep.results[1].message.find("part link6 goes 0.1 m below the floor"), std::string::npos) << rep.results[1].message;
 }
 
 }  // namespace
