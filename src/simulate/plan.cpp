@@ -29,6 +29,7 @@ constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
 constexpr double kLinearSpeed = 0.25, kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
+constexpr double kCoarseTimestep = 0.01;   // s: above it a run's verdicts are warned of (measured in Articulated.MotorsTrack...)
 constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to its target, or fails
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
@@ -78,6 +79,11 @@ class Planner {
         diag_.error(v->mark, fmt::format("{} must be between 16 and 8192 pixels, found {}", what, v->text));
     if (spec.fps.present && s.fps > 1000) diag_.error(spec.fps.mark, fmt::format("record.frames.fps must be at most 1000, found {}", spec.fps.text));
     if (s.timestep > 0.1) diag_.error(spec.timestep.mark, fmt::format("sim.timestep {} is too coarse for contact physics (at most 100 ms)", spec.timestep.text));
+    else if (s.timestep > kCoarseTimestep)
+      diag_.warning(spec.timestep.mark, fmt::format("sim.timestep {} is coarse: contacts and the tracking of the plan are judged once "
+                                                    "a step, and above {:g} ms a run can report collisions and tracking errors "
+                                                    "the design does not have (the default is 1 ms)",
+                                                    spec.timestep.text, kCoarseTimestep * 1000));
   }
 
   std::optional<Plan> run(const ScenarioSpec& spec) {

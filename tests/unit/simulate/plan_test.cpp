@@ -60,6 +60,25 @@ TEST_F(Planning, ASingleJointMoveTakesTheTrapezoidTime) {
   EXPECT_NEAR(p->track(0)->at(9)[0], 90 * kDeg, 1e-12);
 }
 
+TEST_F(Planning, ACoarseTimestepIsWarnedOf) {
+  // Above 10 ms a run can report collisions and tracking errors the design does not have.
+  options.library_dirs = {type_dir({{"turntable", kTurntable}})};
+  wc_ = must_compile("objects:\n  - {type: turntable, name: T}\n");
+  geometry_ = build_geometry(wc_, diag);
+  for (const auto& [timestep, warned] : {std::pair{"10 ms", false}, std::pair{"20 ms", true}}) {
+    diag = Diagnostics();
+    uint32_t f = sources.add(fmt::format("s{}.yaml", timestep), fmt::format("sscs: 1\nscenario: s\nvault: v.yaml\nsim: {{timestep: {}}}\n"
+                                                                         "steps:\n  - {{device: T, move_joints: {{a: 90}}}}\n", timestep));
+    auto spec = load_scenario(f, sources, diag);
+    ASSERT_TRUE(spec);
+    ASSERT_TRUE(plan_scenario(*spec, wc_, geometry_, diag)) << diag.format(sources);
+    ASSERT_EQ(diag.warnings().size(), warned ? 1u : 0u) << timestep;
+    if (warned) {
+      EXPECT_NE(diag.warnings()[0].message.find("sim.timestep 20 ms is coarse"), std::string::npos) << diag.warnings()[0].message;
+    }
+  }
+}
+
 TEST_F(Planning, SpeedScalesTheLimits) {
   auto p = plan("  - {type: turntable, name: T}\n", "  - {device: T, move_joints: {a: 90}, speed: 50%}\n",
                 type_dir({{"turntable", kTurntable}}));
