@@ -81,13 +81,21 @@ std::map<std::string, SoftLimits> read_soft_limits(const TiXmlElement& robot) {
 /// Where each link's <visual> and <collision> shapes are in the URDF, in file order (urdfdom
 /// keeps that order): a mesh's filename attribute, another shape's element. So what is found
 /// wrong with a shape later (a mesh that cannot be read) is reported at its line.
-using ShapeMarks = std::map<std::string, std::map<std::string, std::vector<SourceMark>>>;
+/// Where each link and joint is, by name: what is found wrong with one is reported at its line.
+struct ElementMarks {
+  std::map<std::string, std::map<std::string, std::vector<SourceMark>>> shapes;  // link -> visual/collision -> marks
+  std::map<std::string, SourceMark> links, joints;
+};
 
-ShapeMarks read_shape_marks(const TiXmlElement& robot, uint32_t file) {
-  ShapeMarks out;
+ElementMarks read_element_marks(const TiXmlElement& robot, uint32_t file) {
+  ElementMarks marks;
+  for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+    if (const char* name = j->Attribute("name")) marks.joints.emplace(name, xml_mark(file, *j));
+  auto& out = marks.shapes;
   for (const TiXmlElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
     const char* name = l->Attribute("name");
     if (!name) continue;
+    marks.links.emplace(name, xml_mark(file, *l));
     for (const char* kind : {"visual", "collision"})
       for (const TiXmlElement* e = l->FirstChildElement(kind); e; e = e->NextSiblingElement(kind)) {
         const TiXmlElement* g = e->FirstChildElement("geometry");
@@ -99,15 +107,15 @@ ShapeMarks read_shape_marks(const TiXmlElement& robot, uint32_t file) {
         out[name][kind].push_back(mark);
       }
   }
-  return out;
+  return marks;
 }
 
 class Converter {
  public:
   Converter(const Scalar& at, std::string urdf_path, const std::vector<std::string>& package_paths, DeviceSpec& device,
-            ShapeMarks shape_marks)
+            ElementMarks marks)
       : at_(at), urdf_path_(std::move(urdf_path)), package_paths_(package_paths), problems_(device.import_problems),
-        mesh_refs_(device.urdf_mesh_refs), shape_marks_(std::move(shape_marks)) {}
+        mesh_refs_(device.urdf_mesh_refs), marks_(std::move(marks)) {}
 
   Scalar number(double v, const char* unit = "") const {
     Scalar s;
@@ -126,14 +134,25 @@ class Converter {
     return out;
   }
 
-  /// An error of the import, at the type file's `urdf:` line, naming the URDF file and, while a
-  /// link is converted, the link.
-  void error(const std::string& what) const {
-    problems_.push_back({at_.mark, fmt::format("{}: {}{}", urdf_path_, link_.empty() ? "" : fmt::format("link '{}': ", link_), what)});
+  /// Where the element being converted is: the joint's or link's line in the URDF (else the
+  /// type file's `urdf:` line).
+  SourceMark here() const {
+    if (shape_) return *shape_;
+    if (!joint_.empty())
+      if (auto it = marks_.joints.find(joint_); it != marks_.joints.end()) return it->second;
+    if (!link_.empty())
+      if (auto it = marks_.links.find(link_); it != marks_.links.end()) return it->second;
+    return at_.mark;
   }
-  /// Something the import skips, reported (as a warning) where the type is used.
-  void warn(const std::string& what) const {
-    problems_.push_back({at_.mark, fmt::format("{}: link '{}': {}", urdf_path_, link_, what), true});
+  /// An error of the import, at the element being converted, naming the link while a link is.
+  void error(const std::string& what) const { error_at(here(), what); }
+  void error_at(const SourceMark& mark, const std::string& what) const {
+    problems_.push_back({mark, fmt::format("{}{}", link_.empty() || !joint_.empty() ? "" : fmt::format("link '{}': ", link_), what)});
+  }
+  /// Something the import skips, reported (as a warning) where the type is used, at its element.
+  void warn(const std::string& what) const { warn_at(here(), what); }
+  void warn_at(const SourceMark& mark, const std::string& what) const {
+    problems_.push_back({mark, fmt::format("link '{}': {}", link_, what), true});
   }
   void warn_not_drawn(const std::string& what) const { warn(what + ": that visual is not drawn"); }
 
@@ -182,8 +201,15 @@ class Converter {
   std::optional<GeometrySpec> geometry(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* element,
                                        size_t index, bool needed = true) const {
     if (!g) return std::nullopt;
+    SourceMark mark = here();
+    if (auto l = marks_.shapes.find(link_); l != marks_.shapes.end())
+      if (auto e = l->second.find(element); e != l->second.end() && index < e->second.size()) mark = e->second[index];
+    struct Converting {  // messages while the shape is converted are at its element
+      std::optional<SourceMark>& shape;
+      ~Converting() { shape.reset(); }
+    } converting{shape_ = mark};
     auto degenerate = [&](const char* shape, const std::string& what) {
-      warn(fmt::format("its <{}> {} has {}: skipped, for it has no volume", element, shape, what));
+      warn_at(mark, fmt::format("its <{}> {} has {}: skipped, for it has no volume", element, shape, what));
       return std::nullopt;
     };
     auto not_positive = [](double v) { return !(v > 0); };
@@ -211,9 +237,7 @@ class Converter {
       }
     }
     GeometrySpec out;
-    out.mark = at_.mark;
-    if (auto l = shape_marks_.find(link_); l != shape_marks_.end())
-      if (auto e = l->second.find(element); e != l->second.end() && index < e->second.size()) out.mark = e->second[index];
+    out.mark = mark;
     out.pose = pose(origin);
     switch (g->type) {
       case urdf::Geometry::BOX: {
@@ -256,9 +280,11 @@ class Converter {
   PartSpec part(const urdf::Link& link) const {
     PartSpec p;
     p.name = link.name;
-    p.mark = at_.mark;
+    link_.clear();
+    auto at = marks_.links.find(link.name);
+    p.mark = at != marks_.links.end() ? at->second : at_.mark;
     if (!is_valid_name(link.name))
-      error(fmt::format("link name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", link.name));
+      error_at(p.mark, fmt::format("link name '{}' is not a valid sscs name (a letter, then letters, digits, _ or -)", link.name));
     link_ = link.name;
     // Collision shapes are what the checker needs; a link with only visuals uses those. The
     // visuals, each with its material's colour, are what the link looks like.
@@ -307,9 +333,13 @@ class Converter {
   /// A joint; `soft` holds the <safety_controller> soft limits the file writes for it (urdfdom
   /// reads an absent one as 0), which narrow its <limit>, as MoveIt reads them.
   std::optional<JointSpec> joint(const urdf::Joint& j, const SoftLimits& soft) const {
+    struct Converting {  // messages while the joint is converted are at its element
+      std::string& joint;
+      ~Converting() { joint.clear(); }
+    } converting{joint_ = j.name};
     JointSpec out;
     out.name = j.name;
-    out.mark = at_.mark;
+    out.mark = here();
     out.origin = pose(j.parent_to_joint_origin_transform);
     out.axis = {number(j.axis.x), number(j.axis.y), number(j.axis.z)};
     if (!is_valid_name(j.name))
@@ -360,8 +390,10 @@ class Converter {
   const std::vector<std::string>& package_paths_;
   std::vector<Diagnostic>& problems_;
   std::vector<std::pair<std::string, std::string>>& mesh_refs_;
-  ShapeMarks shape_marks_;
-  mutable std::string link_;  ///< the link being converted, for messages
+  ElementMarks marks_;
+  mutable std::string link_;   ///< the link being converted, for messages
+  mutable std::string joint_;  ///< the joint being converted, for messages
+  mutable std::optional<SourceMark> shape_;  ///< the shape being converted: where it is
 };
 
 }  // namespace
@@ -407,7 +439,7 @@ void load_urdf(DeviceSpec& device, const std::string& type_file, const std::vect
         {at.mark, fmt::format("cannot read URDF file '{}': {}", at.text, log.empty() ? "not a valid URDF robot" : log)});
     return;
   }
-  Converter convert(at, urdf_path, package_paths, device, read_shape_marks(*robot, file));
+  Converter convert(at, urdf_path, package_paths, device, read_element_marks(*robot, file));
   const std::map<std::string, SoftLimits> soft_limits = read_soft_limits(*robot);
   // Links from the root down, each after its parent, in the order the file's joints list them.
   std::vector<urdf::LinkConstSharedPtr> order = {model->getRoot()};

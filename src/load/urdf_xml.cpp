@@ -335,9 +335,49 @@ void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag
     return name ? name : "";
   };
   auto name_of = [](const TiXmlElement& e) -> std::string { return e.Attribute("name") ? e.Attribute("name") : "?"; };
+  // What urdfdom refuses with a message and no place (the type file's `urdf:` line was all a
+  // user got), found here at its element: names given twice, a joint's missing or unknown
+  // links, a moving joint without <limit>, a <mimic> without its joint, two roots.
+  // The elements of one kind by name; false (reported) when a name is given twice.
+  auto by_name = [&](const char* kind, std::map<std::string, const TiXmlElement*>& out) {
+    for (const TiXmlElement* e = robot.FirstChildElement(kind); e; e = e->NextSiblingElement(kind))
+      if (auto [it, fresh] = out.try_emplace(name_of(*e), e); !fresh) {
+        diag.error(xml_mark(file, *e), fmt::format("{} '{}' is defined twice (first at line {}): {} names are unique", kind, it->first,
+                                                   it->second->Row(), kind));
+        return false;
+      }
+    return true;
+  };
+  std::map<std::string, const TiXmlElement*> links, joints;
+  if (!by_name("link", links) || !by_name("joint", joints)) return;
+  for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const std::string name = name_of(*j);
+    for (const char* role : {"parent", "child"}) {
+      const TiXmlElement* e = j->FirstChildElement(role);
+      const std::string link = link_of(*j, role);
+      if (link.empty()) {
+        diag.error(xml_mark(file, e ? *e : *j), fmt::format("joint '{}' has no <{} link=\"...\">: a joint joins a parent link and a child link",
+                                                            name, role));
+        return;
+      }
+      if (!links.count(link)) {
+        diag.error(xml_mark(file, *e), fmt::format("joint '{}': its {} link '{}' is not a link of this robot", name, role, link));
+        return;
+      }
+    }
+    const char* type = j->Attribute("type");
+    if (type && (std::string_view(type) == "revolute" || std::string_view(type) == "prismatic") && !j->FirstChildElement("limit")) {
+      diag.error(xml_mark(file, *j), fmt::format("joint '{}' is {} and has no <limit> (a URDF gives revolute and prismatic joints their "
+                                                 "limits; a joint that turns without end is continuous)", name, type));
+      return;
+    }
+    if (const TiXmlElement* m = j->FirstChildElement("mimic"); m && !m->Attribute("joint")) {
+      diag.error(xml_mark(file, *m), fmt::format("joint '{}': <mimic> names no joint (joint=\"...\")", name));
+      return;
+    }
+  }
   for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     const std::string parent = link_of(*j, "parent"), child = link_of(*j, "child");
-    if (parent.empty() || child.empty()) continue;  // urdfdom reports it
     auto [it, fresh] = parent_of.try_emplace(child, j, parent);
     if (!fresh) {
       diag.error(xml_mark(file, *j), fmt::format("joint '{}': link '{}' is already the child of joint '{}': a link has one parent "
@@ -368,6 +408,17 @@ void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag
     }
     done.insert(path.begin(), path.end());
   }
+  // One root: the links no joint makes a child.
+  const TiXmlElement* root = nullptr;
+  for (const TiXmlElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+    if (parent_of.count(name_of(*l))) continue;
+    if (root) {
+      diag.error(xml_mark(file, *l), fmt::format("link '{}' is a second root (no joint makes it a child; '{}' at line {} is the first): "
+                                                 "a device is one tree of links", name_of(*l), name_of(*root), root->Row()));
+      return;
+    }
+    root = l;
+  }
 }
 
 void check_urdf_numbers(const TiXmlElement& robot, uint32_t file, Diagnostics& diag) {
@@ -384,7 +435,7 @@ void check_urdf_numbers(const TiXmlElement& robot, uint32_t file, Diagnostics& d
     // sscs moves a mimic joint on its own, but a mimic of no joint is a broken file elsewhere.
     if (const TiXmlElement* m = e->FirstChildElement("mimic")) {
       const char* of = m->Attribute("joint");
-      if (!of || !joints.count(of))
+      if (of && !joints.count(of))  // one without joint= is an error of check_urdf_tree
         diag.warning(xml_mark(file, *m), fmt::format("joint '{}': <mimic joint=\"{}\"> names no joint of this robot (sscs moves "
                                                      "mimic joints on their own, so nothing changes here)",
                                                      e->Attribute("name") ? e->Attribute("name") : "?", of ? of : ""));

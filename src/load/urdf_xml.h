@@ -33,8 +33,11 @@ const TiXmlElement* read_robot_xml(const char* what, const std::string& type_fil
 /// channel outside 0..1.
 void check_urdf_numbers(const TiXmlElement& robot, uint32_t file, Diagnostics& diag);
 
-/// Reports a link that is the child of two joints, or joints that close a loop of links, at the
-/// joint's line in `file`: a device is a tree (urdfdom's messages do not name the loop).
+/// Reports, at its element in `file`, what makes the links no tree or the file one urdfdom
+/// refuses without a place: a link that is the child of two joints, joints that close a loop
+/// of links (urdfdom's messages do not name the loop), link or joint names given twice, a
+/// joint's missing or unknown parent or child link, a revolute or prismatic joint without
+/// <limit>, a <mimic> without joint=, and a second root link.
 void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag);
 
 }  // namespace sscs

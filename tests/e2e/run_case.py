@@ -1604,12 +1604,12 @@ def tutorials(sscs, root):
             fail("an import warning is counted in the text report", p)
         report = json.loads(run(sscs, tmp, ["check", "cell.yaml", "--format", "json"]).stdout)
         warned = report.get("input_warnings", [])
-        if len(warned) != 1 or warned[0]["file"] != "library/types/rx6.yaml" or "cylinder has length 0" not in warned[0]["message"]:
+        if len(warned) != 1 or warned[0]["file"] != "vendor/acme_rx6_support/urdf/rx6.urdf" or warned[0]["line"] != 13 or "cylinder has length 0" not in warned[0]["message"]:
             fail(f"an import warning in the JSON report: {warned}")
         sarif = json.loads(run(sscs, tmp, ["check", "cell.yaml", "--format", "sarif"]).stdout)
         results = [r for r in sarif["runs"][0]["results"] if r["ruleId"] == "sscs/input-warning"]
         if len(results) != 1 or results[0]["level"] != "warning" or \
-                results[0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] != "library/types/rx6.yaml":
+                results[0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] != "vendor/acme_rx6_support/urdf/rx6.urdf":
             fail(f"an import warning in the SARIF report: {results}")
         open(urdf, "w").write(text)
     print("ok tutorials")

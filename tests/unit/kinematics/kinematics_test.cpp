@@ -552,8 +552,12 @@ TEST_F(Vendor, ADegenerateShapeIsSkippedWithAWarningNamingFileAndLink) {
   auto d = device("  - {type: rx6, name: R}\n", dir);
   ASSERT_TRUE(d);
   ASSERT_EQ(diag.warnings().size(), 1u) << diag.format(sources);
-  EXPECT_EQ(diag.warnings()[0].message,
-            dir + "/rx6.urdf: link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
+  EXPECT_EQ(diag.warnings()[0].message, "link 'base_link': its <collision> cylinder has length 0: skipped, for it has no volume");
+  // At the cylinder's element in the URDF, the line after <link name="base_link">.
+  EXPECT_EQ(sources.path(diag.warnings()[0].mark.file), dir + "/rx6.urdf");
+  const std::string& urdf = sources.text(diag.warnings()[0].mark.file);
+  const size_t link_line = std::count(urdf.begin(), urdf.begin() + urdf.find("<link name=\"base_link\">"), '\n') + 1;
+  EXPECT_EQ(diag.warnings()[0].mark.line, link_line + 1);
   EXPECT_EQ(d->parts[d->find_part("base_link")].shapes.size(), 1u);  // the vendor's own cylinder stays
 }
 
@@ -731,9 +735,9 @@ TEST_F(Vendor, AnInertiaOdeCannotIntegrateIsAWarningAndABox) {
   ASSERT_TRUE(d);
   ASSERT_EQ(diag.warnings().size(), 2u) << diag.format(sources);
   std::set<std::string> warnings = {diag.warnings()[0].message, diag.warnings()[1].message};
-  EXPECT_TRUE(warnings.count(dir + "/rx6.urdf: link 'link_5': its <inertial> is not a physical body (its inertia is all zero): "
+  EXPECT_TRUE(warnings.count("link 'link_5': its <inertial> is not a physical body (its inertia is all zero): "
                                    "simulated as a box around its shapes of 1 kg")) << *warnings.rbegin();
-  EXPECT_TRUE(warnings.count(dir + "/rx6.urdf: link 'link_3': its <inertial> is not a physical body (its principal moments 0.01, "
+  EXPECT_TRUE(warnings.count("link 'link_3': its <inertial> is not a physical body (its principal moments 0.01, "
                                    "0.01, 0.05 kg m^2 break the triangle inequality (the largest above the sum of the others)): "
                                    "simulated as a box around its shapes of 4 kg")) << *warnings.begin();
   EXPECT_FALSE(d->parts[d->find_part("link_5")].inertia);
