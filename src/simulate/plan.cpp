@@ -33,8 +33,6 @@ constexpr double kCoarseTimestep = 0.01;   // s: above it a run's verdicts are w
 constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to its target, or fails
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
-// How close the tool must be to an object's bounds to grasp it.
-constexpr double kGraspReach = 0.02;
 
 double joint_speed(const Joint& j) { return j.velocity > 0 ? j.velocity : j.type == JointType::Revolute ? kRevoluteSpeed : kPrismaticSpeed; }
 double joint_accel(const Joint& j) { return j.acceleration > 0 ? j.acceleration : 2 * joint_speed(j); }
@@ -177,12 +175,18 @@ class Planner {
     return states_.emplace(d, std::move(st)).first->second;
   }
 
-  /// World pose of an object now: where planning last put it (carried, placed), else its pose.
+  /// World pose of an object now: where planning last put it (carried, placed), else where
+  /// its parent's move took it (a drum on a pallet a forklift carried: the arm went to where
+  /// the drum stood in the vault, 1 m from it), else its pose. What the physics then does (a
+  /// drum falls, rolls) is checked when the run grasps (grasp_missed).
   Eigen::Isometry3d object_pose(int o) const {
     for (const auto& [d, st] : states_)
       if (st.held == o) return tool_world(d, st.q) * st.X_tool_held;
-    auto it = moved_.find(o);
-    return it != moved_.end() ? it->second : geometry_.objects[o].X_world_object;
+    if (auto it = moved_.find(o); it != moved_.end()) return it->second;
+    const Eigen::Isometry3d& X = geometry_.objects[o].X_world_object;
+    if (const int up = wc_.objects[o].parent; up >= 0 && !wc_.types[wc_.objects[up].type].container)
+      return object_pose(up) * geometry_.objects[up].X_world_object.inverse() * X;
+    return X;
   }
 
   Eigen::Isometry3d tool_world(int d, const Eigen::VectorXd& q) const {

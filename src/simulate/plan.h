@@ -23,6 +23,10 @@
 
 namespace sscs {
 
+/// How close a device's tool must be to an object's bounds to grasp it (m): judged when the
+/// plan is made and again when the run takes it, where the physics has it then.
+constexpr double kGraspReach = 0.02;
+
 struct SimSettings {
   double timestep = 1e-3;  ///< s
   double limit = 60;       ///< s of simulated time

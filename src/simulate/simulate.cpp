@@ -81,6 +81,7 @@ class Run {
     const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
     std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
     double settle_until = -1;
+    bool grasp_missed = false;
     const auto wall_start = std::chrono::steady_clock::now();
     long k = 0;
     for (;; ++k) {
@@ -96,6 +97,20 @@ class Run {
             *options_.progress_to << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
           step_event(t, EventKind::StepStart, ps);
           if (ps.kind == StepKind::Grasp) {
+            // The plan found the tool at the object where planning had it; the physics may have
+            // moved it since (fallen, rolled, carried on a pallet): a grasp from afar held a drum
+            // 0.4 m below the gripper and the run said ok.
+            if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach) {
+              const std::string message = fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {} is not "
+                                                      "where the plan expected it (it fell, rolled, was carried or pushed)",
+                                                      wc_.objects[ps.device].name, wc_.objects[ps.object].name, stable(gap),
+                                                      kGraspReach, wc_.objects[ps.object].name);
+              events_.add(t, EventKind::GraspMissed, {{"step", ps.index}, {"device", wc_.objects[ps.device].name},
+                                                      {"object", wc_.objects[ps.object].name}, {"distance", r9(gap)}, {"message", message}});
+              stop(EventKind::GraspMissed, message);
+              grasp_missed = true;
+              break;
+            }
             world_.grasp(ps.device, ps.object);
             // Taken again after a release: held, not watched for rest (the run waited 5 s after
             // its last step for a drum in the gripper to settle).
@@ -109,17 +124,14 @@ class Run {
             for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
               if (live_.objects[other].bbox_world.max().z() <= bottom + kSupportGap) supports_.insert({ps.object, other});
             if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
-            // What stands on the load (its children in the vault, and theirs) rides with it as
-            // free bodies: drums on a pallet a forklift lifts (they stood still in the air).
-            for (size_t k = 0; k < wc_.objects.size(); ++k)
-              for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
-                if (up == ps.object) {
-                  world_.make_dynamic(static_cast<int>(k));
-                  rider_of_[static_cast<int>(k)] = ps.object;
-                  rode_on_[static_cast<int>(k)] = ps.object;
-                  X_load_rider_[static_cast<int>(k)] = world_.pose(ps.object).inverse() * world_.pose(static_cast<int>(k));
-                  break;
-                }
+            // What stands on the load rides with it as free bodies: drums on a pallet a forklift
+            // lifts (they stood still in the air).
+            for (int k : riders(ps.object)) {
+              world_.make_dynamic(k);
+              rider_of_[k] = ps.object;
+              rode_on_[k] = ps.object;
+              X_load_rider_[k] = world_.pose(ps.object).inverse() * world_.pose(k);
+            }
           } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
             int o = world_.held(ps.device);
             world_.release(ps.device);
@@ -141,6 +153,7 @@ class Run {
           if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
         }
       }
+      if (grasp_missed) break;
       if (k % every == 0) {
         recorder_.record(t);
         observe(t);
@@ -314,6 +327,36 @@ class Run {
     return r != rider_of_.end() && held_anywhere(r->second) ? r->second : -1;
   }
 
+  /// How far device d's tool is from object o's bounds where the physics has it now (m).
+  double grasp_gap(int d, int o) const {
+    const ObjectGeometry& g = geometry_.objects[o];
+    const Eigen::Vector3d p = (world_.pose(o) * g.X_world_object.inverse()).inverse() * tool_now(d);  // into its vault pose
+    return g.bbox_world.exteriorDistance(p);
+  }
+
+  /// What stands on `load` now, and on those, and so on: its children in the vault and theirs,
+  /// and any other object (not a device or container, not held) that touches it (within
+  /// kSupportGap) with its bottom above the load's bottom (a drum whose parent is the hall,
+  /// standing on the pallet, stayed in the air when the pallet was lifted).
+  std::vector<int> riders(int load) {
+    std::vector<int> out;
+    std::set<int> seen = {load};
+    const std::vector<char> is_container = containers(wc_);
+    for (size_t next = 0, from = load;; from = out[next++]) {
+      auto take = [&](int k) {
+        if (is_container[k] || geometry_.objects[k].device || held_anywhere(k) || !seen.insert(k).second) return;
+        out.push_back(k);
+      };
+      for (size_t k = 0; k < wc_.objects.size(); ++k)
+        if (wc_.objects[k].parent == static_cast<int>(from)) take(static_cast<int>(k));
+      const double bottom = live_.objects[from].bbox_world.min().z();
+      for (int k : clearances_.within(static_cast<int>(from), world_.pose(static_cast<int>(from)), chain(static_cast<int>(from)), kSupportGap))
+        if (live_.objects[k].bbox_world.min().z() > bottom + kSupportGap) take(k);
+      if (next >= out.size()) break;
+    }
+    return out;
+  }
+
   /// The free bodies no device holds: released objects and what rides (or rode) on a load.
   std::set<int> loose() const {
     std::set<int> out;
@@ -460,12 +503,16 @@ class Run {
     return out;
   }
 
-  /// The objects the plan moves: its devices and what they grasp.
-  static std::set<int> movers(const Plan& plan) {
+  /// The objects the plan moves: its devices, what they grasp and what stands on that (riders
+  /// were not re-checked: a drum lifted on a pallet to 2.6 m passed a 1.2 m lift rule).
+  std::set<int> movers(const Plan& plan) {
     std::set<int> out;
     for (const Track& t : plan.tracks) out.insert(t.object);
     for (const PlannedStep& ps : plan.steps)
-      if (ps.kind == StepKind::Grasp) out.insert(ps.object);
+      if (ps.kind == StepKind::Grasp) {
+        out.insert(ps.object);
+        for (int k : riders(ps.object)) out.insert(k);
+      }
     return out;
   }
   /// The devices the plan moves, in its order.

@@ -516,6 +516,15 @@ def simulate(sscs, root):
     print("ok simulate")
 
 
+def last_positions(run_dir):
+    """{object: [x, y, z]} of each object's last row in a run's objects.csv."""
+    last = {}
+    for row in open(os.path.join(run_dir, "objects.csv")).read().splitlines()[1:]:
+        cols = row.split(",")
+        last[cols[1]] = [float(x) for x in cols[2:5]]
+    return last
+
+
 def agreement(sscs, root):
     """check and simulate agree where a new user found them apart (tests/data/agreement): a
     pedestal an arm stands on is a solid to both, forks pushed into a pallet's blocks fail reach
@@ -548,10 +557,7 @@ def agreement(sscs, root):
         p, summary, events, out = events_of("forks-lift")
         if p.returncode != 0 or summary["status"] != "ok" or any(e["kind"] == "collision" for e in events):
             fail(f"lifting a pallet with a drum on it runs ok: {events}", p)
-        last = {}
-        for row in open(os.path.join(out, "objects.csv")).read().splitlines()[1:]:
-            cols = row.split(",")
-            last[cols[1]] = [float(x) for x in cols[2:5]]
+        last = last_positions(out)
         if abs(last["P"][2] - 0.5) > 0.005 or abs(last["D"][2] - 0.644) > 0.005:
             fail(f"the drum rides on the lifted pallet (P z 0.5, D z 0.644): {last}")
         # Mesh on mesh (a hooped drum on the pallet's boards): set down and released, both rest
@@ -573,6 +579,29 @@ def agreement(sscs, root):
         if p.returncode != 1 or summary["status"] != "violations" or "not_at_rest" not in kinds or len(shifted) != 1 or \
                 shifted[0]["object"] != "D" or shifted[0]["on"] != "P" or shifted[0]["shift"] < 1:
             fail(f"the drum rolling off the driven pallet is load_shifted and not_at_rest: {events}", p)
+        # A drum standing on the pallet whose parent is the hall rides along too (it stayed in the
+        # air), and the vault's lift rule is re-checked on it (riders were not re-checked).
+        p, summary, events, out = events_of("stand-on-lift")
+        rules = [e for e in events if e["kind"] == "constraint"]
+        last = last_positions(out)
+        if p.returncode != 1 or len(rules) != 1 or rules[0]["subjects"] != ["D"] or any(e["kind"] == "collision" for e in events) or \
+                max(abs(a - b) for a, b in zip(last.get("D", [0, 0, 0]), [8.6, 4.12, 0.444])) > 0.002:
+            fail(f"the drum standing on the pallet rides to (8.6, 4.12, 0.444) and breaks the lift rule: {last} {events}", p)
+        # The arm picks the drum where the truck set its pallet down (planning moves what stands
+        # on a carried load with it: the arm went to where the drum stood in the vault, 1 m off,
+        # and lifted it from there).
+        p, summary, events, out = events_of("handover-pick")
+        last = last_positions(out)
+        tool = [float(x) for x in open(os.path.join(out, "trajectories", "Robot.csv")).read().splitlines()[-1].split(",")[7:10]]
+        if p.returncode != 0 or max(abs(a - b) for a, b in zip(tool, [9.6, 8.4, 0.844])) > 0.002 or \
+                max(abs(a - b) for a, b in zip(last["D"], [9.6, 8.4, 0.444])) > 0.002:
+            fail(f"the arm lifts the drum where the pallet was set down: tool {tool}, D {last.get('D')}", p)
+        # A grasp where the object no longer is (it fell when released) fails the run; it held
+        # the drum 0.4 m below the gripper and said ok.
+        p, summary, events, out = events_of("regrasp-fallen")
+        missed = [e for e in events if e["kind"] == "grasp_missed"]
+        if p.returncode != 1 or summary["status"] != "failed" or len(missed) != 1 or abs(missed[0]["distance"] - 0.4) > 0.005:
+            fail(f"grasping the fallen drum from 0.4 m above is grasp_missed: {events}", p)
 
 
 def read_png(path):
