@@ -698,7 +698,14 @@ std::string run_work_dir(const RunOptions& options) {
 
 Expected<RunSummary> run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options) {
   Run run(wc, geometry, plan, options);
-  RunSummary summary = run.run();
+  RunSummary summary;
+  try {
+    summary = run.run();
+  } catch (const PhysicsFailure& e) {
+    std::error_code ec;
+    fs::remove_all(work_dir(options), ec);
+    return Unexpected{std::string(e.what())};
+  }
   std::string error;
   if (!summary.interrupted && options.before_write) error = options.before_write();
   if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, &error);

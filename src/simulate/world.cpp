@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 #include <cstdio>
+#include <cstring>
 #include <cstdarg>
 #include <atomic>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include <numbers>
 #include <tuple>
 
+#include <fmt/format.h>
 #include <ode/ode.h>
 
 #include "core/inertia.h"
@@ -29,6 +31,7 @@ constexpr int kGatherContacts = 256; // what ODE may report per geom pair and st
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
 // A body slower than these for kRestTime is at rest.
 constexpr double kRestSpeed = 0.005, kRestTurn = 0.01, kRestTime = 0.2;  // m/s, rad/s, s
+constexpr double kMaxCorrectingVel = 1.0;  // m/s: how fast a contact may push bodies apart to undo a penetration
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
 
 /// ODE's messages (not its errors): "LCP internal error" when a step's solver gives up on a
@@ -38,8 +41,18 @@ void ode_message(int num, const char* msg, va_list ap) {
   if (ode_message_shown.exchange(true)) return;
   std::fprintf(stderr, "warning: ODE message %d: ", num);
   std::vfprintf(stderr, msg, ap);
-  std::fprintf(stderr, " (the physics solver struggled with a contact, usually a body far lighter than what touches it; "
-                       "further ODE messages of this run are not shown)\n");
+  const bool solver = std::strstr(msg, "LCP") != nullptr;
+  std::fprintf(stderr, " (%sfurther ODE messages of this run are not shown)\n",
+               solver ? "the physics solver struggled with a contact, usually a body far lighter than what touches it; " : "");
+}
+
+/// ODE's errors and internal assertions ("d != 0" in its cylinder collider) abort the process:
+/// a run died with exit 134 and left its staging folder. They become a PhysicsFailure the run
+/// reports as an internal error (exit 3), its staging folder removed.
+[[noreturn]] void ode_failure(int num, const char* msg, va_list ap) {
+  char text[1024];
+  std::vsnprintf(text, sizeof text, msg, ap);
+  throw PhysicsFailure(fmt::format("the physics engine (ODE) failed: error {}: {}", num, text));
 }
 
 void init_ode() {
@@ -47,6 +60,8 @@ void init_ode() {
   std::call_once(once, [] {
     dInitODE2(0);
     dSetMessageHandler(ode_message);
+    dSetErrorHandler(ode_failure);
+    dSetDebugHandler(ode_failure);
   });
   ode_message_shown = false;
 }
@@ -72,6 +87,44 @@ Eigen::Isometry3d from_ode(const dReal* p, const dReal* R) {
 /// triangle order and stops at the count it is given, so the first 8 of a drum's 48-vertex rim
 /// all lay on one side: the drum rocked, walked 3 cm in 20 s and never came to rest, on a
 /// pallet it turned 54° and hopped. A spread subset holds it still (tests/unit/physics_test.cpp).
+/// Contacts of two cylinders on one axis (drums stacked), which ODE's cylinder collider
+/// aborts on ("d != 0" in collideCylCyl: a run with a drum on a drum died, exit 134): where
+/// their end faces overlap, 8 points on the smaller rim at the middle of the overlap, the
+/// normal along the axis from g2 to g1 (ODE's convention). -1 when they are not coaxial
+/// (ODE's collider handles them), 0 when apart.
+int coaxial_cylinders(dGeomID g1, dGeomID g2, dContactGeom* out) {
+  if (dGeomGetClass(g1) != dCylinderClass || dGeomGetClass(g2) != dCylinderClass) return -1;
+  const dReal *R1 = dGeomGetRotation(g1), *R2 = dGeomGetRotation(g2), *p1 = dGeomGetPosition(g1), *p2 = dGeomGetPosition(g2);
+  const Eigen::Vector3d a1(R1[2], R1[6], R1[10]), a2(R2[2], R2[6], R2[10]);
+  const Eigen::Vector3d c1(p1[0], p1[1], p1[2]), c2(p2[0], p2[1], p2[2]);
+  const Eigen::Vector3d between = c1 - c2;
+  if (std::abs(a1.dot(a2)) < 1 - 1e-12 || (between - between.dot(a1) * a1).norm() > 1e-6) return -1;
+  dReal r1, l1, r2, l2;
+  dGeomCylinderGetParams(g1, &r1, &l1);
+  dGeomCylinderGetParams(g2, &r2, &l2);
+  const double along = between.dot(a1);  // g1's centre from g2's, along the axis
+  const double depth = (l1 + l2) / 2 - std::abs(along);
+  if (depth < 0) return 0;
+  const Eigen::Vector3d normal = along >= 0 ? a1 : Eigen::Vector3d(-a1);  // from g2 into g1
+  const Eigen::Vector3d middle = c2 + normal * (l2 / 2 - depth / 2);
+  const Eigen::Vector3d u = a1.unitOrthogonal(), v = a1.cross(u);
+  const double r = std::min(r1, r2);
+  for (int k = 0; k < 8; ++k) {
+    const double angle = k * std::numbers::pi / 4;
+    const Eigen::Vector3d at = middle + r * (std::cos(angle) * u + std::sin(angle) * v);
+    dContactGeom& c = out[k];
+    c = dContactGeom{};
+    for (int i = 0; i < 3; ++i) {
+      c.pos[i] = at[i];
+      c.normal[i] = normal[i];
+    }
+    c.depth = depth;
+    c.g1 = g1;
+    c.g2 = g2;
+  }
+  return 8;
+}
+
 int spread_contacts(dContactGeom* c, int n, int keep) {
   if (n <= keep) return n;
   int deepest = 0;
@@ -137,6 +190,7 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> bodies;              // per object; null when static
   std::vector<Eigen::Isometry3d> X_body_object;
   std::vector<double> masses;
+  bool broken = false;  // ODE failed inside a step: its state is not to be touched again
   std::vector<double> still_for;  // per object: how long its body has been slower than the rest thresholds (s)
   std::vector<dTriMeshDataID> meshes;
   std::vector<std::vector<double>> mesh_vertices;
@@ -221,7 +275,8 @@ struct PhysicsWorld::Impl {
     if (gripping(t1, t2)) return;
     int o1 = t1.object, o2 = t2.object;
     thread_local std::array<dContactGeom, kGatherContacts> found;
-    const int all = dCollide(g1, g2, kGatherContacts, found.data(), sizeof(dContactGeom));
+    int all = coaxial_cylinders(g1, g2, found.data());
+    if (all < 0) all = dCollide(g1, g2, kGatherContacts, found.data(), sizeof(dContactGeom));
     // The deepest point of the pair is recorded from all contacts, the solver gets a spread few.
     double deepest = -1;
     Eigen::Vector3d deepest_at = Eigen::Vector3d::Zero();
@@ -264,6 +319,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   dWorldSetGravity(w.world, 0, 0, options.gravity ? -kGravity : 0);
   dWorldSetERP(w.world, 0.2);
   dWorldSetCFM(w.world, 1e-9);
+  dWorldSetContactMaxCorrectingVel(w.world, kMaxCorrectingVel);
   // A body slower than 5 mm/s and 0.01 rad/s for 0.2 s is at rest: ODE stops integrating it
   // (which also ends the contact jitter of meshes) until something touches or moves it.
   dWorldSetAutoDisableFlag(w.world, 1);
@@ -307,6 +363,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
 }
 
 PhysicsWorld::~PhysicsWorld() {
+  if (impl_->broken) return;  // left as it is: destroying a space ODE failed inside (locked) fails again
   Impl& w = *impl_;
   dJointGroupDestroy(w.contact_group);
   dSpaceDestroy(w.space);  // destroys its geoms
@@ -590,8 +647,13 @@ void PhysicsWorld::step() {
   Impl& w = *impl_;
   w.contacts.clear();
   w.contact_index.clear();
-  dSpaceCollide(w.space, &w, &Impl::near_callback);
-  dWorldStep(w.world, w.options.timestep);
+  try {
+    dSpaceCollide(w.space, &w, &Impl::near_callback);
+    dWorldStep(w.world, w.options.timestep);
+  } catch (const PhysicsFailure&) {
+    w.broken = true;
+    throw;
+  }
   dJointGroupEmpty(w.contact_group);
   for (auto& [o, db] : w.devices)
     for (auto& rec : db.joints) {

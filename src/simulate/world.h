@@ -7,6 +7,7 @@
 /// Devices are articulated bodies: one rigid body per moving part, ODE hinge, slider and fixed
 /// joints with their limits, driven by joint motors (velocity commands with a force limit from
 /// the joint's effort), or moved kinematically for `driven: kinematic` devices.
+#include <stdexcept>
 #include <memory>
 #include <vector>
 
@@ -22,6 +23,11 @@ struct dxJoint;
 struct dxGeom;
 
 namespace sscs {
+
+/// ODE reported an error or failed an internal assertion: the run cannot go on.
+struct PhysicsFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 /// An object's mass in a run: what its type declares (`mass:`), else its `mass` attribute when
 /// above 0, else its bounds' volume at 500 kg/m^3 (at least 0.1 kg).

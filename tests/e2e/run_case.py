@@ -596,6 +596,14 @@ def agreement(sscs, root):
         if p.returncode != 0 or max(abs(a - b) for a, b in zip(tool, [9.6, 8.4, 0.844])) > 0.002 or \
                 max(abs(a - b) for a, b in zip(last["D"], [9.6, 8.4, 0.444])) > 0.002:
             fail(f"the arm lifts the drum where the pallet was set down: tool {tool}, D {last.get('D')}", p)
+        # A pallet on a pallet (meshes face to face) with a drum on a drum (one axis) on it, the
+        # bottom pallet lifted 0.3 m: everything rides (the top pallet flew off at 41 m/s, and
+        # the coaxial drums aborted ODE with exit 134).
+        p, summary, events, out = events_of("stacked-lift")
+        last = last_positions(out)
+        expected = {"P2": [8.0, 8.0, 0.444], "D1": [8.9, 8.4, 0.588], "D2": [8.9, 8.4, 1.439]}
+        if p.returncode != 0 or any(max(abs(a - b) for a, b in zip(last.get(o, [0, 0, 0]), at)) > 0.003 for o, at in expected.items()):
+            fail(f"the stack rides on the lifted pallet: {last} {events}", p)
         # A grasp where the object no longer is (it fell when released) fails the run; it held
         # the drum 0.4 m below the gripper and said ok.
         p, summary, events, out = events_of("regrasp-fallen")

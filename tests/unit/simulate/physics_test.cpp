@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <ode/ode.h>
+
 #include "geometry/geometry.h"
 #include "model/device.h"
 #include "simulate/profile.h"
@@ -105,6 +107,22 @@ TEST_F(Physics, MeshesSetDownOnMeshesStayWhereTheyWereSet) {
     EXPECT_GT(X.linear().col(2).z(), std::cos(1e-3)) << c.objects;
     EXPECT_TRUE(world.at_rest(d)) << c.objects;
   }
+}
+
+TEST_F(Physics, ADrumStandsOnADrumOnOneAxis) {
+  // ODE's cylinder collider asserts "d != 0" for two cylinders on one axis and aborted the run.
+  auto w = world_of("  - {type: drum, name: Low}\n  - {type: drum, name: D, location: [0, 0, 0.8515]}\n", "D");
+  while (w->time() < 2.0) w->step();
+  EXPECT_NEAR(w->pose(d).translation().z(), 0.851, 1e-3);
+  EXPECT_NEAR(w->pose(d).translation().head<2>().norm(), 0, 1e-4);
+  EXPECT_TRUE(w->at_rest(d));
+}
+
+TEST_F(Physics, AnOdeFailureIsAnExceptionNotAnAbort) {
+  // Its errors and internal assertions aborted the process (exit 134, a staging folder left).
+  auto w = world_of("  - {type: drum, name: D}\n", "D");
+  EXPECT_THROW(dDebug(1, "assertion \"%s\" failed", "d != 0"), PhysicsFailure);
+  EXPECT_THROW(dError(2, "bad %d", 2), PhysicsFailure);
 }
 
 TEST_F(Physics, TheFloorIsTheBottomOfTheRoom) {
