@@ -358,7 +358,10 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
 
 std::string collision_text(const Workcell& wc, const GeometryModel& geometry, int device, const Collision& c) {
   const Device& d = *geometry.objects[device].device;
-  if (c.other == kFloorObject) return fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth));
+  if (c.other == kFloorObject)
+    return c.other_part < 0 ? fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth))
+                            : fmt::format("part {} goes {:g} m into the floor of {}", d.parts[c.part].name, stable(c.depth),
+                                          wc.objects[c.other_part].name);
   if (c.other < 0)
     return fmt::format("parts {} and {} collide by {:g} m", d.parts[c.part].name, d.parts[c.other_part].name, stable(c.depth));
   std::string other = wc.objects[c.other].name;

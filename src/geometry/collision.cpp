@@ -645,24 +645,34 @@ std::optional<std::pair<double, double>> z_over(const Shape& shape, const Eigen:
 
 std::optional<Collision> CollisionWorld::into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                                      const std::vector<char>& parts, double plane,
-                                                     const std::vector<Eigen::AlignedBox3d>& slabs) {
+                                                     const std::vector<FloorBlock>& blocks) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return std::nullopt;
+  std::vector<Eigen::AlignedBox3d> block_bounds;
+  for (const FloorBlock& b : blocks) {
+    Shape box;
+    box.box_size = b.size;
+    block_bounds.push_back(shape_bounds(box, b.X_world_centre));
+  }
   std::optional<Collision> deepest;
   for (size_t p = 0; p < g.device->parts.size(); ++p) {
     if (p >= parts.size() || !parts[p]) continue;
     for (const Shape& shape : g.device->parts[p].shapes) {
       const Eigen::Isometry3d X = X_world_part[p] * shape.X_object_shape;
       const Eigen::AlignedBox3d bounds = shape_bounds(shape, X);
-      double depth = plane - bounds.min().z();
-      for (const Eigen::AlignedBox3d& slab : slabs) {
-        if (!bounds.intersects(slab)) continue;
-        // How far into the slab the part over its footprint goes, from above or from below.
-        auto z = z_over(shape, X, Eigen::AlignedBox2d(slab.min().head<2>(), slab.max().head<2>()));
-        if (z && z->first < slab.max().z() && z->second > slab.min().z())
-          depth = std::max(depth, std::min(slab.max().z() - z->first, z->second - slab.min().z()));
+      std::optional<Collision> here;
+      if (const double below = plane - bounds.min().z(); below > kTouchTolerance) here = Collision{kFloorObject, static_cast<int>(p), -1, below};
+      for (size_t k = 0; k < blocks.size(); ++k) {
+        if (!bounds.intersects(block_bounds[k])) continue;
+        // How far into the block the part over its footprint goes, from above or from below,
+        // in the block's frame.
+        const Eigen::Vector3d half = blocks[k].size / 2;
+        auto z = z_over(shape, blocks[k].X_world_centre.inverse() * X, Eigen::AlignedBox2d(-half.head<2>(), half.head<2>()));
+        if (!z || z->first >= half.z() || z->second <= -half.z()) continue;
+        const double depth = std::min(half.z() - z->first, z->second + half.z());
+        if (depth > kTouchTolerance && (!here || depth > here->depth)) here = Collision{kFloorObject, static_cast<int>(p), blocks[k].container, depth};
       }
-      if (depth > kTouchTolerance && (!deepest || depth > deepest->depth)) deepest = Collision{kFloorObject, static_cast<int>(p), -1, depth};
+      if (here && (!deepest || here->depth > deepest->depth)) deepest = here;
     }
   }
   return deepest;
@@ -680,7 +690,7 @@ DeviceClearance::DeviceClearance(const Workcell& wc, const GeometryModel& geomet
   tool_parts_ = d.tool_parts();
   moved_ = d.moved_parts();
   plane_ = floor_z(wc, geometry);
-  slabs_ = floor_slabs(wc, geometry, kFloorSlabThickness);
+  blocks_ = floor_blocks(wc, geometry);
 }
 
 std::optional<Collision> DeviceClearance::at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
@@ -691,7 +701,7 @@ std::optional<Collision> DeviceClearance::at(CollisionWorld& world, const Eigen:
   std::vector<int> skip = containers_;
   skip.insert(skip.end(), ignore.begin(), ignore.end());
   auto c = world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, first);
-  if (!c) c = world.into_floors(device_, X, moved_, plane_, slabs_);
+  if (!c) c = world.into_floors(device_, X, moved_, plane_, blocks_);
   return c;
 }
 

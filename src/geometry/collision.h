@@ -73,12 +73,13 @@ class CollisionWorld {
                                             bool first = false);
 
   /// The deepest a device's parts marked in `parts`, placed at `X_world_part`, go into the floors
-  /// the physics has (floor_slabs): below the plane at `plane` (their lowest point), or into a
-  /// slab of `slabs` (FCL, exact for the shape: a link reaching over a pit's edge into the pit
-  /// does not touch the slab its bounds overlap). Deeper than kTouchTolerance only;
-  /// Collision::other is kFloorObject.
+  /// the physics has: below the plane at `plane` (their lowest point), or into a block of
+  /// `blocks` (floor_blocks; the part's exact shape over the block's footprint, clipped: a link
+  /// reaching over a pit's edge into the pit does not touch the floor its bounds overlap).
+  /// Deeper than kTouchTolerance only; Collision::other is kFloorObject and other_part the
+  /// container whose floor it is (-1: the plane).
   std::optional<Collision> into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
-                                       const std::vector<char>& parts, double plane, const std::vector<Eigen::AlignedBox3d>& slabs);
+                                       const std::vector<char>& parts, double plane, const std::vector<FloorBlock>& blocks);
 
   /// Places `object` at a new world pose (a carried or fallen object).
   void move(int object, const Eigen::Isometry3d& X_world_object);
@@ -132,7 +133,7 @@ class DeviceClearance {
   std::vector<int> containers_, stands_on_;
   std::vector<char> tool_parts_, moved_;
   double plane_ = 0;
-  std::vector<Eigen::AlignedBox3d> slabs_;
+  std::vector<FloorBlock> blocks_;
 };
 
 }  // namespace sscs

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <unordered_map>
 
@@ -44,22 +45,51 @@ double floor_under(const Workcell& wc, const GeometryModel& geometry, int object
   return floor_z(wc, geometry);
 }
 
-std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryModel& geometry, double thickness) {
+bool opens_into(const Workcell& wc, const GeometryModel& geometry, int c, int h) {
+  const Eigen::AlignedBox3d &room = geometry.objects[c].bbox_world, &pit = geometry.objects[h].bbox_world;
+  if (h == c || room.isEmpty() || pit.isEmpty() || geometry.objects[c].shapes.empty() || geometry.objects[h].shapes.empty()) return false;
+  for (int k = wc.objects[c].parent; k >= 0; k = wc.objects[k].parent)
+    if (k == h) return false;  // the room around c
+  const double z = room.min().z();
+  const Eigen::AlignedBox2d a(room.min().head<2>(), room.max().head<2>()), b(pit.min().head<2>(), pit.max().head<2>());
+  const Eigen::AlignedBox2d both = a.intersection(b);
+  return pit.min().z() < z - 1e-9 && pit.max().z() >= z - 1e-9 && !both.isEmpty() && (both.sizes().array() > 0).all();
+}
+
+std::vector<FloorBlock> floor_blocks(const Workcell& wc, const GeometryModel& geometry) {
   const double plane = floor_z(wc, geometry);
   const std::vector<char> container = containers(wc);
-  std::vector<Eigen::AlignedBox3d> out;
+  // A container's box in its own frame: its shapes' bounds.
+  auto local_box = [&](size_t c) {
+    Eigen::AlignedBox3d box;
+    for (const Shape& s : geometry.objects[c].shapes) box.extend(shape_bounds(s, s.X_object_shape));
+    return box;
+  };
+  auto around = [&](size_t c) {  // the nearest container c stands in, or -1
+    for (int k = wc.objects[c].parent; k >= 0; k = wc.objects[k].parent)
+      if (container[k]) return k;
+    return -1;
+  };
+  std::vector<FloorBlock> out;
   for (size_t c = 0; c < wc.objects.size(); ++c) {
-    const Eigen::AlignedBox3d& box = geometry.objects[c].bbox_world;
-    if (!container[c] || box.isEmpty() || box.min().z() <= plane + 1e-9) continue;
-    const double z = box.min().z();
-    // The footprint as rectangles, each pit (a container below it, opening lower) cut out.
+    const Eigen::AlignedBox3d& world_box = geometry.objects[c].bbox_world;
+    if (!container[c] || world_box.isEmpty() || geometry.objects[c].shapes.empty()) continue;
+    const double z = world_box.min().z();
+    if (z <= plane + 1e-9) continue;
+    const Eigen::AlignedBox3d box = local_box(c);
+    const Eigen::Isometry3d& X_world_c = geometry.objects[c].X_world_object;
+    const int outer = around(c);
+    const bool ground = outer < 0 || z <= geometry.objects[outer].bbox_world.min().z() + 1e-9;
+    const double depth = ground ? z - plane : kFloorSlabThickness;
+    // The footprint as rectangles in c's frame, each opening cut out: a container that is not
+    // c or around it, whose bottom lies lower and whose top reaches c's floor.
     std::vector<Eigen::AlignedBox2d> pieces = {Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())};
     for (size_t h = 0; h < wc.objects.size(); ++h) {
-      const Eigen::AlignedBox3d& pit = geometry.objects[h].bbox_world;
-      bool inside = false;  // h stands in c (a descendant, not an ancestor)
-      for (int k = wc.objects[h].parent; k >= 0 && !inside; k = wc.objects[k].parent) inside = k == static_cast<int>(c);
-      if (!inside || !container[h] || pit.isEmpty() || pit.min().z() >= z - 1e-9) continue;
-      const Eigen::AlignedBox2d hole(pit.min().head<2>(), pit.max().head<2>());
+      if (!container[h] || !opens_into(wc, geometry, static_cast<int>(c), static_cast<int>(h))) continue;
+      Eigen::AlignedBox2d hole;
+      const Eigen::AlignedBox3d pit_local = local_box(h);
+      const Eigen::Isometry3d X_c_h = X_world_c.inverse() * geometry.objects[h].X_world_object;
+      for (int corner = 0; corner < 8; ++corner) hole.extend((X_c_h * pit_local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))).head<2>());
       std::vector<Eigen::AlignedBox2d> kept;
       for (const Eigen::AlignedBox2d& r : pieces) {
         const Eigen::AlignedBox2d cut = r.intersection(hole);
@@ -78,8 +108,13 @@ std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryM
       }
       pieces = std::move(kept);
     }
-    for (const Eigen::AlignedBox2d& r : pieces)
-      out.emplace_back(Eigen::Vector3d(r.min().x(), r.min().y(), z - thickness), Eigen::Vector3d(r.max().x(), r.max().y(), z));
+    for (const Eigen::AlignedBox2d& r : pieces) {
+      FloorBlock b;
+      b.container = static_cast<int>(c);
+      b.size = Eigen::Vector3d(r.sizes().x(), r.sizes().y(), depth);
+      b.X_world_centre = X_world_c * Eigen::Translation3d(r.center().x(), r.center().y(), box.min().z() - depth / 2);
+      out.push_back(b);
+    }
   }
   return out;
 }
@@ -486,6 +521,22 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
     for (auto& f : device_frames)
       if (!g.frame(f.first)) g.frames_world.push_back(std::move(f));
   }
+  // A pit turned against the room it opens into, by other than a multiple of 90 degrees, opens
+  // the box around it in that room's floor (floor_blocks): say so where the pit is placed.
+  const std::vector<char> container = containers(wc);
+  for (size_t c = 0; c < wc.objects.size(); ++c)
+    for (size_t h = 0; h < wc.objects.size(); ++h) {
+      if (!container[c] || !container[h] || !opens_into(wc, model, static_cast<int>(c), static_cast<int>(h))) continue;
+      const Eigen::Matrix3d R = model.objects[c].X_world_object.linear().transpose() * model.objects[h].X_world_object.linear();
+      const double turn = std::atan2(R(1, 0), R(0, 0)) * 180 / std::numbers::pi;
+      const double off = std::abs(turn - 90 * std::round(turn / 90));
+      if (off > 1e-6)
+        diag.warning(wc.objects[h].mark, fmt::format("'{}' is turned {:g} deg against '{}', whose floor it opens into: the floor is "
+                                                     "cut by the box around it, in the frame of '{}', so beside its slanted sides "
+                                                     "there is no floor for the physics and reach (turn it by a multiple of 90 deg "
+                                                     "against '{}')", wc.objects[h].name, stable(turn), wc.objects[c].name,
+                                                     wc.objects[c].name, wc.objects[c].name));
+    }
   return model;
 }
 

@@ -77,12 +77,28 @@ double floor_z(const Workcell& wc, const GeometryModel& geometry);
 /// mezzanine room's floor is its own), else floor_z().
 double floor_under(const Workcell& wc, const GeometryModel& geometry, int object);
 
-/// The floors the physics adds above its plane at floor_z(): for each container whose bottom
-/// lies above it, its footprint at its bottom (world boxes `thickness` deep), less the footprints
-/// of the containers inside it that open below it (a pit in a hall). Axis-aligned: a container
-/// turned about z gives the box around it.
-std::vector<Eigen::AlignedBox3d> floor_slabs(const Workcell& wc, const GeometryModel& geometry, double thickness);
-/// How deep the physics makes the floor of a room above the lowest (floor_slabs' thickness).
+/// A block of floor the physics adds above its plane at floor_z(): a box placed in the world
+/// (in the frame of the container whose floor it is, so a room turned about z has its floor
+/// turned with it).
+struct FloorBlock {
+  int container = -1;                  ///< whose floor it is
+  Eigen::Isometry3d X_world_centre;    ///< the box's centre and axes
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  ///< full extents
+};
+
+/// The floors above the plane: for each container whose bottom lies above it, its footprint at
+/// its bottom less the footprints (in its frame) of the other containers that open below it
+/// (a pit, whichever its parent). Ground reaches down to the plane under a container that has
+/// no container around it or lies no higher than the one around it (a hall beside its pit: a
+/// drum that toppled in the pit rolled out under the hall); a container above the one around it
+/// (a mezzanine) stands on a slab kFloorSlabThickness deep. A pit turned against its room by
+/// other than a multiple of 90 degrees opens the box around it, in the room's frame.
+std::vector<FloorBlock> floor_blocks(const Workcell& wc, const GeometryModel& geometry);
+/// Whether container h opens into the floor of container c: it is not c or around c, its
+/// bottom lies lower than c's, its top reaches c's floor, and their footprints (world bounds)
+/// overlap: a pit in a hall, whichever its parent.
+bool opens_into(const Workcell& wc, const GeometryModel& geometry, int c, int h);
+/// How deep the floor of a container above the one around it (a mezzanine) is.
 constexpr double kFloorSlabThickness = 0.2;  // m
 
 

@@ -31,6 +31,10 @@ constexpr int kGatherContacts = 256; // what ODE may report per geom pair and st
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
 // A body slower than these for kRestTime is at rest.
 constexpr double kRestSpeed = 0.005, kRestTurn = 0.01, kRestTime = 0.2;  // m/s, rad/s, s
+// Rolling and spinning resistance (m: the torque is at most this times the normal force): a
+// drum landed tilted spun and wobbled on its rim for ever (5 deg/s, never at rest), for ODE's
+// point contacts have no torsion of a contact patch. Steel on concrete rolls with about 1 mm.
+constexpr double kRollingResistance = 0.001, kSpinResistance = 0.01;
 constexpr double kMaxCorrectingVel = 1.0;  // m/s: how fast a contact may push bodies apart to undo a penetration
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
 
@@ -289,7 +293,9 @@ struct PhysicsWorld::Impl {
     for (int i = 0; i < n; ++i) {
       dContact c{};
       c.geom = found[i];
-      c.surface.mode = dContactBounce | dContactSoftCFM | dContactApprox1;
+      c.surface.mode = dContactBounce | dContactSoftCFM | dContactApprox1 | dContactRolling;
+      c.surface.rho = c.surface.rho2 = kRollingResistance;
+      c.surface.rhoN = kSpinResistance;
       c.surface.mu = options.friction;
       c.surface.bounce = options.restitution;
       c.surface.bounce_vel = 0.1;
@@ -343,11 +349,11 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.floor = floor;
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);
   w.tag(plane, -1, -1);
-  // Rooms above the lowest (a mezzanine, a hall beside a pit) stand on floors of their own.
-  for (const Eigen::AlignedBox3d& slab : floor_slabs(wc, geometry, kFloorSlabThickness)) {
-    const Eigen::Vector3d size = slab.sizes(), centre = slab.center();
-    dGeomID g = dCreateBox(w.space, size.x(), size.y(), size.z());
-    dGeomSetPosition(g, centre.x(), centre.y(), centre.z());
+  // Rooms above the lowest stand on floors of their own: ground down to the plane beside a pit,
+  // a slab under a mezzanine (floor_blocks).
+  for (const FloorBlock& block : floor_blocks(wc, geometry)) {
+    dGeomID g = dCreateBox(w.space, block.size.x(), block.size.y(), block.size.z());
+    Impl::place(g, block.X_world_centre);
     w.tag(g, -1, -1);
   }
   for (size_t i = 0; i < n; ++i) {

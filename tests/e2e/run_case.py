@@ -602,7 +602,9 @@ def agreement(sscs, root):
         p, summary, events, out = events_of("stacked-lift")
         last = last_positions(out)
         expected = {"P2": [8.0, 8.0, 0.444], "D1": [8.9, 8.4, 0.588], "D2": [8.9, 8.4, 1.439]}
-        if p.returncode != 0 or any(max(abs(a - b) for a, b in zip(last.get(o, [0, 0, 0]), at)) > 0.003 for o, at in expected.items()):
+        # (Within 5 mm, load_shifted's threshold: two pallets face to face, mesh on mesh, slide
+        # by about 3 mm in ODE's contacts.)
+        if p.returncode != 0 or any(max(abs(a - b) for a, b in zip(last.get(o, [0, 0, 0]), at)) > 0.005 for o, at in expected.items()):
             fail(f"the stack rides on the lifted pallet: {last} {events}", p)
         # A grasp where the object no longer is (it fell when released) fails the run; it held
         # the drum 0.4 m below the gripper and said ok.

@@ -125,6 +125,51 @@ TEST_F(Physics, AnOdeFailureIsAnExceptionNotAnAbort) {
   EXPECT_THROW(dError(2, "bad %d", 2), PhysicsFailure);
 }
 
+TEST_F(Physics, FloorsTurnWithTheirRoomAndGroundLiesBesideAPit) {
+  // A mezzanine turned 45 deg had the box around it for a floor: a drum beside it rested 0.3 m in
+  // the air. Beside a pit there was no ground below the hall's 0.2 m slab (a drum rolled out of
+  // the pit under the hall), and a pit not parented to the hall was covered by its floor.
+  const std::string hall = "  - {type: room, name: Hall, length: 10, width: 10, height: 5}\n";
+  struct Case {
+    std::string objects;
+    double rest_z;
+  };
+  for (const Case& c : {Case{hall + "  - {type: room, name: Mez, parent: Hall, location: [5, 3, 0.3], orientation: [0, 0, 45], "
+                                    "length: 2, width: 2, height: 2}\n  - {type: drum, name: D, location: [3.9, 3.4, 0.5], diameter: 0.3, height: 0.4}\n", 0.0},
+                        Case{hall + "  - {type: room, name: Mez, parent: Hall, location: [5, 3, 0.3], orientation: [0, 0, 45], "
+                                    "length: 2, width: 2, height: 2}\n  - {type: drum, name: D, location: [5, 4.4, 0.5], diameter: 0.3, height: 0.4}\n", 0.3},
+                        Case{hall + "  - {type: room, name: Pit, location: [4, 4, -2], length: 2, width: 2, height: 2}\n"
+                                    "  - {type: drum, name: D, location: [5, 5, -1.5], diameter: 0.3, height: 0.4}\n", -2.0}}) {
+    SCOPED_TRACE(c.objects);
+    auto w = world_of(c.objects, "D");
+    while (w->time() < 1.5) w->step();
+    EXPECT_NEAR(w->pose(d).translation().z(), c.rest_z, 5e-3);
+  }
+  // Reach: beside the turned mezzanine, into the ground beside a pit (fails), into a pit that is
+  // not the hall's child (passes).
+  diag = Diagnostics();
+  Workcell cell = must_compile("objects:\n" + hall +
+                               "  - {type: room, name: Mez, parent: Hall, location: [5, 3, 0.3], orientation: [0, 0, 45], length: 2, width: 2, height: 2}\n"
+                               "  - {type: room, name: Pit, location: [6.5, 6.5, -2], length: 2, width: 2, height: 2}\n"
+                               "  - {type: arm6, name: R, parent: Hall, location: [6, 7.5, 0]}\n"
+                               "constraints:\n  - {name: beside, reach: {device: R, targets: {xyz: [5.4, 6.3, 0.2]}}}\n"
+                               "  - {name: pit, reach: {device: R, targets: {xyz: [7.2, 7.5, -0.4]}}}\n"
+                               "  - {name: ground, reach: {device: R, targets: {xyz: [6.1, 6.3, -0.4]}}}\n");
+  CheckReport rep = check(cell, build_geometry(cell, diag));
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+  EXPECT_EQ(rep.results[1].status, Status::Pass) << rep.results[1].message;
+  EXPECT_EQ(rep.results[2].status, Status::Fail);
+  EXPECT_NE(rep.results[2].message.find("into the floor of Hall"), std::string::npos) << rep.results[2].message;
+  // A pit turned against its hall by 45 deg opens the box around it: warned of.
+  diag = Diagnostics();
+  Workcell turned = must_compile("objects:\n" + hall + "  - {type: room, name: Pit, parent: Hall, location: [5, 3, -2], orientation: [0, 0, 45], "
+                                 "length: 2, width: 2, height: 2}\n");
+  build_geometry(turned, diag);
+  ASSERT_EQ(diag.warnings().size(), 1u);
+  EXPECT_NE(diag.warnings()[0].message.find("'Pit' is turned 45 deg against 'Hall'"), std::string::npos) << diag.warnings()[0].message;
+}
+
 TEST_F(Physics, TheFloorIsTheBottomOfTheRoom) {
   auto w = world_of("  - {type: room, name: R, length: 5, width: 5, height: 3, location: [0, 0, 2]}\n"
                     "  - {type: drum, name: D, parent: R, location: [1, 1, 0.3]}\n", "D");
@@ -160,7 +205,7 @@ TEST_F(Physics, EveryRoomStandsOnItsOwnFloorAndAPitOpensInIt) {
   CheckReport rep = check(cell, build_geometry(cell, diag));
   ASSERT_EQ(rep.results.size(), 1u);
   EXPECT_EQ(rep.results[0].status, Status::Fail);
-  EXPECT_NE(rep.results[0].message.find("below the floor"), std::string::npos) << rep.results[0].message;
+  EXPECT_NE(rep.results[0].message.find("into the floor of Mezz"), std::string::npos) << rep.results[0].message;
   // An arm at the pit's edge reaches down into the pit (it failed: the hall's floor was taken for
   // a plane over the pit), and not into the hall's floor beside it.
   diag = Diagnostics();
@@ -171,7 +216,7 @@ TEST_F(Physics, EveryRoomStandsOnItsOwnFloorAndAPitOpensInIt) {
   ASSERT_EQ(rep.results.size(), 2u);
   EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
   EXPECT_EQ(rep.results[1].status, Status::Fail);
-  EXPECT_NE(rep.results[1].message.find("part link6 goes 0.1 m below the floor"), std::string::npos) << rep.results[1].message;
+  EXPECT_NE(rep.results[1].message.find("part link6 goes 0.1 m into the floor of Hall"), std::string::npos) << rep.results[1].message;
 }
 
 }  // namespace
