@@ -538,6 +538,25 @@ double CollisionWorld::depth_inside(int object, const Eigen::Vector3d& p_world) 
   return depth;
 }
 
+std::optional<double> CollisionWorld::distance_to_point(int object, const Eigen::Vector3d& p_world) {
+  const auto& shapes = impl_->of(object);
+  if (shapes.empty()) return std::nullopt;
+  if (depth_inside(object, p_world) > 0) return 0.0;
+  fcl::Transform3d X = fcl::Transform3d::Identity();
+  X.translation() = p_world;
+  constexpr double kPoint = 1e-9;  // a sphere this small stands for the point
+  fcl::CollisionObjectd point(std::make_shared<fcl::Sphered>(kPoint), X);
+  point.computeAABB();
+  double best = INFINITY;
+  for (const auto& x : shapes) {
+    fcl::DistanceRequestd req(false, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
+    fcl::DistanceResultd res;
+    fcl::distance(x.get(), &point, req, res);
+    best = std::min(best, std::max(res.min_distance + kPoint, 0.0));
+  }
+  return best;
+}
+
 std::vector<Collision> CollisionWorld::self_collisions(int object) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return {};

@@ -53,6 +53,10 @@ class CollisionWorld {
   /// mesh is a surface and holds nothing).
   double depth_inside(int object, const Eigen::Vector3d& p_world);
 
+  /// How far the point `p_world` is from object `object`'s solids at their current placements:
+  /// 0 when on or inside one (a closed mesh holds its inside). nullopt when it has no geometry.
+  std::optional<double> distance_to_point(int object, const Eigen::Vector3d& p_world);
+
   /// Pairs of parts of device `object` that may not touch (Device::may_touch) and interpenetrate
   /// at its instance's joint values (self-collision).
   std::vector<Collision> self_collisions(int object);

@@ -366,10 +366,26 @@ void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag
       }
     }
     const char* type = j->Attribute("type");
-    if (type && (std::string_view(type) == "revolute" || std::string_view(type) == "prismatic") && !j->FirstChildElement("limit")) {
+    const bool ranged = type && (std::string_view(type) == "revolute" || std::string_view(type) == "prismatic");
+    const TiXmlElement* limit = j->FirstChildElement("limit");
+    if (ranged && !limit) {
       diag.error(xml_mark(file, *j), fmt::format("joint '{}' is {} and has no <limit> (a URDF gives revolute and prismatic joints their "
                                                  "limits; a joint that turns without end is continuous)", name, type));
       return;
+    }
+    if (limit && type && std::string_view(type) != "fixed") {
+      for (const char* needed : {"effort", "velocity"})
+        if (!limit->Attribute(needed)) {
+          diag.error(xml_mark(file, *limit), fmt::format("joint '{}': <limit> has no {}= (a URDF's limits carry the joint's effort and "
+                                                         "velocity; urdfdom refuses the file without them)", name, needed));
+          return;
+        }
+      if (ranged && (!limit->Attribute("lower") || !limit->Attribute("upper")))
+        diag.warning(xml_mark(file, *limit), fmt::format("joint '{}': <limit> gives no {}: URDF reads it as 0, so the joint's range is "
+                                                         "[{}, {}]{}", name, !limit->Attribute("lower") && !limit->Attribute("upper") ? "lower or upper" : !limit->Attribute("lower") ? "lower" : "upper",
+                                                         limit->Attribute("lower") ? limit->Attribute("lower") : "0",
+                                                         limit->Attribute("upper") ? limit->Attribute("upper") : "0",
+                                                         !limit->Attribute("lower") && !limit->Attribute("upper") ? " and it cannot move" : ""));
     }
     if (const TiXmlElement* m = j->FirstChildElement("mimic"); m && !m->Attribute("joint")) {
       diag.error(xml_mark(file, *m), fmt::format("joint '{}': <mimic> names no joint (joint=\"...\")", name));
@@ -395,7 +411,10 @@ void check_urdf_tree(const TiXmlElement& robot, uint32_t file, Diagnostics& diag
         std::vector<std::string> loop(std::find(path.begin(), path.end(), link), path.end());
         std::reverse(loop.begin(), loop.end());
         loop.push_back(loop.front());
+        // Reported at the loop's joint that comes last in the file: the one that closes it.
         const TiXmlElement* closing = parent_of.at(link).first;
+        for (size_t k = 0; k + 1 < loop.size(); ++k)
+          if (const TiXmlElement* j = parent_of.at(loop[k]).first; j->Row() > closing->Row()) closing = j;
         diag.error(xml_mark(file, *closing), fmt::format("joint '{}' closes a loop of links ({}): a device is a tree (model the loop's "
                                                          "last joint as a constraint in a plugin, or drop it)",
                                                          name_of(*closing), fmt::join(loop, " -> ")));

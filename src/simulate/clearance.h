@@ -28,6 +28,12 @@ class ClearanceTracker {
   /// The objects within `gap` of `object`, placed at `X_world_object` (what a load stands on when
   /// it is lifted), but `skip`.
   std::vector<int> within(int object, const Eigen::Isometry3d& X_world_object, const std::vector<int>& skip, double gap);
+  /// How far `p_world` is from `object`'s solids, the object placed at `X_world_object` (where a
+  /// tool is from what it is to grasp).
+  double distance_to_point(int object, const Eigen::Isometry3d& X_world_object, const Eigen::Vector3d& p_world) {
+    nearby_.move(object, X_world_object);
+    return nearby_.distance_to_point(object, p_world).value_or(INFINITY);
+  }
   /// Measures at time `t` how close `moving` (its `parts` only, when given) comes to every other
   /// object within reach but `skip`; keeps each pair's closest.
   void measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts = {});

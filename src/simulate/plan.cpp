@@ -5,6 +5,7 @@
 #include <numbers>
 #include <tuple>
 #include <map>
+#include <set>
 #include <memory>
 
 #include <fmt/format.h>
@@ -355,9 +356,15 @@ class Planner {
   /// set down, the other devices at their last planned joint values.
   CollisionWorld& scene_now() {
     if (!collisions_) collisions_ = std::make_unique<CollisionWorld>(geometry_);
-    for (const auto& [o, X] : moved_) collisions_->move(o, X);
+    for (size_t o = 0; o < wc_.objects.size(); ++o) {  // what was carried, set down, or stood on that
+      if (geometry_.objects[o].device) continue;
+      const Eigen::Isometry3d X = object_pose(static_cast<int>(o));
+      if (placed_.count(static_cast<int>(o)) || !X.isApprox(geometry_.objects[o].X_world_object, 1e-12)) {
+        collisions_->move(static_cast<int>(o), X);
+        placed_.insert(static_cast<int>(o));
+      }
+    }
     for (const auto& [dev, s] : states_) {
-      if (s.held >= 0) collisions_->move(s.held, object_pose(s.held));
       std::vector<Eigen::Isometry3d> X = model(dev).part_poses(s.q);
       for (auto& x : X) x = geometry_.objects[dev].X_world_object * x;
       collisions_->move_parts(dev, X);
@@ -504,19 +511,27 @@ class Planner {
       st.held = o;  // as if held: its release is no second error
       return;
     }
-    // The tool must be at the object: within kGraspReach of its bounds where it is now.
+    // A device standing on the object would not be carried (as on a moving device).
+    for (size_t k = 0; k < wc_.objects.size(); ++k)
+      if (geometry_.objects[k].device)
+        for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
+          if (up == o) {
+            diag_.error(where.mark, fmt::format("grasp: {} stands on {} (its parent chain), and a device is not carried by what "
+                                                "it stands on; place it elsewhere", wc_.objects[k].name, where.text));
+            return;
+          }
+    // The tool must be at the object: within kGraspReach of its solids where it is now (its
+    // bounds let a tool 0.2 m from a plank turned 45 deg grasp it).
     Eigen::Isometry3d X_tool = tool_world(d, st.q);
-    Eigen::Isometry3d X_obj = object_pose(o);
-    const ObjectGeometry& g = geometry_.objects[o];
-    Eigen::Vector3d p = (X_obj * g.X_world_object.inverse()).inverse() * X_tool.translation();  // into the original pose
-    double gap = g.bbox_world.exteriorDistance(p);
+    CollisionWorld& scene = scene_now();
+    double gap = scene.distance_to_point(o, X_tool.translation()).value_or(INFINITY);
     if (gap > kGraspReach) {
       diag_.error(where.mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
                                           wc_.objects[d].name, stable(gap), where.text, kGraspReach));
       return;
     }
+    st.X_tool_held = X_tool.inverse() * object_pose(o);  // before it is held: object_pose follows the tool then
     st.held = o;
-    st.X_tool_held = X_tool.inverse() * X_obj;
   }
 
   const Workcell& wc_;
@@ -525,7 +540,8 @@ class Planner {
   Plan plan_;
   std::map<int, DeviceState> states_;
   std::map<int, Eigen::Isometry3d> moved_;
-  std::unique_ptr<CollisionWorld> collisions_;    // built at the first move_to
+  std::unique_ptr<CollisionWorld> collisions_;    // built at the first move_to or grasp
+  std::set<int> placed_;                          // objects collisions_ has moved from their vault pose
   std::map<int, DeviceClearance> clearances_;     // per device moved to a target
 };
 

@@ -587,6 +587,8 @@ def agreement(sscs, root):
         if p.returncode != 1 or len(rules) != 1 or rules[0]["subjects"] != ["D"] or any(e["kind"] == "collision" for e in events) or \
                 max(abs(a - b) for a, b in zip(last.get("D", [0, 0, 0]), [8.6, 4.12, 0.444])) > 0.002:
             fail(f"the drum standing on the pallet rides to (8.6, 4.12, 0.444) and breaks the lift rule: {last} {events}", p)
+        if "Far" in last or any(e["kind"] == "load_shifted" for e in events):
+            fail(f"the pallet's child standing 2.4 m from it is no rider: {events}", p)
         # The arm picks the drum where the truck set its pallet down (planning moves what stands
         # on a carried load with it: the arm went to where the drum stood in the vault, 1 m off,
         # and lifted it from there).
@@ -606,6 +608,36 @@ def agreement(sscs, root):
         # by about 3 mm in ODE's contacts.)
         if p.returncode != 0 or any(max(abs(a - b) for a, b in zip(last.get(o, [0, 0, 0]), at)) > 0.005 for o, at in expected.items()):
             fail(f"the stack rides on the lifted pallet: {last} {events}", p)
+        # What a lifted load's stack shows: min_clearance is no longer the drum resting on its own
+        # pallet (-1.6e-6 m for every lifted pallet, hiding the drum passing under a beam).
+        p, summary, events, out = events_of("beam-pass")
+        near = summary["min_clearance"]
+        if near is None or {near["a"], near["b"]} == {"P", "D"} or near["distance"] <= 0:
+            fail(f"min_clearance is no overlap of the drum with its own pallet: {near}", p)
+        under = [e for e in events if e["kind"] == "constraint" and e["subjects"] == ["D", "Beam"]]
+        if p.returncode != 1 or len(under) != 1:
+            fail(f"the drum riding under the beam breaks its clearance rule: {events}", p)
+        # Only what stands on a load rides: not a drum beside it on a pallet of its own (a false
+        # collision and a 0.3 m load_shifted; nor a child of the pallet standing 2.4 m from it:
+        # stand-on-lift above).
+        p, summary, events, out = events_of("neighbours-lift")
+        if p.returncode != 0 or summary["status"] != "ok" or "D2" in last_positions(out):
+            fail(f"the drum beside the lifted one stays put and is no rider: {events}", p)
+        # A rider picked off the lifted load by another device rides no more (load_shifted 1.3 m).
+        p, summary, events, out = events_of("pick-off-lifted")
+        if p.returncode != 0 or any(e["kind"] == "load_shifted" for e in events):
+            fail(f"the drum picked off the lifted pallet is no shifted load: {events}", p)
+        # Set down on a tray another arm holds: it lands there and rides (it was a collision).
+        p, summary, events, out = events_of("onto-held-tray")
+        landed = [(e["object"], e["on"]) for e in events if e["kind"] == "landed"]
+        if p.returncode != 0 or landed != [("D", "T")] or any(e["kind"] == "collision" for e in events) or \
+                (summary["min_clearance"] or {"distance": 1})["distance"] < 0:
+            fail(f"the drum set down on the held tray lands on it: {summary['min_clearance']} {events}", p)
+        # A tool held back short of its object: the grasp says so, not that the object moved.
+        p, summary, events, out = events_of("blocked-grasp")
+        missed = [e for e in events if e["kind"] == "grasp_missed"]
+        if summary["status"] != "failed" or len(missed) != 1 or "something held it back" not in missed[0]["message"]:
+            fail(f"the blocked tool's grasp_missed says the tool was held back: {events}", p)
         # A grasp where the object no longer is (it fell when released) fails the run; it held
         # the drum 0.4 m below the gripper and said ok.
         p, summary, events, out = events_of("regrasp-fallen")

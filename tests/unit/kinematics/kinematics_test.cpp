@@ -723,6 +723,21 @@ TEST_F(Vendor, AShapeUrdfdomWouldDropIsAnError) {
   }
 }
 
+TEST_F(Vendor, ALimitWithoutLowerOrUpperIsWarnedOfAtItsLine) {
+  // URDF reads a missing lower or upper as 0: a joint whose <limit> gives neither cannot move,
+  // and was taken silently as [0, 0].
+  const std::string dir = rx6_dir([](std::string& text) {
+    const std::string limit = "<limit lower=\"-2.967\" upper=\"2.967\"";
+    text.replace(text.find(limit), limit.size(), "<limit");
+  });
+  auto d = device("  - {type: rx6, name: R}\n", dir);
+  ASSERT_TRUE(d);
+  ASSERT_EQ(diag.warnings().size(), 1u) << diag.format(sources);
+  EXPECT_NE(diag.warnings()[0].message.find("<limit> gives no lower or upper: URDF reads it as 0, so the joint's range is [0, 0] and it "
+                                            "cannot move"), std::string::npos) << diag.warnings()[0].message;
+  EXPECT_EQ(sources.path(diag.warnings()[0].mark.file), dir + "/rx6.urdf");
+}
+
 TEST_F(Vendor, AnInertiaOdeCannotIntegrateIsAWarningAndABox) {
   const std::string dir = rx6_dir([](std::string& text) {
     auto replace = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
