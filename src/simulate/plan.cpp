@@ -31,6 +31,7 @@ constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
 constexpr double kLinearSpeed = 0.25, kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
 constexpr double kCoarseTimestep = 0.01;   // s: above it a run's verdicts are warned of (measured in Articulated.MotorsTrack...)
+constexpr double kSetDownGap = 0.05;        // m: an object released this close above a carried load's top is set on it
 constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to its target, or fails
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
@@ -176,6 +177,41 @@ class Planner {
     return states_.emplace(d, std::move(st)).first->second;
   }
 
+  /// An object's bounds in its own frame.
+  Eigen::AlignedBox3d local_bounds(int o) const {
+    Eigen::AlignedBox3d box;
+    for (const Shape& sh : geometry_.objects[o].shapes) box.extend(shape_bounds(sh, sh.X_object_shape));
+    return box;
+  }
+
+  /// Object o, released by device d at X, set down on a load another device holds (or on what
+  /// rides on one): it moves with that load from then on (a drum set on the pallet a forklift
+  /// held stayed, for planning, where it was released, and the arm later went 0.3 m off it).
+  void set_down_on(int o, const Eigen::Isometry3d& X, int d) {
+    set_on_.erase(o);
+    const Eigen::AlignedBox3d mine = local_bounds(o);
+    if (mine.isEmpty()) return;
+    const Eigen::Vector3d bottom_middle = X * Eigen::Vector3d(mine.center().x(), mine.center().y(), mine.min().z());
+    for (const auto& [dev, other] : states_) {
+      if (dev == d) continue;
+      std::vector<int> loads;
+      if (other.held >= 0) loads.push_back(other.held);
+      for (const auto& [rider, on] : set_on_)
+        if (on.first == other.held) loads.push_back(rider);
+      for (int load : loads) {
+        const Eigen::AlignedBox3d box = local_bounds(load);
+        if (box.isEmpty()) continue;
+        const Eigen::Isometry3d X_load = object_pose(load);
+        const Eigen::Vector3d p = X_load.inverse() * bottom_middle;  // in the load's frame
+        const bool over = p.x() >= box.min().x() && p.x() <= box.max().x() && p.y() >= box.min().y() && p.y() <= box.max().y();
+        if (over && p.z() >= box.max().z() - kSetDownGap && p.z() <= box.max().z() + kSetDownGap) {
+          set_on_[o] = {load, X_load.inverse() * X};
+          return;
+        }
+      }
+    }
+  }
+
   /// World pose of an object now: where planning last put it (carried, placed), else where
   /// its parent's move took it (a drum on a pallet a forklift carried: the arm went to where
   /// the drum stood in the vault, 1 m from it), else its pose. What the physics then does (a
@@ -183,6 +219,7 @@ class Planner {
   Eigen::Isometry3d object_pose(int o) const {
     for (const auto& [d, st] : states_)
       if (st.held == o) return tool_world(d, st.q) * st.X_tool_held;
+    if (auto on = set_on_.find(o); on != set_on_.end()) return object_pose(on->second.first) * on->second.second;
     if (auto it = moved_.find(o); it != moved_.end()) return it->second;
     const Eigen::Isometry3d& X = geometry_.objects[o].X_world_object;
     if (const int up = wc_.objects[o].parent; up >= 0 && !wc_.types[wc_.objects[up].type].container)
@@ -269,7 +306,9 @@ class Planner {
         diag_.error(r->object.mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
                                                 r->object.text));
       } else {
-        moved_[st.held] = tool_world(d, st.q) * st.X_tool_held;
+        const Eigen::Isometry3d X = tool_world(d, st.q) * st.X_tool_held;
+        moved_[st.held] = X;
+        set_down_on(st.held, X, d);
         st.held = -1;
       }
     }
@@ -540,6 +579,7 @@ class Planner {
   Plan plan_;
   std::map<int, DeviceState> states_;
   std::map<int, Eigen::Isometry3d> moved_;
+  std::map<int, std::pair<int, Eigen::Isometry3d>> set_on_;  // set down on a carried load: that load, its pose on it
   std::unique_ptr<CollisionWorld> collisions_;    // built at the first move_to or grasp
   std::set<int> placed_;                          // objects collisions_ has moved from their vault pose
   std::map<int, DeviceClearance> clearances_;     // per device moved to a target

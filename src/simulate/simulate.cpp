@@ -126,9 +126,19 @@ class Run {
             // What the load stood on when lifted is no clearance to report.
             // What it stands on: near it, and below its bottom (a drum resting on the pallet is
             // no support of the pallet: lifting the pallet 4 mm into it was excused).
-            const double bottom = live_.objects[ps.object].bbox_world.min().z();
-            for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap))
-              if (live_.objects[other].bbox_world.max().z() <= bottom + kSupportGap) supports_.insert({ps.object, other});
+            // (Its bounds reach the load's bottom and lie under its footprint: a rack whose deck
+            // the drum stands on rises far above the drum's bottom, and lifting the drum off
+            // the deck was a collision.)
+            const Eigen::AlignedBox3d& load_box = live_.objects[ps.object].bbox_world;
+            const double bottom = load_box.min().z();
+            for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap)) {
+              const Eigen::AlignedBox3d& box = live_.objects[other].bbox_world;
+              const Eigen::AlignedBox2d under = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())
+                                                    .intersection(Eigen::AlignedBox2d(load_box.min().head<2>(), load_box.max().head<2>()));
+              if (box.min().z() <= bottom + kSupportGap && box.max().z() >= bottom - kSupportGap && !under.isEmpty() &&
+                  (under.sizes().array() > 0).all())
+                supports_.insert({ps.object, other});
+            }
             if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
             // What stands on the load rides with it as free bodies: drums on a pallet a forklift
             // lifts (they stood still in the air).
@@ -292,8 +302,12 @@ class Run {
   /// than kSupportGap: the lift itself, not a collision.
   bool lifting_off(const PhysicsContact& c) const {
     if (c.depth >= kSupportGap) return false;
+    // Only at the load's underside: a drum dragged into the upright of the rack it was lifted
+    // from ran ok (the whole rack was its support).
     for (auto [load, other] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}})
-      if (load >= 0 && held_anywhere(load) && supports_.count({load, other})) return true;
+      if (load >= 0 && held_anywhere(load) && supports_.count({load, other}) &&
+          c.point.z() <= live_.objects[load].bbox_world.min().z() + kSupportGap)
+        return true;
     return false;
   }
 
@@ -367,10 +381,15 @@ class Run {
     const std::vector<char> is_container = containers(wc_);
     for (size_t next = 0, from = load;; from = out[next++]) {
       const Eigen::AlignedBox3d& under = live_.objects[from].bbox_world;
+      // The load's footprint in its own frame (a tray turned 45 deg has empty corners in its
+      // world bounds: a drum beside it, on a plank of its own, was taken for a rider).
+      Eigen::AlignedBox3d local;
+      for (const Shape& sh : geometry_.objects[from].shapes) local.extend(shape_bounds(sh, sh.X_object_shape));
+      const Eigen::Isometry3d X_load_world = world_.pose(static_cast<int>(from)).inverse();
       for (int k : clearances_.within(static_cast<int>(from), world_.pose(static_cast<int>(from)), chain(static_cast<int>(from)), kSupportGap)) {
         const Eigen::AlignedBox3d& box = live_.objects[k].bbox_world;
-        const Eigen::Vector2d middle = box.center().head<2>();
-        const bool over = (middle.array() >= under.min().head<2>().array()).all() && (middle.array() <= under.max().head<2>().array()).all();
+        const Eigen::Vector2d middle = (X_load_world * box.center()).head<2>();
+        const bool over = (middle.array() >= local.min().head<2>().array()).all() && (middle.array() <= local.max().head<2>().array()).all();
         if (is_container[k] || geometry_.objects[k].device || held_anywhere(k) || box.min().z() <= under.min().z() + kSupportGap ||
             !over || !seen.insert(k).second)
           continue;

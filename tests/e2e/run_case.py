@@ -638,6 +638,25 @@ def agreement(sscs, root):
         missed = [e for e in events if e["kind"] == "grasp_missed"]
         if summary["status"] != "failed" or len(missed) != 1 or "something held it back" not in missed[0]["message"]:
             fail(f"the blocked tool's grasp_missed says the tool was held back: {events}", p)
+        # Lifting a drum straight off a rack's deck is no collision (the rack, rising far above the
+        # drum's bottom, was not taken for its support); pushing it into the rack's upright after
+        # setting it down there is one (the whole rack had become its support: ok).
+        p, summary, events, out = events_of("rack-lift")
+        if p.returncode != 0 or any(e["kind"] == "collision" for e in events):
+            fail(f"the drum lifted off the rack deck runs ok: {events}", p)
+        p, summary, events, out = events_of("rack-place-drag")
+        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"R", "D"}]
+        if p.returncode != 1 or not hits:
+            fail(f"the drum pushed into the rack's upright collides: {events}", p)
+        # A drum beside a tray turned 45 deg is no rider of it.
+        p, summary, events, out = events_of("turned-tray-lift")
+        if p.returncode != 0 or "D2" in last_positions(out):
+            fail(f"the drum beside the turned tray stays put: {events}", p)
+        # Set on the pallet a truck holds, then picked where the truck took it (planning left it
+        # where it was released, and the grasp missed by 0.15 m).
+        p, summary, events, out = events_of("set-on-carried")
+        if p.returncode != 0 or any(e["kind"] in ("grasp_missed", "collision") for e in events):
+            fail(f"the drum set on the carried pallet is picked where it rode to: {events}", p)
         # A grasp where the object no longer is (it fell when released) fails the run; it held
         # the drum 0.4 m below the gripper and said ok.
         p, summary, events, out = events_of("regrasp-fallen")
