@@ -152,6 +152,7 @@ class Run {
             int o = world_.held(ps.device);
             world_.release(ps.device);
             released_[o] = false;
+            released_at_[o] = world_.pose(o).translation();
             // Its riders stay where they are, on it: free bodies, watched until they rest.
             for (auto it = rider_of_.begin(); it != rider_of_.end();)
               if (it->second == o) {
@@ -325,7 +326,7 @@ class Run {
       // tool into scenery, it is stopped (a tool planned 4 mm into a drum touched it by 5 um).
       if (lag_now(dev, t) > kTargetTouch) continue;
       std::vector<int> loads = handled(dev, t);
-      if (std::find(loads.begin(), loads.end(), other) != loads.end()) return true;
+      if (std::find(loads.begin(), loads.end(), other) != loads.end() && !pushed_since_release(other)) return true;
       if (move_target(dev, t) == other) return true;
     }
     return false;
@@ -641,6 +642,15 @@ class Run {
     return out;
   }
 
+  /// Whether a released object has moved sideways by more than kTrackingTolerance since its
+  /// release: a tool still touching it then is pushing it, a collision (forks backing out of a
+  /// pallet they had set down dragged it 127 mm, or flung it off a rack, and the run said ok).
+  bool pushed_since_release(int o) const {
+    auto at = released_at_.find(o);
+    if (at == released_at_.end() || held_anywhere(o)) return false;
+    return (world_.pose(o).translation() - at->second).head<2>().norm() > kTrackingTolerance;
+  }
+
   /// The run fails here: it stops with what it has, and says why.
   void stop(EventKind kind, const std::string& message) {
     failed_ = true;
@@ -726,6 +736,7 @@ class Run {
   std::map<int, bool> released_;  // released objects: landed yet?
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
+  std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
   std::map<int, Eigen::Isometry3d> X_load_rider_;  // a rider's pose on its load when the load was grasped
   std::map<int, std::pair<size_t, double>> shifted_;  // rider -> its load_shifted event, the largest shift
   std::set<int> rested_;
