@@ -634,7 +634,7 @@ class Run {
     for (const PlannedStep& ps : plan_.steps) {
       if (ps.device != device || ps.object < 0) continue;
       if (ps.kind == StepKind::Grasp && ps.start >= t - plan_.settings.timestep && next < 0) next = ps.object;
-      if (ps.kind == StepKind::Release && ps.start <= t) last = ps.object;
+      if (ps.kind == StepKind::Release && ps.start <= t + plan_.settings.timestep / 2) last = ps.object;  // at its own sample too
     }
     std::vector<int> out;
     for (int o : {world_.held(device), next, last})

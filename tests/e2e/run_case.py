@@ -663,6 +663,11 @@ def agreement(sscs, root):
         hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"P", "Truck.carriage"}]
         if p.returncode != 1 or not hits:
             fail(f"the forks dragging the released pallet collide: {events}", p)
+        # A release on a trajectory sample: min_clearance is no gripper inside the drum it lets go.
+        p, summary, events, out = events_of("shelf-to-pallet-run")
+        near = summary["min_clearance"]
+        if p.returncode != 0 or near is None or near["distance"] < 0:
+            fail(f"min_clearance at a release is no overlap of the gripper and its drum: {near}", p)
         # A grasp where the object no longer is (it fell when released) fails the run; it held
         # the drum 0.4 m below the gripper and said ok.
         p, summary, events, out = events_of("regrasp-fallen")
