@@ -456,7 +456,7 @@ def simulate(sscs, root):
         out = os.path.join(tmp, "collision")
         p = run(sscs, root, ["simulate", "scenarios/drum-transfer/collision.yaml", "--out", out, "--quiet"])
         events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
-        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"Drum_1", "Rack_A"}]
+        hits = collisions_between(events, "Drum_1", "Rack_A")
         if p.returncode != 1 or "collision: violations" not in p.stdout or not hits:
             fail(f"collision scenario: {events}", p)
         # A run interrupted (SIGINT) or killed (SIGKILL) half-way leaves nothing under its name.
@@ -516,6 +516,11 @@ def simulate(sscs, root):
     print("ok simulate")
 
 
+def collisions_between(events, a, b):
+    """The collision events of a run between a and b (either way round)."""
+    return [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {a, b}]
+
+
 def last_positions(run_dir):
     """{object: [x, y, z]} of each object's last row in a run's objects.csv."""
     last = {}
@@ -547,11 +552,11 @@ def agreement(sscs, root):
             events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
             return p, summary, events, out
         p, summary, events, _ = events_of("pedestal-dive")
-        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"Ped", "Robot.link6"}]
+        hits = collisions_between(events, "Ped", "Robot.link6")
         if p.returncode != 1 or summary["status"] != "violations" or not hits:
             fail(f"the arm diving into its pedestal must collide: {events}", p)
         p, summary, events, _ = events_of("forks-short-side")
-        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"P", "Truck.carriage"}]
+        hits = collisions_between(events, "P", "Truck.carriage")
         if p.returncode != 1 or not hits or summary["min_clearance"]["distance"] > -0.035:
             fail(f"forks into the blocks must collide, min_clearance about -0.039: {summary['min_clearance']} {events}", p)
         p, summary, events, out = events_of("forks-lift")
@@ -645,7 +650,7 @@ def agreement(sscs, root):
         if p.returncode != 0 or any(e["kind"] == "collision" for e in events):
             fail(f"the drum lifted off the rack deck runs ok: {events}", p)
         p, summary, events, out = events_of("rack-place-drag")
-        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"R", "D"}]
+        hits = collisions_between(events, "R", "D")
         if p.returncode != 1 or not hits:
             fail(f"the drum pushed into the rack's upright collides: {events}", p)
         # A drum beside a tray turned 45 deg is no rider of it.
@@ -660,7 +665,7 @@ def agreement(sscs, root):
         # Forks backing out of a pallet they set down drag it: a collision once it has moved 5 mm
         # sideways since its release (the excused touch of a released load hid a 127 mm drag).
         p, summary, events, out = events_of("forks-drag-released")
-        hits = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"P", "Truck.carriage"}]
+        hits = collisions_between(events, "P", "Truck.carriage")
         if p.returncode != 1 or not hits:
             fail(f"the forks dragging the released pallet collide: {events}", p)
         # A release on a trajectory sample: min_clearance is no gripper inside the drum it lets go.
