@@ -54,6 +54,7 @@ constexpr double kSettleLimit = 5.0;          // s after the last step for relea
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
 constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
+constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {
@@ -122,6 +123,7 @@ class Run {
             released_.erase(ps.object);
             rested_.erase(ps.object);
             rider_of_.erase(ps.object);
+            set_down_at_.erase(ps.object);
             events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
             // What the load stood on when lifted is no clearance to report.
             // What it stands on: near it, and below its bottom (a drum resting on the pallet is
@@ -153,10 +155,12 @@ class Run {
             world_.release(ps.device);
             released_[o] = false;
             released_at_[o] = world_.pose(o).translation();
+            set_down_at_[o] = released_at_[o];
             // Its riders stay where they are, on it: free bodies, watched until they rest.
             for (auto it = rider_of_.begin(); it != rider_of_.end();)
               if (it->second == o) {
                 released_[it->first] = true;
+                set_down_at_[it->first] = world_.pose(it->first).translation();
                 it = rider_of_.erase(it);
               } else {
                 ++it;
@@ -360,6 +364,7 @@ class Run {
       it->second = true;
       events_.add(t, EventKind::Landed, {{"object", wc_.objects[o].name}, {"on", part_name(other, -1)}});
       released_.erase(it);
+      set_down_at_.erase(o);  // it rides on the load from here: where it rests is the load's doing
       supports_.insert({load, o});  // what it landed on, and what landed on the load: no clearances
       supports_.insert({o, other});
       rider_of_[o] = load;
@@ -483,6 +488,7 @@ class Run {
         rested_.insert(o);
         const Eigen::Vector3d p = world_.pose(o).translation();
         events_.add(t, EventKind::AtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}}});
+        check_displaced(t, o, p);
       }
     for (DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
@@ -651,6 +657,22 @@ class Run {
     return (world_.pose(o).translation() - at->second).head<2>().norm() > kTrackingTolerance;
   }
 
+  /// An object set down (released, or standing on a load when that was released) that came to
+  /// rest more than kGraspReach sideways, or more than kSetDownDrop lower, than where it was set
+  /// down did not stay where the operation put it: it fell (a drum released on a rack level
+  /// without a beam under it fell 0.52 m to the floor, and the run said ok), rolled or slid off.
+  /// A `displaced` event; the plan's picture of the scene no longer holds either.
+  void check_displaced(double t, int o, const Eigen::Vector3d& p) {
+    auto at = set_down_at_.find(o);
+    if (at == set_down_at_.end()) return;
+    const Eigen::Vector3d move = p - at->second;
+    if (move.head<2>().norm() <= kGraspReach && std::abs(move.z()) <= kSetDownDrop) return;
+    const Eigen::Vector3d& from = at->second;
+    events_.add(t, EventKind::Displaced, {{"object", wc_.objects[o].name}, {"from", {r9(from.x()), r9(from.y()), r9(from.z())}},
+                                          {"to", {r9(p.x()), r9(p.y()), r9(p.z())}}, {"distance", r9(move.norm())},
+                                          {"fall", r9(std::max(0.0, -move.z()))}});
+  }
+
   /// The run fails here: it stops with what it has, and says why.
   void stop(EventKind kind, const std::string& message) {
     failed_ = true;
@@ -669,7 +691,8 @@ class Run {
     s.events = events_.size();
     s.collisions = events_.count(EventKind::Collision);
     bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
-                      events_.count(EventKind::LoadShifted) || events_.count(EventKind::NotAtRest) || rechecks_.failures() > 0;
+                      events_.count(EventKind::LoadShifted) || events_.count(EventKind::NotAtRest) ||
+                      events_.count(EventKind::Displaced) || rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;
@@ -737,6 +760,7 @@ class Run {
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
   std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
+  std::map<int, Eigen::Vector3d> set_down_at_;  // where an object was set down (released, or its load was)
   std::map<int, Eigen::Isometry3d> X_load_rider_;  // a rider's pose on its load when the load was grasped
   std::map<int, std::pair<size_t, double>> shifted_;  // rider -> its load_shifted event, the largest shift
   std::set<int> rested_;

@@ -29,8 +29,11 @@ constexpr double kGravity = 9.80665;
 constexpr int kMaxContacts = 8;      // per geom pair and step, after reduction
 constexpr int kGatherContacts = 256; // what ODE may report per geom pair and step, before it
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
-// A body slower than these for kRestTime is at rest.
+// A body slower than these for kRestTime is at rest, its velocities averaged over kRestWindow:
+// resting contacts jitter from step to step (a drum dropped 0.2 m onto a deck rocked by 1e-5 rad
+// at 0.01 rad/s, its mean turn nil, and was never at rest), a body moving for real does not.
 constexpr double kRestSpeed = 0.005, kRestTurn = 0.01, kRestTime = 0.2;  // m/s, rad/s, s
+constexpr double kRestWindow = 0.02;                                      // s
 // Rolling and spinning resistance (m: the torque is at most this times the normal force): a
 // drum landed tilted spun and wobbled on its rim for ever (5 deg/s, never at rest), for ODE's
 // point contacts have no torsion of a contact patch. Steel on concrete rolls with about 1 mm.
@@ -196,6 +199,13 @@ struct PhysicsWorld::Impl {
   std::vector<double> masses;
   bool broken = false;  // ODE failed inside a step: its state is not to be touched again
   std::vector<double> still_for;  // per object: how long its body has been slower than the rest thresholds (s)
+  /// Per object: its body's last velocities (linear, angular), kRestWindow of them, oldest overwritten.
+  struct Velocities {
+    std::vector<Eigen::Matrix<double, 6, 1>> samples;
+    size_t next = 0;
+  };
+  std::vector<Velocities> recent;
+  size_t rest_samples = 1;  // velocities averaged for rest: kRestWindow of steps
   std::vector<dTriMeshDataID> meshes;
   std::vector<std::vector<double>> mesh_vertices;
   std::vector<std::vector<int>> mesh_indices;
@@ -333,6 +343,8 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   dWorldSetAutoDisableAngularThreshold(w.world, kRestTurn);
   dWorldSetAutoDisableTime(w.world, kRestTime);
   dWorldSetAutoDisableSteps(w.world, 0);
+  w.rest_samples = static_cast<size_t>(std::max(1L, std::lround(kRestWindow / options.timestep)));
+  dWorldSetAutoDisableAverageSamplesCount(w.world, static_cast<unsigned>(w.rest_samples));
   w.space = dHashSpaceCreate(nullptr);
   dHashSpaceSetLevels(w.space, -4, 6);  // cells from 6 cm to 64 m
   w.contact_group = dJointGroupCreate(0);
@@ -342,6 +354,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.X_body_object.assign(n, Eigen::Isometry3d::Identity());
   w.masses.assign(n, 0);
   w.still_for.assign(n, 0);
+  w.recent.assign(n, {});
   // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
   // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
@@ -634,6 +647,7 @@ void PhysicsWorld::release(int device) {
   dJointDestroy(it->second.joint);
   dBodyEnable(w.bodies[it->second.object]);
   w.still_for[it->second.object] = 0;  // held still is no rest: it is judged from its release
+  w.recent[it->second.object].samples.clear();
   w.grips.erase(it);
 }
 
@@ -677,7 +691,16 @@ void PhysicsWorld::step() {
     if (!w.bodies[o]) continue;
     const dReal* v = dBodyGetLinearVel(w.bodies[o]);
     const dReal* a = dBodyGetAngularVel(w.bodies[o]);
-    const bool still = Eigen::Vector3d(v[0], v[1], v[2]).norm() < kRestSpeed && Eigen::Vector3d(a[0], a[1], a[2]).norm() < kRestTurn;
+    Impl::Velocities& r = w.recent[o];
+    const Eigen::Matrix<double, 6, 1> now = (Eigen::Matrix<double, 6, 1>() << v[0], v[1], v[2], a[0], a[1], a[2]).finished();
+    if (r.samples.size() < w.rest_samples) r.samples.push_back(now);
+    else r.samples[r.next] = now;
+    r.next = (r.next + 1) % w.rest_samples;
+    // As ODE judges it: only a full window of samples is averaged.
+    Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const auto& x : r.samples) mean += x;
+    mean /= static_cast<double>(r.samples.size());
+    const bool still = r.samples.size() == w.rest_samples && mean.head<3>().norm() < kRestSpeed && mean.tail<3>().norm() < kRestTurn;
     w.still_for[o] = still ? w.still_for[o] + w.options.timestep : 0;
   }
   w.time += w.options.timestep;
