@@ -22,6 +22,7 @@
 #include "geometry/export.h"
 #include "geometry/geometry.h"
 #include "load/scenario.h"
+#include "pipeline/resolved.h"
 #include "pipeline/type_listing.h"
 #include "core/pose.h"
 #include "simulate/plan.h"

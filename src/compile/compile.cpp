@@ -34,13 +34,11 @@ int Workcell::find_object(std::string_view n) const {
 
 std::vector<std::string> Workcell::frame_names(int t) const {
   std::vector<std::string> names = {"origin", "top"};
-  for (int k : lineage(t)) {
-    const TypeSpec& spec = *types[k].spec;
-    for (const FrameSpec& f : spec.frames) names.push_back(f.name);
-    if (spec.device) {
-      names.push_back("tool");
-      for (const PartSpec& p : spec.device->parts) names.push_back(p.name);
-    }
+  const TypeTemplates& tt = types[t].templates;
+  for (const FrameTemplate& f : tt.frames) names.push_back(f.name);
+  if (tt.device) {
+    names.push_back("tool");
+    for (const PartTemplate& p : tt.device->parts) names.push_back(p.name);
   }
   std::sort(names.begin() + 2, names.end());
   names.erase(std::unique(names.begin() + 2, names.end()), names.end());
@@ -676,10 +674,12 @@ void resolve_object_links(CompileState& st) {
       if (std::string why = not_a_readable_reference(obj.geomodel); !why.empty())
         st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' {}", obj.geomodel, why));
     }
-    const Scalar& color = o.color.present ? o.color : st.wc.types[obj.type].spec->color;
-    if (color.present && !color.null) {
-      if (is_valid_color(color.text)) obj.color = color.text;
-      else st.diag.error(color.mark, fmt::format("expected a colour \"#RRGGBB\", found '{}'", color.text));
+    const TypeTemplates& tt = st.wc.types[obj.type].templates;
+    const bool own = o.color.present;
+    const std::string& color = own ? o.color.text : tt.color;
+    if (own ? !o.color.null : tt.has_color) {
+      if (is_valid_color(color)) obj.color = color;
+      else st.diag.error(own ? o.color.mark : tt.color_mark, fmt::format("expected a colour \"#RRGGBB\", found '{}'", color));
     }
   }
   // Parent cycles: walk up at most n steps.

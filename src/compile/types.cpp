@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "compile/compile.h"
+#include "compile/templates.h"
 #include "core/files.h"
 #include "compile/values.h"
 #include "core/expr.h"
@@ -120,17 +121,23 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
       diag.error(value.mark, fmt::format("home names '{}', which is not a joint of '{}'", joint, type.name));
 }
 
-/// Checks a value of a type's geometry, frames or parts: a number, a unit literal, or an
-/// expression over the type's own attributes.
-void check_shape_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
-  if (!v.present) return;
+/// Compiles a value of a type's geometry, frames or parts: a number, a unit literal, or an
+/// expression over the type's own attributes. What it cannot read is an error (the type's
+/// problem) and a NaN constant.
+ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+  ValueRef out;
+  if (!v.present) return out;
+  out.present = true;
+  out.text = v.text;
+  out.mark = v.mark;
   ParsedValue parsed = parse_value(v, dim, what, diag);
-  if (parsed.kind != ParsedValue::Kind::Expression) return;
+  if (parsed.kind == ParsedValue::Kind::Number) out.constant = parsed.si;
+  if (parsed.kind != ParsedValue::Kind::Expression) return out;
   Expression::Error err;
   auto expr = Expression::parse(v.text, &err);
   if (!expr) {
     diag.error(mark_at(v, err.position), fmt::format("cannot read '{}' as a value or expression for {}: {}", v.text, what, err.message));
-    return;
+    return out;
   }
   std::vector<std::string> names;
   for (const AttributeDef& a : type.attributes) names.push_back(a.name);
@@ -142,44 +149,66 @@ void check_shape_value(const Scalar& v, Dim dim, const ObjectType& type, std::st
     } else if (type.attributes[a].type == AttrType::String || type.attributes[a].type == AttrType::Enum) {
       diag.error(mark_at(v, v.text.find(n)), fmt::format("{} uses '{}', which is not numeric", what, n));
     }
+    out.attributes.push_back(a);
   }
+  out.expr = std::make_shared<const Expression>(std::move(*expr));
+  return out;
 }
 
-void check_pose(const PoseSpec& pose, const ObjectType& type, std::string_view what, Diagnostics& diag) {
-  for (const Scalar& c : pose.xyz) check_shape_value(c, Dim::Length, type, fmt::format("{} xyz", what), diag);
-  for (const Scalar& c : pose.rpy) check_shape_value(c, Dim::Angle, type, fmt::format("{} rpy", what), diag);
+VectorRef compile_vector(const std::array<Scalar, 3>& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+  VectorRef out;
+  for (int k = 0; k < 3; ++k) out.v[k] = compile_value(v[k], dim, type, what, diag);
+  return out;
 }
 
-/// Checks geometry entries; a mesh file that cannot be read goes to `deferred` (the type's
+PoseRef compile_pose(const PoseSpec& pose, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+  return {compile_vector(pose.xyz, Dim::Length, type, fmt::format("{} xyz", what), diag),
+          compile_vector(pose.rpy, Dim::Angle, type, fmt::format("{} rpy", what), diag)};
+}
+
+/// Compiles geometry entries; a mesh file that cannot be read goes to `deferred` (the type's
 /// problems, reported when it is used).
-void check_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType& type, const std::string& type_file,
-                    Diagnostics& diag, std::vector<Diagnostic>& deferred) {
+std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType& type, const std::string& type_file,
+                                            Diagnostics& diag, std::vector<Diagnostic>& deferred) {
+  std::vector<ShapeTemplate> out;
   for (const GeometrySpec& g : geometry) {
+    ShapeTemplate t;
     std::visit(
         [&](const auto& shape) {
           using T = std::decay_t<decltype(shape)>;
           if constexpr (std::is_same_v<T, BoxSpec>) {
-            for (const Scalar& c : shape.size) check_shape_value(c, Dim::Length, type, "box size", diag);
+            t.kind = ShapeTemplate::Kind::Box;
+            t.size = compile_vector(shape.size, Dim::Length, type, "box size", diag);
           } else if constexpr (std::is_same_v<T, CylinderSpec>) {
-            check_shape_value(shape.radius, Dim::Length, type, "cylinder radius", diag);
-            check_shape_value(shape.length, Dim::Length, type, "cylinder length", diag);
+            t.kind = ShapeTemplate::Kind::Cylinder;
+            t.radius = compile_value(shape.radius, Dim::Length, type, "cylinder radius", diag);
+            t.length = compile_value(shape.length, Dim::Length, type, "cylinder length", diag);
           } else if constexpr (std::is_same_v<T, SphereSpec>) {
-            check_shape_value(shape.radius, Dim::Length, type, "sphere radius", diag);
+            t.kind = ShapeTemplate::Kind::Sphere;
+            t.radius = compile_value(shape.radius, Dim::Length, type, "sphere radius", diag);
           } else {
-            for (const Scalar& c : shape.scale) check_shape_value(c, Dim::None, type, "mesh scale", diag);
+            t.kind = ShapeTemplate::Kind::Mesh;
+            t.scale = compile_vector(shape.scale, Dim::None, type, "mesh scale", diag);
+            t.mesh_text = shape.file.text;
+            t.mesh_mark = shape.file.mark;
+            t.mesh_file = resolve_mesh_path(type_file, shape.file.text);
             if (shape.file.present)
-              if (std::string why = not_a_readable_reference(resolve_mesh_path(type_file, shape.file.text)); !why.empty())
+              if (std::string why = not_a_readable_reference(t.mesh_file); !why.empty())
                 deferred.push_back({shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why)});
           }
         },
         g.shape);
-    check_pose(g.pose, type, "geometry", diag);
+    t.pose = compile_pose(g.pose, type, "geometry", diag);
+    t.color = g.color;
+    out.push_back(std::move(t));
   }
+  return out;
 }
 
 /// A device's parts form one tree: unique names, one root, known parents, no cycles, a real tool.
-void check_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file, Diagnostics& diag,
-                  std::vector<Diagnostic>& deferred) {
+/// Compiled to its template.
+std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file,
+                                                     Diagnostics& diag, std::vector<Diagnostic>& deferred) {
   std::map<std::string, const PartSpec*> parts;
   std::vector<std::string> names;
   std::map<std::string, SourceMark> joints;
@@ -221,9 +250,7 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
         if (!numeric) diag.error(j.axis[0].mark, fmt::format("joint '{}' axis must be three numbers", j.name));
         else if (norm < 1e-18) diag.error(j.axis[0].mark, fmt::format("joint '{}' has a zero axis", j.name));
       }
-      check_pose(j.origin, type, fmt::format("joint '{}'", j.name), diag);
     }
-    check_geometry(p.geometry, type, type_file, diag, deferred);
     if (p.color.present && !p.color.null && !is_valid_color(p.color.text))
       diag.error(p.color.mark, fmt::format("expected a colour \"#RRGGBB\" for part '{}', found '{}'", p.name, p.color.text));
   }
@@ -251,7 +278,65 @@ void check_device(const DeviceSpec& d, const ObjectType& type, const std::string
     else
       diag.error(d.tool_mark, fmt::format("tool part '{}' is not a part of '{}'{}", d.tool_part, type.name, did_you_mean(d.tool_part, names)));
   }
-  check_pose(d.tool_pose, type, "tool", diag);
+
+  // The template: the parts in the file's order, and the order to build them in.
+  auto dt = std::make_shared<DeviceTemplate>();
+  dt->kinematic = d.kinematic;
+  dt->from_urdf = d.urdf.present;
+  dt->urdf = d.urdf.present ? d.urdf.text : "";
+  dt->srdf = d.srdf.present ? d.srdf.text : "";
+  dt->hard_limits = d.hard_limits;
+  dt->urdf_mesh_refs = d.urdf_mesh_refs;
+  auto find = [&](const std::string& name) {
+    for (size_t k = 0; k < d.parts.size(); ++k)
+      if (d.parts[k].name == name) return static_cast<int>(k);
+    return -1;
+  };
+  for (const PartSpec& p : d.parts) {
+    PartTemplate& pt = dt->parts.emplace_back();
+    pt.name = p.name;
+    pt.parent = p.parent.empty() ? -1 : find(p.parent);
+    if (p.joint) {
+      const JointSpec& js = *p.joint;
+      JointTemplate& j = pt.joint.emplace();
+      j.name = js.name;
+      j.type = js.type;
+      j.origin = compile_pose(js.origin, type, fmt::format("joint '{}'", js.name), diag);
+      if (js.type != JointType::Fixed) {
+        j.axis = compile_vector(js.axis, Dim::None, type, fmt::format("joint '{}' axis", js.name), diag);
+        const Dim rate = js.type == JointType::Revolute ? Dim::Angle : Dim::Length;
+        j.velocity = compile_value(js.velocity, rate, type, fmt::format("joint '{}' velocity", js.name), diag);
+        j.acceleration = compile_value(js.acceleration, rate, type, fmt::format("joint '{}' acceleration", js.name), diag);
+        j.effort = compile_value(js.effort, Dim::None, type, fmt::format("joint '{}' effort", js.name), diag);
+      }
+      if (js.type != JointType::Fixed) dt->joint_parts.push_back(static_cast<int>(dt->parts.size() - 1));
+    }
+    pt.shapes = compile_geometry(p.geometry, type, type_file, diag, deferred);
+    pt.visual_shapes = compile_geometry(p.visual, type, type_file, diag, deferred);
+    pt.mass = compile_value(p.mass, Dim::Mass, type, fmt::format("the mass of part '{}'", p.name), diag);
+    pt.color = p.color.text;
+    if (p.inertial) {
+      PartTemplate::Inertial& in = pt.inertial.emplace();
+      in.origin = compile_pose(p.inertial->origin, type, fmt::format("the inertial origin of part '{}'", p.name), diag);
+      for (int k = 0; k < 6; ++k)
+        in.inertia[k] = compile_value(p.inertial->inertia[k], Dim::None, type, fmt::format("the inertia of part '{}'", p.name), diag);
+    }
+  }
+  // Parents before children, from the root (parts a broken tree leaves out are never built:
+  // the type's errors stop every vault using it).
+  for (size_t k = 0; k < dt->parts.size(); ++k)
+    if (d.parts[k].parent.empty()) dt->build_order.push_back(static_cast<int>(k));
+  for (size_t i = 0; i < dt->build_order.size(); ++i)
+    for (size_t k = 0; k < dt->parts.size(); ++k)
+      if (!d.parts[k].parent.empty() && d.parts[k].parent == d.parts[dt->build_order[i]].name) dt->build_order.push_back(static_cast<int>(k));
+  for (const DeviceSpec::AllowedCollision& pair : d.allowed_collisions) {
+    dt->allowed_names.emplace_back(pair.a, pair.b);
+    int a = find(pair.a), b = find(pair.b);
+    if (a >= 0 && b >= 0 && a != b) dt->allowed.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  dt->tool_part = d.tool_part.empty() ? -1 : find(d.tool_part);
+  dt->tool_pose = compile_pose(d.tool_pose, type, "tool", diag);
+  return dt;
 }
 
 }  // namespace
@@ -359,7 +444,9 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     state[i] = 1;
     t.name = spec.name;
     t.description = spec.description;
-    t.spec = specs[i];
+    t.path = spec.path;
+    t.extends = spec.extends;
+    t.plugin = spec.plugin;
     t.device = spec.device.has_value();
     t.container = spec.container;
     if (auto p = file_problems.find(spec.name); p != file_problems.end()) {
@@ -387,6 +474,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
         return done();
       }
       t.attributes = types[base->second].attributes;
+      t.templates = types[base->second].templates;  // flattened: its own replace them below
       t.device = t.device || types[base->second].device;
       t.container = t.container || types[base->second].container;
     }
@@ -415,10 +503,33 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     if (spec.device && imported) add_joint_attributes(spec, t, d);
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
-    check_geometry(spec.geometry, t, spec.path, d, t.problems);
-    check_shape_value(spec.mass, Dim::Mass, t, "mass", d);
-    for (const FrameSpec& f : spec.frames) check_pose(f.pose, t, fmt::format("frame '{}'", f.name), d);
-    if (spec.device && imported) check_device(*spec.device, t, spec.path, d, t.problems);
+    TypeTemplates& tt = t.templates;
+    if (spec.has_geometry || t.base < 0) tt.geometry = compile_geometry(spec.geometry, t, spec.path, d, t.problems);
+    if (spec.mass.present) {
+      tt.mass = compile_value(spec.mass, Dim::Mass, t, "mass", d);
+      tt.mass_type = spec.name;
+    }
+    for (const FrameSpec& f : spec.frames) {
+      FrameTemplate frame{f.name, compile_pose(f.pose, t, fmt::format("frame '{}'", f.name), d)};
+      auto same = std::find_if(tt.frames.begin(), tt.frames.end(), [&](const FrameTemplate& e) { return e.name == f.name; });
+      if (same != tt.frames.end()) *same = std::move(frame);  // a subtype's frame replaces its base's
+      else tt.frames.push_back(std::move(frame));
+    }
+    if (spec.device && imported) tt.device = compile_device(*spec.device, t, spec.path, d, t.problems);
+    t.own_device = spec.device.has_value();
+    auto add_meshes = [&](const std::vector<GeometrySpec>& geometry) {
+      for (const GeometrySpec& g : geometry)
+        if (const MeshSpec* m = std::get_if<MeshSpec>(&g.shape)) t.own_meshes.push_back(m->file.text);
+    };
+    add_meshes(spec.geometry);
+    if (spec.device)
+      for (const PartSpec& part : spec.device->parts) {
+        add_meshes(part.geometry);
+        add_meshes(part.visual);  // frames of a rerun draw them
+      }
+    tt.has_color = spec.color.present && !spec.color.null;  // its own: a colour is not inherited
+    tt.color = spec.color.text;
+    tt.color_mark = spec.color.mark;
     if (spec.device) {
       t.problems.insert(t.problems.end(), spec.device->import_problems.begin(), spec.device->import_problems.end());
       if (!imported) t.broken = true;

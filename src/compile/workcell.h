@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "compile/cameras.h"
+#include "compile/templates.h"
 #include "core/expr.h"
 #include "core/diagnostics.h"
 #include "core/source.h"
@@ -42,12 +43,20 @@ struct AttributeDef {
 struct ObjectType {
   std::string name;
   int base = -1;  ///< index of the type it extends, -1 for `object`
+  std::string extends;  ///< as written ("" for `object`), also when it names no type
   std::string description;
   bool device = false;
   /// A space that holds objects (its type file, or one it extends, says `container: true`).
   bool container = false;
   std::vector<AttributeDef> attributes;
-  std::shared_ptr<const TypeSpec> spec;  ///< geometry, frames, device parts: for later stages
+  std::string path;    ///< its type file
+  std::string plugin;  ///< the shared object that declared it (a plugin type), else ""
+  /// Its geometry, frames, mass and device parts, compiled (inheritance flattened).
+  TypeTemplates templates;
+  /// The meshes its own file names, as written (its geometry's, then its parts' geometry and
+  /// visuals): a run's resolved/ copies them. Its base's name theirs.
+  std::vector<std::string> own_meshes;
+  bool own_device = false;  ///< its own file describes the device (else a base's does, or none)
   /// Errors in the type file and the files it names (a typo in an expression, a mesh that cannot
   /// be read), and warnings of what its import skipped (a degenerate URDF shape): reported when a
   /// vault uses the type (or one extending it), so one broken type does not break its folder.

@@ -12,8 +12,6 @@
 
 #include <fmt/format.h>
 
-#include "compile/values.h"
-#include "core/expr.h"
 #include "core/files.h"
 #include "core/inertia.h"
 #include "geometry/mesh_io.h"
@@ -154,115 +152,49 @@ Eigen::AlignedBox3d shape_bounds(const Shape& s, const Eigen::Isometry3d& X) {
 
 namespace {
 
-/// Evaluates type-file values (numbers, unit literals or expressions over the object's
-/// attributes) for objects. Each written value is read once and kept by its address: a subtype
-/// lists its base's attributes first and in the same order, so attribute indices carry over.
-/// The type loader already checked the text; what it let through and this cannot read is an
-/// error in `diag` (never a value silently NaN).
-class ShapeEvaluator {
- public:
-  ShapeEvaluator(const Workcell& wc, Diagnostics& diag) : wc_(wc), diag_(diag) {}
-
-  double value(const Scalar& s, Dim dim, int object, double fallback) {
-    if (!s.present) return fallback;
-    const Compiled& c = compiled(s, dim, wc_.objects[object].type);
-    if (!c.expr) return c.value;
-    const Object& o = wc_.objects[object];
-    inputs_.resize(c.attributes.size());
-    for (size_t k = 0; k < c.attributes.size(); ++k)
-      inputs_[k] = c.attributes[k] < 0 ? NAN : wc_.values[o.first_slot + kFirstAttributeSlot + c.attributes[k]];
-    return c.expr->evaluate(inputs_.data());
-  }
-
-  Eigen::Vector3d vec(const std::array<Scalar, 3>& v, Dim dim, int object, double fallback) {
-    return {value(v[0], dim, object, fallback), value(v[1], dim, object, fallback), value(v[2], dim, object, fallback)};
-  }
-
-  Eigen::Isometry3d pose(const PoseSpec& p, int object) {
-    return make_pose(vec(p.xyz, Dim::Length, object, 0), vec(p.rpy, Dim::Angle, object, 0));
-  }
-
- private:
-  struct Compiled {
-    double value = NAN;
-    std::unique_ptr<Expression> expr;
-    std::vector<int> attributes;  ///< attribute index per expr->names()
-  };
-
-  const Compiled& compiled(const Scalar& s, Dim dim, int type) {
-    auto [it, fresh] = cache_.try_emplace(&s);
-    if (!fresh) return it->second;
-    Compiled& c = it->second;
-    ParsedValue v = parse_value(s, dim, "a type-file value", diag_);
-    if (v.kind == ParsedValue::Kind::Number) {
-      c.value = v.si;
-      return c;
-    }
-    if (v.kind == ParsedValue::Kind::Error) return c;  // reported
-    Expression::Error why;
-    if (auto e = Expression::parse(s.text, &why)) {
-      c.expr = std::make_unique<Expression>(std::move(*e));
-      for (const std::string& n : c.expr->names()) {
-        c.attributes.push_back(wc_.types[type].find_attribute(n));
-        if (c.attributes.back() < 0)
-          diag_.error(s.mark, fmt::format("'{}' is not an attribute of type '{}'", n, wc_.types[type].name));
-      }
-    } else {
-      diag_.error(s.mark, fmt::format("cannot read '{}': {}", s.text, why.message));
-    }
-    return c;
-  }
-
-  const Workcell& wc_;
-  Diagnostics& diag_;
-  std::unordered_map<const Scalar*, Compiled> cache_;  // lookups only
-  std::vector<double> inputs_;
-};
-
-}  // namespace
-
-namespace {
-
-/// Evaluates shapes and device models of objects; one per build.
+/// Builds objects' shapes and device models from their types' templates; one per build.
 class Builder {
  public:
-  Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), eval_(wc, diag), meshes_(meshes) {}
+  Builder(const Workcell& wc, Diagnostics& diag, MeshCache& meshes) : wc_(wc), diag_(diag), meshes_(meshes) {}
 
-  /// The shapes of a geometry list written in `spec_path`, evaluated for object `obj`.
-  std::vector<Shape> shapes(const std::vector<GeometrySpec>& specs, const std::string& spec_path, int obj, bool split_colours = false) {
+  /// Object `obj`'s attribute values (SI), which its templates read.
+  const double* attributes(int obj) const { return &wc_.values[wc_.objects[obj].first_slot + kFirstAttributeSlot]; }
+
+  /// The shapes of templates, evaluated for object `obj`.
+  std::vector<Shape> shapes(const std::vector<ShapeTemplate>& templates, int obj, bool split_colours = false) {
     std::vector<Shape> out;
     const Object& o = wc_.objects[obj];
-    auto check_positive = [&](double v, const Scalar& s, const char* what) {
+    const double* a = attributes(obj);
+    auto check_positive = [&](double v, const ValueRef& r, const char* what) {
       if (!(std::isfinite(v) && v > 0))
-        diag_.error(s.mark.valid() ? s.mark : o.mark,
-                    fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
+        diag_.error(r.mark.valid() ? r.mark : o.mark, fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
       return v;
     };
-    for (const GeometrySpec& gs : specs) {
+    for (const ShapeTemplate& t : templates) {
       Shape s;
-      s.X_object_shape = eval_.pose(gs.pose, obj);
-      std::visit(
-          [&](const auto& shape) {
-            using T = std::decay_t<decltype(shape)>;
-            if constexpr (std::is_same_v<T, BoxSpec>) {
-              s.kind = Shape::Kind::Box;
-              s.box_size = eval_.vec(shape.size, Dim::Length, obj, 0);
-              for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], shape.size[k], "box size");
-            } else if constexpr (std::is_same_v<T, CylinderSpec>) {
-              s.kind = Shape::Kind::Cylinder;
-              s.radius = check_positive(eval_.value(shape.radius, Dim::Length, obj, 0), shape.radius, "cylinder radius");
-              s.length = check_positive(eval_.value(shape.length, Dim::Length, obj, 0), shape.length, "cylinder length");
-            } else if constexpr (std::is_same_v<T, SphereSpec>) {
-              s.kind = Shape::Kind::Sphere;
-              s.radius = check_positive(eval_.value(shape.radius, Dim::Length, obj, 0), shape.radius, "sphere radius");
-            } else {
-              s.kind = Shape::Kind::Mesh;
-              s.scale = eval_.vec(shape.scale, Dim::None, obj, 1);
-              s.mesh = meshes_.load(resolve_mesh_path(spec_path, shape.file.text), shape.file.mark, diag_);
-            }
-          },
-          gs.shape);
-      s.color = gs.color;
+      s.X_object_shape = t.pose.eval(a);
+      switch (t.kind) {
+        case ShapeTemplate::Kind::Box:
+          s.kind = Shape::Kind::Box;
+          s.box_size = t.size.eval(a, 0);
+          for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], t.size.v[k], "box size");
+          break;
+        case ShapeTemplate::Kind::Cylinder:
+          s.kind = Shape::Kind::Cylinder;
+          s.radius = check_positive(t.radius.eval(a, 0), t.radius, "cylinder radius");
+          s.length = check_positive(t.length.eval(a, 0), t.length, "cylinder length");
+          break;
+        case ShapeTemplate::Kind::Sphere:
+          s.kind = Shape::Kind::Sphere;
+          s.radius = check_positive(t.radius.eval(a, 0), t.radius, "sphere radius");
+          break;
+        case ShapeTemplate::Kind::Mesh:
+          s.kind = Shape::Kind::Mesh;
+          s.scale = t.scale.eval(a, 1);
+          s.mesh = meshes_.load(t.mesh_file, t.mesh_mark, diag_);
+          break;
+      }
+      s.color = t.color;
       if (s.kind == Shape::Kind::Mesh && !s.mesh) continue;
       // What is drawn: a mesh whose file colours its materials (a vendor's DAE) becomes a shape
       // per colour, in that colour (the file's colours win over a URDF material's).
@@ -308,86 +240,72 @@ class Builder {
 
   std::shared_ptr<TriangleMesh const> mesh(const std::string& path, SourceMark where) { return meshes_.load(path, where, diag_); }
   bool visuals = false;  ///< build the parts' visual shapes too
-  Eigen::Isometry3d pose(const PoseSpec& p, int obj) { return eval_.pose(p, obj); }
-  double value(const Scalar& s, Dim dim, int obj, double fallback) { return eval_.value(s, dim, obj, fallback); }
 
-  /// The kinematic model of device object `obj`, whose type (or an ancestor) `t` has the parts.
-  std::shared_ptr<Device> device(int obj, const TypeSpec& spec) {
-    const DeviceSpec& ds = *spec.device;
-    const Object& o = wc_.objects[obj];
-    const ObjectType& type = wc_.types[o.type];
+  /// The kinematic model of device object `obj` from its type's device template.
+  std::shared_ptr<Device> device(int obj, const DeviceTemplate& dt) {
+    const ObjectType& type = wc_.types[wc_.objects[obj].type];
+    const double* a = attributes(obj);
     auto d = std::make_shared<Device>();
-    d->kinematic = ds.kinematic;
-    // Parents before children: the loader checked there is one root and no cycle.
-    std::vector<const PartSpec*> order;
-    for (const PartSpec& p : ds.parts)
-      if (p.parent.empty()) order.push_back(&p);
-    for (size_t i = 0; i < order.size(); ++i)
-      for (const PartSpec& p : ds.parts)
-        if (p.parent == order[i]->name) order.push_back(&p);
-    for (const PartSpec* ps : order) {
+    d->kinematic = dt.kinematic;
+    std::vector<int> at(dt.parts.size(), -1);  // the template's part -> the model's
+    for (int k : dt.build_order) {
+      const PartTemplate& pt = dt.parts[k];
+      at[k] = static_cast<int>(d->parts.size());
       Part part;
-      part.name = ps->name;
-      part.parent = ps->parent.empty() ? -1 : d->find_part(ps->parent);
-      part.shapes = shapes(ps->geometry, spec.path, obj);
-      if (visuals) part.visual_shapes = shapes(ps->visual, spec.path, obj, /*split_colours=*/true);
-      part.mass = eval_.value(ps->mass, Dim::Mass, obj, 0);
+      part.name = pt.name;
+      part.parent = pt.parent < 0 ? -1 : at[pt.parent];
+      part.shapes = shapes(pt.shapes, obj);
+      if (visuals) part.visual_shapes = shapes(pt.visual_shapes, obj, /*split_colours=*/true);
+      part.mass = pt.mass.eval(a, 0);
       // A type file's part mass (a URDF's is checked by its import): above 0, else no body; in
       // the range ODE integrates, else it was simulated as 1 kg without a word.
-      if (ps->mass.present && !spec.device->urdf.present) {
+      if (pt.mass.present && !dt.from_urdf) {
         if (!(part.mass > 0) || !std::isfinite(part.mass))
-          diag_.error(ps->mass.mark, fmt::format("the mass of part '{}' is {} kg; a mass is a finite number above 0", ps->name,
-                                                 number_text(part.mass)));
+          diag_.error(pt.mass.mark, fmt::format("the mass of part '{}' is {} kg; a mass is a finite number above 0", pt.name,
+                                                number_text(part.mass)));
         else if (!simulable_mass(part.mass))
-          diag_.warning(ps->mass.mark, fmt::format("the mass of part '{}', {} kg, is beyond the 1e-6 to 1e7 kg the physics "
-                                                   "integrates: a run simulates it as 1 kg", ps->name, number_text(part.mass)));
+          diag_.warning(pt.mass.mark, fmt::format("the mass of part '{}', {} kg, is beyond the 1e-6 to 1e7 kg the physics "
+                                                  "integrates: a run simulates it as 1 kg", pt.name, number_text(part.mass)));
       }
-      part.color = ps->color.text;
-      if (ps->inertial) {
-        part.com = eval_.pose(ps->inertial->origin, obj).translation();
-        const auto& I = ps->inertial->inertia;  // ixx ixy ixz iyy iyz izz
-        auto v = [&](int k) { return eval_.value(I[k], Dim::None, obj, 0); };
+      part.color = pt.color;
+      if (pt.inertial) {
+        const Eigen::Isometry3d X = pt.inertial->origin.eval(a);
+        part.com = X.translation();
+        auto v = [&](int k) { return pt.inertial->inertia[k].eval(a, 0); };  // ixx ixy ixz iyy iyz izz
         Eigen::Matrix3d m;
         m << v(0), v(1), v(2), v(1), v(3), v(4), v(2), v(4), v(5);
-        Eigen::Matrix3d R = eval_.pose(ps->inertial->origin, obj).linear();
-        part.inertia = R * m * R.transpose();
+        part.inertia = X.linear() * m * X.linear().transpose();
       }
-      if (ps->joint) {
-        const JointSpec& js = *ps->joint;
+      if (pt.joint) {
+        const JointTemplate& jt = *pt.joint;
         Joint& j = part.joint;
-        j.name = js.name;
-        j.type = js.type;
-        j.origin = eval_.pose(js.origin, obj);
-        if (js.type != JointType::Fixed) {
-          j.axis = eval_.vec(js.axis, Dim::None, obj, 0).normalized();
-          j.attribute = type.find_attribute(js.name);
-          const AttributeDef& a = type.attributes[j.attribute];
-          j.lower = a.min_si.value_or(-INFINITY);
-          j.upper = a.max_si.value_or(INFINITY);
-          Dim rate = js.type == JointType::Revolute ? Dim::Angle : Dim::Length;
-          j.velocity = eval_.value(js.velocity, rate, obj, 0);
-          j.acceleration = eval_.value(js.acceleration, rate, obj, 0);
-          j.effort = eval_.value(js.effort, Dim::None, obj, 0);
+        j.name = jt.name;
+        j.type = jt.type;
+        j.origin = jt.origin.eval(a);
+        if (jt.type != JointType::Fixed) {
+          j.axis = jt.axis.eval(a, 0).normalized();
+          // Its limits are its attribute's, as the object's type has them (a subtype may narrow them).
+          j.attribute = type.find_attribute(jt.name);
+          const AttributeDef& attr = type.attributes[j.attribute];
+          j.lower = attr.min_si.value_or(-INFINITY);
+          j.upper = attr.max_si.value_or(INFINITY);
+          j.velocity = jt.velocity.eval(a, 0);
+          j.acceleration = jt.acceleration.eval(a, 0);
+          j.effort = jt.effort.eval(a, 0);
         }
       }
       d->parts.push_back(std::move(part));
     }
-    // The joint vector follows the order of the joints' attributes (the file's order of parts).
-    for (const PartSpec& ps : ds.parts)
-      if (ps.joint && ps.joint->type != JointType::Fixed) {
-        int p = d->find_part(ps.name);
-        d->parts[p].joint.q = d->dof();
-        d->joint_parts.push_back(p);
-      }
-    for (const DeviceSpec::AllowedCollision& pair : ds.allowed_collisions) {
-      int a = d->find_part(pair.a), b = d->find_part(pair.b);
-      if (a >= 0 && b >= 0 && a != b) d->allowed.emplace_back(std::min(a, b), std::max(a, b));
+    for (int p : dt.joint_parts) {
+      d->parts[at[p]].joint.q = d->dof();
+      d->joint_parts.push_back(at[p]);
     }
+    for (auto [pa, pb] : dt.allowed) d->allowed.emplace_back(std::min(at[pa], at[pb]), std::max(at[pa], at[pb]));
     std::sort(d->allowed.begin(), d->allowed.end());
     d->allowed.erase(std::unique(d->allowed.begin(), d->allowed.end()), d->allowed.end());
-    if (!ds.tool_part.empty()) {
-      d->tool_part = d->find_part(ds.tool_part);
-      d->X_part_tool = eval_.pose(ds.tool_pose, obj);
+    if (dt.tool_part >= 0) {
+      d->tool_part = at[dt.tool_part];
+      d->X_part_tool = dt.tool_pose.eval(a);
     } else {
       d->tool_part = deepest_part(*d);
     }
@@ -409,16 +327,8 @@ class Builder {
 
   const Workcell& wc_;
   Diagnostics& diag_;
-  ShapeEvaluator eval_;
   MeshCache& meshes_;
 };
-
-/// The type (itself or an ancestor) that carries an object type's device parts, or nullptr.
-const TypeSpec* device_spec(const Workcell& wc, int t) {
-  for (int k : wc.lineage(t))
-    if (wc.types[k].spec->device) return wc.types[k].spec.get();
-  return nullptr;
-}
 
 }  // namespace
 
@@ -449,11 +359,8 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
   }
   for (size_t i = 0; i < wc.objects.size(); ++i) {
     const Object& o = wc.objects[i];
-    // A type without its own geometry inherits its base type's.
-    int t = o.type;
-    const std::vector<int> line = wc.lineage(t);  // the nearest with geometry, else the root type
-    t = *std::find_if(line.begin(), line.end() - 1, [&](int k) { return wc.types[k].spec->has_geometry; });
-    const TypeSpec& spec = *wc.types[t].spec;
+    // The type's templates (a type without its own geometry, frames or parts has its base's).
+    const TypeTemplates& tt = wc.types[o.type].templates;
     ObjectGeometry& g = model.objects[i];
     int obj = static_cast<int>(i);
     if (!o.geomodel.empty()) {
@@ -462,11 +369,11 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       s.mesh = build.mesh(o.geomodel, o.mark);
       if (s.mesh) g.shapes.push_back(std::move(s));
     } else {
-      g.shapes = build.shapes(spec.geometry, spec.path, obj);
+      g.shapes = build.shapes(tt.geometry, obj);
     }
     std::vector<std::pair<std::string, Eigen::Isometry3d>> device_frames;
-    if (const TypeSpec* ds = device_spec(wc, o.type)) {
-      auto device = build.device(obj, *ds);
+    if (tt.device) {
+      auto device = build.device(obj, *tt.device);
       // The device type's own shapes hang on the root part; the parts' at the instance's joint values.
       device->parts[0].shapes.insert(device->parts[0].shapes.end(), g.shapes.begin(), g.shapes.end());
       g.shapes.clear();
@@ -493,14 +400,12 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       device_frames.emplace_back("tool", g.X_world_object * X[d.tool_part] * d.X_part_tool);
     }
     for (const Shape& s : g.shapes) g.bbox_world.extend(shape_bounds(s, g.X_world_object * s.X_object_shape));
-    for (int k : wc.lineage(o.type))
-      if (const Scalar& m = wc.types[k].spec->mass; m.present) {
-        g.declared_mass = build.value(m, Dim::Mass, obj, NAN);
-        if (!(g.declared_mass > 0) || !std::isfinite(g.declared_mass))
-          diag.error(o.mark, fmt::format("the mass of '{}' ({}, as type '{}' declares it) is {} kg; a mass is a finite number above 0",
-                                         o.name, m.text, wc.types[k].name, number_text(g.declared_mass)));
-        break;
-      }
+    if (tt.mass.present) {
+      g.declared_mass = tt.mass.eval(build.attributes(obj), NAN);
+      if (!(g.declared_mass > 0) || !std::isfinite(g.declared_mass))
+        diag.error(o.mark, fmt::format("the mass of '{}' ({}, as type '{}' declares it) is {} kg; a mass is a finite number above 0",
+                                       o.name, tt.mass.text, tt.mass_type, number_text(g.declared_mass)));
+    }
     // Each location is within the limit; their sum along a chain of parents must be too.
     Eigen::Vector3d far = g.X_world_object.translation().cwiseAbs();
     if (!g.bbox_world.isEmpty()) far = g.bbox_world.max().cwiseAbs().cwiseMax(g.bbox_world.min().cwiseAbs());
@@ -508,15 +413,7 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       diag.error(o.mark, fmt::format("'{}' reaches {} m from the origin (its parents' locations added), beyond the "
                                      "{:g} m (1000 km) sscs places things within", o.name, number_text(far.maxCoeff()), kMaxLengthSi));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
-    std::vector<int> chain = wc.lineage(o.type);
-    std::reverse(chain.begin(), chain.end());
-    for (int k : chain)
-      for (const FrameSpec& f : wc.types[k].spec->frames) {
-        Eigen::Isometry3d X = g.X_world_object * build.pose(f.pose, obj);
-        auto same = std::find_if(g.frames_world.begin(), g.frames_world.end(), [&](const auto& e) { return e.first == f.name; });
-        if (same != g.frames_world.end()) same->second = X;
-        else g.frames_world.emplace_back(f.name, X);
-      }
+    for (const FrameTemplate& f : tt.frames) g.frames_world.emplace_back(f.name, g.X_world_object * f.pose.eval(build.attributes(obj)));
     // A device's parts and tool are frames too, unless the type names a frame so itself.
     for (auto& f : device_frames)
       if (!g.frame(f.first)) g.frames_world.push_back(std::move(f));

@@ -1,4 +1,4 @@
-#include "simulate/resolved.h"
+#include "pipeline/resolved.h"
 
 #include <filesystem>
 #include <algorithm>
@@ -125,18 +125,6 @@ std::string replace_attribute_values(const std::string& text, const std::string&
   return replace_delimited(text, from, to, {{'"', '"'}, {'\'', '\''}});
 }
 
-std::vector<const GeometrySpec*> mesh_specs(const TypeSpec& t) {
-  std::vector<const GeometrySpec*> out;
-  for (const GeometrySpec& g : t.geometry) out.push_back(&g);
-  if (t.device)
-    for (const PartSpec& p : t.device->parts) {
-      for (const GeometrySpec& g : p.geometry) out.push_back(&g);
-      for (const GeometrySpec& g : p.visual) out.push_back(&g);  // frames of a rerun draw them
-    }
-  std::erase_if(out, [](const GeometrySpec* g) { return !std::holds_alternative<MeshSpec>(g->shape); });
-  return out;
-}
-
 std::string set_text(const std::vector<std::pair<std::string, std::string>>& overrides) {
   std::vector<std::string> names;
   std::map<std::string, std::string> last;
@@ -175,23 +163,22 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
     for (int t : wc.lineage(o.type)) used.insert(t);
   std::set<std::string> meshes;
   for (int t : used) {
-    const TypeSpec& spec = *wc.types[t].spec;
-    if (!spec.plugin.empty()) {  // plugins are code: named, hashed, never copied
-      out.not_copied.push_back(spec.plugin);
+    const ObjectType& type = wc.types[t];
+    if (!type.plugin.empty()) {  // plugins are code: named, hashed, never copied
+      out.not_copied.push_back(type.plugin);
       continue;
     }
-    const std::string type_dest = "library/types/" + fs::path(spec.path).filename().string();
-    if (spec.device && spec.device->urdf.present) {
+    const std::string type_dest = "library/types/" + fs::path(type.path).filename().string();
+    if (type.own_device && type.templates.device && !type.templates.device->urdf.empty()) {
       // A vendor's files (URDF, SRDF, meshes and their images), wherever they lie, keep their
       // layout below the folder that holds them all, in library/urdf/NAME/; the type copy names
       // the copies, and the URDF copy's package:// and absolute mesh references become relative.
-      const DeviceSpec& d = *spec.device;
-      const std::string urdf = fs::absolute(resolve_mesh_path(spec.path, d.urdf.text)).lexically_normal().string();
+      const DeviceTemplate& d = *type.templates.device;
+      const std::string urdf = fs::absolute(resolve_mesh_path(type.path, d.urdf)).lexically_normal().string();
       std::vector<std::string> files = {urdf};
       std::string srdf;
-      if (d.srdf.present) files.push_back(srdf = fs::absolute(resolve_mesh_path(spec.path, d.srdf.text)).lexically_normal().string());
-      for (const GeometrySpec* g : mesh_specs(spec)) {
-        const std::string& mesh = std::get<MeshSpec>(g->shape).file.text;
+      if (!d.srdf.empty()) files.push_back(srdf = fs::absolute(resolve_mesh_path(type.path, d.srdf)).lexically_normal().string());
+      for (const std::string& mesh : type.own_meshes) {
         files.push_back(mesh);
         for (const std::string& image : resolver.images(mesh)) files.push_back(image);
       }
@@ -206,8 +193,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
       // A COLLADA or glTF mesh naming its texture by absolute path (or file://) names the copy
       // instead, relatively; a relative name holds, for the layout is kept.
       std::set<std::string> rewritten;
-      for (const GeometrySpec* g : mesh_specs(spec)) {
-        const std::string& mesh = std::get<MeshSpec>(g->shape).file.text;
+      for (const std::string& mesh : type.own_meshes) {
         const std::string ext = fs::path(mesh).extension().string();
         if (rewritten.count(mesh) || resolver.images(mesh).empty() || (ext != ".dae" && ext != ".DAE" && ext != ".gltf")) continue;
         const std::string original = resolver.bytes(mesh);
@@ -225,15 +211,14 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
         if (!rewritten.count(files[k])) resolver.copy(files[k], dest(files[k]));
       auto from_types = [&](const std::string& f) { return yaml::flow_scalar(fs::path(dest(f)).lexically_relative("library/types").generic_string()); };
       std::vector<yaml::TopLevelChange> changes = {{"urdf", from_types(urdf)}};
-      if (d.srdf.present) changes.push_back({"srdf", from_types(srdf)});
-      resolver.put(type_dest, edited(sources, spec.path, changes));
+      if (!d.srdf.empty()) changes.push_back({"srdf", from_types(srdf)});
+      resolver.put(type_dest, edited(sources, type.path, changes));
       continue;
     }
-    resolver.copy(spec.path, type_dest);
-    for (const GeometrySpec* g : mesh_specs(spec)) {
-      const std::string& rel = std::get<MeshSpec>(g->shape).file.text;
-      const std::string mesh = resolve_mesh_path(spec.path, rel);
-      const std::optional<std::string> mesh_dest = resolver.copy_type_relative(spec.path, rel, mesh);
+    resolver.copy(type.path, type_dest);
+    for (const std::string& rel : type.own_meshes) {
+      const std::string mesh = resolve_mesh_path(type.path, rel);
+      const std::optional<std::string> mesh_dest = resolver.copy_type_relative(type.path, rel, mesh);
       if (!mesh_dest) continue;
       // The images its textures were read from keep their place beside the mesh's copy.
       for (const std::string& image : resolver.images(mesh)) {

@@ -11,22 +11,9 @@
 #include "core/source.h"
 #include "geometry/geometry.h"
 #include "load/scenario.h"
+#include "simulate/run_inputs.h"
 
 namespace sscs {
-
-struct InputFile {
-  std::string path;  ///< as it was read
-  std::string sha256;
-};
-
-struct RunInputs {
-  std::vector<InputFile> files;
-  /// Files of resolved/: a path relative to the run folder ("resolved/vault.yaml") and its bytes.
-  std::vector<std::pair<std::string, std::string>> resolved;
-  /// Inputs resolved/ could not hold (an absolute path, or one outside its library folder):
-  /// a rerun reads them from where they are.
-  std::vector<std::string> not_copied;
-};
 
 /// `overrides`: the parameter overrides in force, in order (the scenario's `set:`, then --set);
 /// a later one wins. Files named but unreadable now are an error (they were read moments ago).

@@ -46,13 +46,12 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   // `top` (what a reach or move_to targets by default), then the frames the type files name.
   out.frames.emplace_back("top", g.frame_pose("top"));
   std::vector<std::string> named;
-  for (int k : wc->lineage(wc->objects[0].type))
-    for (const FrameSpec& f : wc->types[k].spec->frames) named.push_back(f.name);
+  for (const FrameTemplate& f : wc->types[wc->objects[0].type].templates.frames) named.push_back(f.name);
   std::sort(named.begin(), named.end());
   named.erase(std::unique(named.begin(), named.end()), named.end());
   for (const std::string& name : named)
     if (const Eigen::Isometry3d* X = g.frame(name); X && name != "top") out.frames.emplace_back(name, *X);
-  const std::filesystem::path folder = std::filesystem::absolute(type.spec->path).parent_path();
+  const std::filesystem::path folder = std::filesystem::absolute(type.path).parent_path();
   auto add_mesh = [&](const Shape& s) {
     if (s.kind != Shape::Kind::Mesh || !s.mesh) return;
     std::string rel = std::filesystem::absolute(s.mesh->path).lexically_normal().lexically_relative(folder.lexically_normal()).string();
@@ -72,16 +71,6 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
 }
 
 namespace {
-
-/// The device description of a type: its own, or the nearest ancestor's.
-const DeviceSpec* device_of(const ObjectType& t, const std::map<std::string, const ObjectType*>& by_name) {
-  for (const ObjectType* k = &t; k;) {
-    if (k->spec->device) return &*k->spec->device;
-    auto it = by_name.find(k->spec->extends);
-    k = it == by_name.end() ? nullptr : it->second;
-  }
-  return nullptr;
-}
 
 const char* joint_type_name(JointType t) {
   switch (t) {
@@ -109,14 +98,14 @@ std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X) {
   return rpy;
 }
 
-nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceSpec* device,
+nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceTemplate* device,
                                  const TypeInstance& instance) {
   nlohmann::ordered_json j;
   j["name"] = t.name;
   j["extends"] = t.base >= 0 ? types[t.base].name : "object";
   j["kind"] = t.device ? "device" : "object";
   j["description"] = t.description;
-  j["plugin"] = t.spec->plugin.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.spec->plugin);
+  j["plugin"] = t.plugin.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.plugin);
   auto attrs = nlohmann::ordered_json::array();
   for (const AttributeDef& a : t.attributes) {
     nlohmann::ordered_json aj;
@@ -150,21 +139,21 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
   if (device) {
     nlohmann::ordered_json dj;
     auto parts = nlohmann::ordered_json::array();
-    for (const PartSpec& p : device->parts) {
+    for (const PartTemplate& p : device->parts) {
       nlohmann::ordered_json pj;
       pj["name"] = p.name;
-      pj["parent"] = p.parent.empty() ? nullptr : nlohmann::ordered_json(p.parent);
+      pj["parent"] = p.parent < 0 ? nullptr : nlohmann::ordered_json(device->parts[p.parent].name);
       if (p.joint) pj["joint"] = {{"name", p.joint->name}, {"type", joint_type_name(p.joint->type)}};
       parts.push_back(std::move(pj));
     }
     dj["parts"] = std::move(parts);
-    dj["tool"] = device->tool_part.empty() ? nullptr : nlohmann::ordered_json(device->tool_part);
+    dj["tool"] = device->tool_part < 0 ? nullptr : nlohmann::ordered_json(device->parts[device->tool_part].name);
     dj["driven"] = device->kinematic ? "kinematic" : "motors";
-    dj["urdf"] = device->urdf.present ? nlohmann::ordered_json(device->urdf.text) : nullptr;
-    dj["srdf"] = device->srdf.present ? nlohmann::ordered_json(device->srdf.text) : nullptr;
-    if (device->urdf.present) dj["joint_limits"] = device->hard_limits ? "hard" : "soft";
+    dj["urdf"] = device->urdf.empty() ? nullptr : nlohmann::ordered_json(device->urdf);
+    dj["srdf"] = device->srdf.empty() ? nullptr : nlohmann::ordered_json(device->srdf);
+    if (!device->urdf.empty()) dj["joint_limits"] = device->hard_limits ? "hard" : "soft";
     auto allowed = nlohmann::ordered_json::array();
-    for (const DeviceSpec::AllowedCollision& a : device->allowed_collisions) allowed.push_back({a.a, a.b});
+    for (const auto& [a, b] : device->allowed_names) allowed.push_back({a, b});
     dj["allowed_collisions"] = std::move(allowed);
     dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
                                  : nlohmann::ordered_json(nullptr);
@@ -190,17 +179,13 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
   std::sort(types.begin(), types.end(), [](const ObjectType& a, const ObjectType& b) { return a.name < b.name; });
   // Sorting moved them: base indices refer to the old order, so look bases up by name below.
   std::map<std::string, std::string> base_of;
-  std::map<std::string, const ObjectType*> by_name;
-  for (const ObjectType& t : types) {
-    base_of[t.name] = t.spec->extends.empty() ? "object" : t.spec->extends;
-    by_name[t.name] = &t;
-  }
+  for (const ObjectType& t : types) base_of[t.name] = t.extends.empty() ? "object" : t.extends;
   if (json) {
     nlohmann::ordered_json j;
     j["sscs"] = 1;
     auto arr = nlohmann::ordered_json::array();
     for (const ObjectType& t : types) {
-      auto tj = type_json(t, types, device_of(t, by_name), instances[t.name]);
+      auto tj = type_json(t, types, t.templates.device.get(), instances[t.name]);
       tj["extends"] = base_of[t.name];
       arr.push_back(std::move(tj));
     }
@@ -217,7 +202,7 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
   }
   for (const ObjectType& t : types) {
     out << fmt::format("{} ({}{}{}){}\n", t.name, t.device ? "device, " : "", "extends " + base_of[t.name],
-                             t.spec->plugin.empty() ? "" : "; plugin " + t.spec->plugin,
+                             t.plugin.empty() ? "" : "; plugin " + t.plugin,
                              t.description.empty() ? "" : " - " + t.description);
     size_t name_width = 16;  // the names' column fits the longest (finger_right_joint)
     for (const AttributeDef& a : t.attributes) name_width = std::max(name_width, a.name.size());
@@ -253,17 +238,18 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
       if (in.reach)
         out << fmt::format("  tool reach over the joint ranges: {} to {} m\n", vec_text(in.reach->min()), vec_text(in.reach->max()));
     }
-    if (const DeviceSpec* d = device_of(t, by_name)) {
+    if (const DeviceTemplate* d = t.templates.device.get()) {
       std::vector<std::string> parts;
-      for (const PartSpec& p : d->parts)
+      for (const PartTemplate& p : d->parts)
         parts.push_back(p.joint && p.joint->type != JointType::Fixed ? fmt::format("{}({})", p.name, p.joint->name) : p.name);
-      out << fmt::format("  parts: {}; tool: {}{}{}{}\n", fmt::join(parts, ", "), d->tool_part.empty() ? "(end of the longest chain)" : d->tool_part,
+      out << fmt::format("  parts: {}; tool: {}{}{}{}\n", fmt::join(parts, ", "),
+                               d->tool_part < 0 ? "(end of the longest chain)" : d->parts[d->tool_part].name,
                                d->kinematic ? "; driven: kinematic" : "",
-                               d->urdf.present ? fmt::format("; urdf: {} ({} limits)", d->urdf.text, d->hard_limits ? "hard" : "soft") : "",
-                               d->srdf.present ? "; srdf: " + d->srdf.text : "");
-      if (!d->allowed_collisions.empty()) {
+                               !d->urdf.empty() ? fmt::format("; urdf: {} ({} limits)", d->urdf, d->hard_limits ? "hard" : "soft") : "",
+                               !d->srdf.empty() ? "; srdf: " + d->srdf : "");
+      if (!d->allowed_names.empty()) {
         std::vector<std::string> pairs;
-        for (const DeviceSpec::AllowedCollision& a : d->allowed_collisions) pairs.push_back(a.a + "/" + a.b);
+        for (const auto& [a, b] : d->allowed_names) pairs.push_back(a + "/" + b);
         out << fmt::format("  allowed collisions: {}\n", fmt::join(pairs, ", "));
       }
     }

@@ -13,7 +13,7 @@
 #include "core/expected.h"
 #include "geometry/geometry.h"
 #include "simulate/plan.h"
-#include "simulate/resolved.h"
+#include "simulate/run_inputs.h"
 
 namespace sscs {
 

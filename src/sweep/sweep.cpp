@@ -34,7 +34,7 @@
 #include "pipeline/prepare.h"
 #include "report/report.h"
 #include "simulate/plan.h"
-#include "simulate/resolved.h"
+#include "pipeline/resolved.h"
 #include "simulate/simulate.h"
 #include "sweep/metrics.h"
 #include "sweep/results.h"

@@ -23,10 +23,8 @@ MODEL_READERS = {"model", "geometry", "kinematics", "check", "simulate", "render
 INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.*)$")
 # file -> included header: arrows that remain (issue 20, "templates compiled once").
 KNOWN = {
-    ("geometry/geometry.cpp", "compile/values.h"),
     ("simulate/plan.cpp", "compile/values.h"),
     ("simulate/plan.h", "load/scenario.h"),
-    ("simulate/resolved.h", "load/scenario.h"),
     # The compiled model itself still holds spec structs and the plugin runtime.
     ("compile/workcell.h", "load/spec.h"),
     ("compile/workcell.h", "plugin/plugins.h"),
