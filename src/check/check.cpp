@@ -570,7 +570,7 @@ void check_plugin(const Constraint& c, const PluginCheck& pc, const State& st, C
   std::vector<sscs_value> values;
   for (const Operand& op : pc.inputs)
     values.push_back({op.text.c_str(), si_to_file(read(op, st), op.dim), file_unit(op.dim)});
-  PluginOutcome out = pc.plugins->check(*pc.cls, c.name, values, pc.args_json);
+  PluginOutcome out = pc.evaluate(c.name, values);
   r.message = out.message;
   if (!out.ok) {
     r.status = Status::Error;

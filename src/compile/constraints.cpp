@@ -453,7 +453,6 @@ void compile_constraints(CompileState& st) {
     } else if (auto* pbox = std::get_if<Boxed<PluginSpec>>(&spec.kind)) {
       auto* p = &**pbox;
       PluginCheck pc;
-      pc.plugins = st.plugins;
       size_t given = 0, errors_before = st.diag.count();
       for (const Scalar& written : p->attributes)
         for (const Scalar& ref : plugin_references(st, written)) {
@@ -465,19 +464,25 @@ void compile_constraints(CompileState& st) {
         }
       finish_subjects(c.subjects);
       pc.args_json = p->args.is_null() ? "{}" : p->args.dump();
-      pc.cls = st.plugins ? st.plugins->find(p->cls.text) : nullptr;
-      if (!pc.cls) {
+      const ConstraintClass* cls = st.plugins ? st.plugins->find(p->cls.text) : nullptr;
+      if (cls) {
+        pc.class_name = cls->name;
+        pc.evaluate = [plugins = st.plugins, cls, args = pc.args_json](const std::string& constraint, const std::vector<sscs_value>& values) {
+          return plugins->check(*cls, constraint, values, args);
+        };
+      }
+      if (!cls) {
         std::vector<std::string> names;
         if (st.plugins)
           for (const ConstraintClass& k : st.plugins->classes()) names.push_back(k.name);
         st.diag.error(p->cls.mark, fmt::format("no loaded plugin provides constraint class '{}'{}{}", p->cls.text,
                                                did_you_mean(p->cls.text, names),
                                                names.empty() ? " (no plugins are loaded: pass --plugins DIR)" : ""));
-      } else if (st.diag.count() == errors_before && (given < pc.cls->min_values || given > pc.cls->max_values)) {
+      } else if (st.diag.count() == errors_before && (given < cls->min_values || given > cls->max_values)) {
         st.diag.error(p->cls.mark, fmt::format("constraint class '{}' takes {} attributes, found {}", p->cls.text,
-                                               pc.cls->min_values == pc.cls->max_values ? fmt::format("{}", pc.cls->min_values)
-                                               : pc.cls->max_values == SIZE_MAX ? fmt::format("at least {}", pc.cls->min_values)
-                                               : fmt::format("{} to {}", pc.cls->min_values, pc.cls->max_values),
+                                               cls->min_values == cls->max_values ? fmt::format("{}", cls->min_values)
+                                               : cls->max_values == SIZE_MAX ? fmt::format("at least {}", cls->min_values)
+                                               : fmt::format("{} to {}", cls->min_values, cls->max_values),
                                                given));
       }
       c.body = std::move(pc);

@@ -2,6 +2,7 @@
 /// The compiled model: an immutable Workcell of typed objects and constraints, all values in SI.
 /// Later stages (check, geometry, kinematics, simulation) read only this, never the spec.
 #include <array>
+#include <functional>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -12,14 +13,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <sscs/plugin.h>
+
 #include "compile/cameras.h"
 #include "compile/templates.h"
 #include "core/expr.h"
 #include "core/diagnostics.h"
 #include "core/source.h"
 #include "core/units.h"
-#include "load/spec.h"
-#include "plugin/plugins.h"
+#include "core/written.h"
+#include "core/plugin_outcome.h"
 
 namespace sscs {
 
@@ -123,8 +126,10 @@ struct ExprCheck {
 
 /// plugin: a constraint class of a loaded plugin over the participating attributes.
 struct PluginCheck {
-  std::shared_ptr<const PluginSet> plugins;  ///< keeps the shared object loaded
-  const ConstraintClass* cls = nullptr;
+  std::string class_name;
+  /// The class's check, bound when compiled (it keeps the shared object loaded): for the
+  /// constraint's name and its inputs' values in file units, with their names and units.
+  std::function<PluginOutcome(const std::string& constraint, const std::vector<sscs_value>& values)> evaluate;
   std::vector<Operand> inputs;
   std::string args_json;
 };

@@ -10,6 +10,8 @@
 
 #include <sscs/plugin.h>
 
+#include "core/plugin_outcome.h"
+
 namespace sscs {
 
 /// A plugin that cannot be used (missing entry symbol, wrong ABI version, dlopen error, a
@@ -31,14 +33,6 @@ struct PluginType {
   std::string name, plugin;  ///< plugin: the shared object's path
   std::string label;         ///< how errors name it: "PATH (type NAME)"
   std::string text;
-};
-
-/// What a check gave: an evaluation (pass/fail, margin) or an error message.
-struct PluginOutcome {
-  bool ok = false;  ///< false: the check failed to evaluate (status `error`)
-  bool pass = false;
-  double margin = 0;
-  std::string unit, message;
 };
 
 class PluginSet {

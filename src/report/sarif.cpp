@@ -126,7 +126,7 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
       res["level"] = warning && !strict ? "warning" : "error";
       // Checks of plugin classes share the rule sscs/plugin: the message names the class.
       const auto* plugin = std::get_if<PluginCheck>(&c.body);
-      std::string cls = plugin && plugin->cls ? fmt::format(" (plugin class {})", plugin->cls->name) : "";
+      std::string cls = plugin && !plugin->class_name.empty() ? fmt::format(" (plugin class {})", plugin->class_name) : "";
       res["message"] = {{"text", fmt::format("{}{}{}{}{}: {}{}{}", c.name, cls, subject.empty() ? "" : " [", fmt::join(subject, ", "),
                                              subject.empty() ? "" : "]", r.status == Status::Error ? "could not be evaluated: " : "",
                                              r.message, margin)}};

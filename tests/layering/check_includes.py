@@ -25,9 +25,6 @@ INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.
 KNOWN = {
     ("simulate/plan.cpp", "compile/values.h"),
     ("simulate/plan.h", "load/scenario.h"),
-    # The compiled model itself still holds spec structs and the plugin runtime.
-    ("compile/workcell.h", "load/spec.h"),
-    ("compile/workcell.h", "plugin/plugins.h"),
 }
 
 
