@@ -559,7 +559,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   r.dim = Dim::Length;
   r.margin = smallest;
   if (st.describe_passes)
-    r.message = fmt::format("{} reaches all {} targets{}", o.name, rc.targets.size(),
+    r.message = fmt::format("{} reaches {}{}", o.name,
+                            rc.targets.size() == 1 ? std::string("its target") : fmt::format("all {} targets", rc.targets.size()),
                             smallest ? fmt::format("; closest to its tolerance: {}", closest) : "");
   out.push_back(std::move(r));
 }

@@ -116,9 +116,12 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
     }
     type.attributes.push_back(std::move(a));
   }
+  std::vector<std::string> joints;
+  for (const AttributeDef& a : type.attributes)
+    if (a.joint) joints.push_back(a.name);
   for (const auto& [joint, value] : device.home)
     if (type.find_attribute(joint) < 0 || !type.attributes[type.find_attribute(joint)].joint)
-      diag.error(value.mark, fmt::format("home names '{}', which is not a joint of '{}'", joint, type.name));
+      diag.error(value.mark, fmt::format("home names '{}', which is not a joint of '{}'{}", joint, type.name, did_you_mean(joint, joints)));
 }
 
 /// Compiles a value of a type's geometry, frames or parts: a number, a unit literal, or an

@@ -55,6 +55,7 @@ constexpr double kApart = 0.1;                // s apart before a touching pair 
 constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
+constexpr double kRestTurnLimit = 0.02;       // rad: an object at rest turned by more moves again
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {
@@ -155,12 +156,12 @@ class Run {
             world_.release(ps.device);
             released_[o] = false;
             released_at_[o] = world_.pose(o).translation();
-            set_down_at_[o] = released_at_[o];
+            set_down_at_[o] = {released_at_[o], bottom_of(o)};
             // Its riders stay where they are, on it: free bodies, watched until they rest.
             for (auto it = rider_of_.begin(); it != rider_of_.end();)
               if (it->second == o) {
                 released_[it->first] = true;
-                set_down_at_[it->first] = world_.pose(it->first).translation();
+                set_down_at_[it->first] = {world_.pose(it->first).translation(), bottom_of(it->first)};
                 it = rider_of_.erase(it);
               } else {
                 ++it;
@@ -483,9 +484,17 @@ class Run {
         }
       }
     }
+    // One that moves again after its rest (woken when what held it went away: a drum leaning
+    // on the fingers that drew back) is watched until it rests again, and judged there.
+    for (auto it = rested_.begin(); it != rested_.end();) {
+      const Eigen::Isometry3d X = world_.pose(it->first);
+      const double turned = Eigen::AngleAxisd(X.linear() * it->second.linear().transpose()).angle();
+      if ((X.translation() - it->second.translation()).norm() > kTrackingTolerance || turned > kRestTurnLimit) it = rested_.erase(it);
+      else ++it;
+    }
     for (auto& [o, landed] : released_)
       if (landed && world_.at_rest(o) && !rested_.count(o)) {
-        rested_.insert(o);
+        rested_[o] = world_.pose(o);
         const Eigen::Vector3d p = world_.pose(o).translation();
         events_.add(t, EventKind::AtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}}});
         check_displaced(t, o, p);
@@ -662,15 +671,26 @@ class Run {
   /// down did not stay where the operation put it: it fell (a drum released on a rack level
   /// without a beam under it fell 0.52 m to the floor, and the run said ok), rolled or slid off.
   /// A `displaced` event; the plan's picture of the scene no longer holds either.
+  /// `fall` is how far its lowest point went down (a drum set down tilted that rocked upright
+  /// raised and lowered its origin, but fell nowhere).
   void check_displaced(double t, int o, const Eigen::Vector3d& p) {
     auto at = set_down_at_.find(o);
     if (at == set_down_at_.end()) return;
-    const Eigen::Vector3d move = p - at->second;
-    if (move.head<2>().norm() <= kGraspReach && std::abs(move.z()) <= kSetDownDrop) return;
-    const Eigen::Vector3d& from = at->second;
+    const Eigen::Vector3d move = p - at->second.position;
+    const double fall = std::max(0.0, at->second.bottom - bottom_of(o));
+    if (move.head<2>().norm() <= kGraspReach && fall <= kSetDownDrop) return;
+    if (!displaced_.insert(o).second) return;  // once an object
+    const Eigen::Vector3d& from = at->second.position;
     events_.add(t, EventKind::Displaced, {{"object", wc_.objects[o].name}, {"from", {r9(from.x()), r9(from.y()), r9(from.z())}},
                                           {"to", {r9(p.x()), r9(p.y()), r9(p.z())}}, {"distance", r9(move.norm())},
-                                          {"fall", r9(std::max(0.0, -move.z()))}});
+                                          {"fall", r9(fall)}});
+  }
+
+  /// The height of an object's lowest point where the physics has it now.
+  double bottom_of(int o) const {
+    ObjectGeometry g = geometry_.objects[o];
+    repose(g, world_.pose(o), nullptr);
+    return g.bbox_world.isEmpty() ? world_.pose(o).translation().z() : g.bbox_world.min().z();
   }
 
   /// The run fails here: it stops with what it has, and says why.
@@ -760,10 +780,15 @@ class Run {
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
   std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
-  std::map<int, Eigen::Vector3d> set_down_at_;  // where an object was set down (released, or its load was)
+  struct SetDown {
+    Eigen::Vector3d position;  // its origin
+    double bottom = 0;         // the height of its lowest point
+  };
+  std::map<int, SetDown> set_down_at_;  // where an object was set down (released, or its load was)
   std::map<int, Eigen::Isometry3d> X_load_rider_;  // a rider's pose on its load when the load was grasped
   std::map<int, std::pair<size_t, double>> shifted_;  // rider -> its load_shifted event, the largest shift
-  std::set<int> rested_;
+  std::map<int, Eigen::Isometry3d> rested_;  // released objects at rest -> where they came to rest
+  std::set<int> displaced_;                  // objects with a displaced event
   std::set<std::pair<int, int>> over_limit_;
   bool failed_ = false;
   std::string stopped_by_, stop_message_;

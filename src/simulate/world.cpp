@@ -205,6 +205,30 @@ struct PhysicsWorld::Impl {
     size_t next = 0;
   };
   std::vector<Velocities> recent;
+  /// Per object: what its body touched at the last step ((object, part), sorted).
+  std::vector<std::vector<std::pair<int, int>>> touching;
+
+  /// A body ODE has put to sleep stays asleep when what held it goes away (a drum set down on
+  /// its rim, leaning on the gripper's fingers, froze 3.5 deg past tipping when they drew back,
+  /// and the run said ok; it had lain still long enough while they touched it): one that loses
+  /// a contact it had is woken, with ODE's idle time started anew, so gravity acts on it.
+  void wake_unsupported() {
+    std::vector<std::vector<std::pair<int, int>>> now(bodies.size());
+    for (const PhysicsContact& c : contacts) {
+      if (c.a >= 0 && bodies[c.a]) now[c.a].emplace_back(c.b, c.part_b);
+      if (c.b >= 0 && bodies[c.b]) now[c.b].emplace_back(c.a, c.part_a);
+    }
+    for (size_t o = 0; o < bodies.size(); ++o) {
+      std::sort(now[o].begin(), now[o].end());
+      if (!bodies[o]) continue;
+      for (const auto& partner : touching[o])
+        if (!std::binary_search(now[o].begin(), now[o].end(), partner)) {
+          dBodyEnable(bodies[o]);  // also restarts its idle time
+          break;
+        }
+    }
+    touching.swap(now);
+  }
   size_t rest_samples = 1;  // velocities averaged for rest: kRestWindow of steps
   std::vector<dTriMeshDataID> meshes;
   std::vector<std::vector<double>> mesh_vertices;
@@ -355,6 +379,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.masses.assign(n, 0);
   w.still_for.assign(n, 0);
   w.recent.assign(n, {});
+  w.touching.assign(n, {});
   // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
   // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
@@ -669,6 +694,7 @@ void PhysicsWorld::step() {
   w.contact_index.clear();
   try {
     dSpaceCollide(w.space, &w, &Impl::near_callback);
+    w.wake_unsupported();
     dWorldStep(w.world, w.options.timestep);
   } catch (const PhysicsFailure&) {
     w.broken = true;

@@ -634,6 +634,15 @@ def loads(sscs, root):
                 fail(f"{where}the load must be set down at {[x0 + 0.8, y0, 0]}, is at {got}", p)
 
 
+def last_rpy(run_dir):
+    """{object: [roll, pitch, yaw]} (deg) of each object's last row in a run's objects.csv."""
+    last = {}
+    for row in open(os.path.join(run_dir, "objects.csv")).read().splitlines()[1:]:
+        cols = row.split(",")
+        last[cols[1]] = [float(x) for x in cols[5:8]]
+    return last
+
+
 def agreement(sscs, root):
     """check and simulate agree where a new user found them apart (tests/data/agreement): a
     pedestal an arm stands on is a solid to both, forks pushed into a pallet's blocks fail reach
@@ -661,6 +670,12 @@ def agreement(sscs, root):
         shown = [e for e in events if e["kind"] == "displaced" and e["object"] == "D"]
         if p.returncode != 1 or summary["status"] != "violations" or len(shown) != 1 or abs(shown[0]["fall"] - 0.205) > 0.005:
             fail(f"the drum dropped 0.2 m must be displaced: {events}", p)
+        # A drum leaning on the tool past its tipping angle falls when the tool draws back
+        # (ODE had put it to sleep while the tool held it up: it stood at -30 deg, run ok).
+        p, summary, events, out = events_of("lean-retreat")
+        shown = [e for e in events if e["kind"] == "displaced" and e["object"] == "D"]
+        if p.returncode != 1 or not shown or abs(abs(last_rpy(out)["D"][0]) - 90) > 1:
+            fail(f"the leaning drum must fall when the tool draws back: {events}", p)
         p, summary, events, _ = events_of("pedestal-dive")
         hits = collisions_between(events, "Ped", "Robot.link6")
         if p.returncode != 1 or summary["status"] != "violations" or not hits:
