@@ -524,13 +524,18 @@ def collisions_between(events, a, b):
     return [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {a, b}]
 
 
-def last_positions(run_dir):
-    """{object: [x, y, z]} of each object's last row in a run's objects.csv."""
+def last_rows(run_dir):
+    """{object: [x, y, z, roll, pitch, yaw]} of each object's last row in a run's objects.csv."""
     last = {}
     for row in open(os.path.join(run_dir, "objects.csv")).read().splitlines()[1:]:
         cols = row.split(",")
-        last[cols[1]] = [float(x) for x in cols[2:5]]
+        last[cols[1]] = [float(x) for x in cols[2:8]]
     return last
+
+
+def last_positions(run_dir):
+    """{object: [x, y, z]} of each object's last row in a run's objects.csv."""
+    return {o: row[:3] for o, row in last_rows(run_dir).items()}
 
 
 # The standard loads a gantry lifts in the `loads` sweep: type, attributes, the frame the tool
@@ -634,15 +639,6 @@ def loads(sscs, root):
                 fail(f"{where}the load must be set down at {[x0 + 0.8, y0, 0]}, is at {got}", p)
 
 
-def last_rpy(run_dir):
-    """{object: [roll, pitch, yaw]} (deg) of each object's last row in a run's objects.csv."""
-    last = {}
-    for row in open(os.path.join(run_dir, "objects.csv")).read().splitlines()[1:]:
-        cols = row.split(",")
-        last[cols[1]] = [float(x) for x in cols[5:8]]
-    return last
-
-
 def agreement(sscs, root):
     """check and simulate agree where a new user found them apart (tests/data/agreement): a
     pedestal an arm stands on is a solid to both, forks pushed into a pallet's blocks fail reach
@@ -674,7 +670,7 @@ def agreement(sscs, root):
         # (ODE had put it to sleep while the tool held it up: it stood at -30 deg, run ok).
         p, summary, events, out = events_of("lean-retreat")
         shown = [e for e in events if e["kind"] == "displaced" and e["object"] == "D"]
-        if p.returncode != 1 or not shown or abs(abs(last_rpy(out)["D"][0]) - 90) > 1:
+        if p.returncode != 1 or not shown or abs(abs(last_rows(out)["D"][3]) - 90) > 1:
             fail(f"the leaning drum must fall when the tool draws back: {events}", p)
         p, summary, events, _ = events_of("pedestal-dive")
         hits = collisions_between(events, "Ped", "Robot.link6")
