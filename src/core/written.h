@@ -30,4 +30,7 @@ std::optional<RelOp> relop_from(std::string_view word);
 
 enum class Severity : uint8_t { Error, Warning };
 
+/// The actions a scenario step names, in the order of its alternatives.
+inline constexpr const char* kStepActionNames[] = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
+
 }  // namespace sscs

@@ -41,7 +41,6 @@ struct WaitSpec {
   Scalar duration;
 };
 /// The action keys of a step, in the order of StepSpec::action's alternatives: the one list.
-inline constexpr const char* kStepActionNames[] = {"move_joints", "move_to", "grasp", "release", "wait", "parallel"};
 
 struct StepSpec;
 struct ParallelSpec {

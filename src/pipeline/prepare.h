@@ -11,6 +11,7 @@
 #include "geometry/geometry.h"
 #include "load/scenario.h"
 #include "render/camera_path.h"
+#include "pipeline/scenario.h"
 #include "simulate/plan.h"
 
 namespace sscs {

@@ -10,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include "compile/values.h"
 #include "core/inertia.h"
 #include "core/names.h"
 #include "core/pose.h"
@@ -29,8 +28,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
-constexpr double kLinearSpeed = 0.25, kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
-constexpr double kCoarseTimestep = 0.01;   // s: above it a run's verdicts are warned of (measured in Articulated.MotorsTrack...)
+constexpr double kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
 constexpr double kSetDownGap = 0.05;        // m: an object released this close above a carried load's top is set on it
 constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to its target, or fails
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
@@ -43,70 +41,23 @@ class Planner {
  public:
   Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(diag) {}
 
-  void settings(const ScenarioSpec& spec) {
-    SimSettings& s = plan_.settings;
-    auto positive = [&](const Scalar& v, Dim dim, const char* what, double& out) {
-      if (!v.present) return;
-      auto x = literal_si(v, dim, what, diag_);
-      if (x && !(*x > 0)) diag_.error(v.mark, fmt::format("{} must be positive, found {}", what, v.text));
-      else if (x) out = *x;
-    };
-    positive(spec.timestep, Dim::Time, "sim.timestep", s.timestep);
-    positive(spec.limit, Dim::Time, "sim.limit", s.limit);
-    if (spec.check_tolerance.present) {
-      auto x = literal_si(spec.check_tolerance, Dim::Length, "sim.check_tolerance", diag_);
-      if (x && !(*x >= 0 && *x <= 0.01))
-        diag_.error(spec.check_tolerance.mark, fmt::format("sim.check_tolerance must be between 0 and 10 mm, found {}", spec.check_tolerance.text));
-      else if (x) s.check_tolerance = *x;
-    }
-    positive(spec.trajectory_rate, Dim::Frequency, "trajectory rate", s.rate);
-    s.gravity = spec.gravity;
-    s.frames = spec.frames;
-    auto count = [&](const Scalar& v, const char* what, int& out) {
-      double x = out;
-      positive(v, Dim::None, what, x);
-      if (v.present && (x != std::floor(x) || x > 100000)) diag_.error(v.mark, fmt::format("{} must be a whole number, found {}", what, v.text));
-      out = static_cast<int>(x);
-    };
-    count(spec.fps, "fps", s.fps);
-    count(spec.width, "width", s.width);
-    count(spec.height, "height", s.height);
-    // Frames are rendered offscreen: the same bounds as `render --size` (100000 x 100000 ended
-    // in bad_alloc).
-    for (const auto& [v, value, what] : {std::tuple{&spec.width, s.width, "record.frames.width"},
-                                         std::tuple{&spec.height, s.height, "record.frames.height"}})
-      if (v->present && (value < 16 || value > 8192))
-        diag_.error(v->mark, fmt::format("{} must be between 16 and 8192 pixels, found {}", what, v->text));
-    if (spec.fps.present && s.fps > 1000) diag_.error(spec.fps.mark, fmt::format("record.frames.fps must be at most 1000, found {}", spec.fps.text));
-    if (s.timestep > 0.1) diag_.error(spec.timestep.mark, fmt::format("sim.timestep {} is too coarse for contact physics (at most 100 ms)", spec.timestep.text));
-    else if (s.timestep > kCoarseTimestep)
-      diag_.warning(spec.timestep.mark, fmt::format("sim.timestep {} is coarse: contacts and the tracking of the plan are judged once "
-                                                    "a step, and above {:g} ms a run can report collisions and tracking errors "
-                                                    "the design does not have (the default is 1 ms)",
-                                                    spec.timestep.text, kCoarseTimestep * 1000));
-  }
-
-  std::optional<Plan> run(const ScenarioSpec& spec) {
-    settings(spec);
+  std::optional<Plan> run(const ScenarioCommands& scenario) {
+    plan_.settings = scenario.settings;
     double t = 0;
-    for (size_t i = 0; i < spec.steps.size() && !plan_.failure; ++i) {
-      const StepSpec& step = spec.steps[i];
-      if (const auto* par = std::get_if<ParallelSpec>(&step.action)) {
-        plan_.steps.push_back({i, StepKind::Parallel, step.mark, -1, -1, t, t});
+    for (const StepCommand& step : scenario.steps) {
+      if (plan_.failure) break;
+      if (step.kind == StepKind::Parallel) {
+        plan_.steps.push_back({step.index, StepKind::Parallel, step.mark, -1, -1, t, t});
         size_t group = plan_.steps.size() - 1;
         double end = t;
-        std::map<int, SourceMark> devices;
-        for (const StepSpec& member : par->steps) {
-          int d = member.device.present ? device(member.device) : -1;
-          if (d >= 0 && !devices.emplace(d, member.mark).second)
-            diag_.error(member.mark, fmt::format("{} has two steps in one parallel group", wc_.objects[d].name));
-          end = std::max(end, step_at(member, i, t));
+        for (const StepCommand& member : step.members) {
+          end = std::max(end, step_at(member, t));
           if (plan_.failure) break;
         }
         plan_.steps[group].end = end;
         t = end;
       } else {
-        t = step_at(step, i, t);
+        t = step_at(step, t);
       }
       if (diag_.full()) break;
     }
@@ -143,27 +94,6 @@ class Planner {
           }
       }
     }
-  }
-
-  /// The device named by a step, or -1 (reported).
-  int device(const Scalar& s) {
-    int o = object(s, "step device");
-    if (o >= 0 && !geometry_.objects[o].device) {
-      diag_.error(s.mark, fmt::format("'{}' is a {}, not a device", s.text, wc_.types[wc_.objects[o].type].name));
-      return -1;
-    }
-    return o;
-  }
-
-  int object(const Scalar& s, std::string_view what) {
-    if (!s.present || s.null) return -1;
-    int o = wc_.find_object(s.text);
-    if (o < 0) {
-      std::vector<std::string> names;
-      for (const Object& x : wc_.objects) names.push_back(x.name);
-      diag_.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, names)));
-    }
-    return o;
   }
 
   DeviceState& state(int d) {
@@ -236,16 +166,15 @@ class Planner {
   }
 
   /// Plans one step starting at t0; returns when it ends.
-  double step_at(const StepSpec& step, size_t index, double t0) {
-    PlannedStep ps{index, static_cast<StepKind>(step.action.index()), step.mark, -1, -1, t0, t0};
-    if (const auto* w = std::get_if<WaitSpec>(&step.action)) {
-      auto d = literal_si(w->duration, Dim::Time, "wait", diag_);
-      if (d && *d < 0) diag_.error(w->duration.mark, fmt::format("wait must not be negative, found {}", w->duration.text));
-      ps.end = t0 + std::max(d.value_or(0), 0.0);
+  double step_at(const StepCommand& step, double t0) {
+    const size_t index = step.index;
+    PlannedStep ps{index, step.kind, step.mark, -1, -1, t0, t0};
+    if (step.kind == StepKind::Wait) {
+      ps.end = t0 + step.duration;
       plan_.steps.push_back(ps);
       return ps.end;
     }
-    int d = device(step.device);
+    const int d = step.device;
     if (d < 0) return t0;
     ps.device = d;
     DeviceState& st = state(d);
@@ -253,58 +182,30 @@ class Planner {
     double start = std::max(t0, st.free);
     ps.start = start;
     double end = start;
-    if (const auto* mj = std::get_if<MoveJointsSpec>(&step.action)) {
+    if (step.kind == StepKind::MoveJoints) {
       Eigen::VectorXd target = st.q;
       const ObjectType& type = wc_.types[wc_.objects[d].type];
-      if (mj->home)
+      if (step.home)
         for (int k = 0; k < m.dof(); ++k) target[k] = type.attributes[m.joint(k).attribute].home_si;
-      for (size_t i = 0; i < mj->joints.size(); ++i) {
-        const auto& [name, value] = mj->joints[i];
-        int k = -1;
-        std::vector<std::string> names;
-        for (int j = 0; j < m.dof(); ++j) {
-          names.push_back(m.joint(j).name);
-          if (m.joint(j).name == name) k = j;
-        }
-        if (k < 0) {
-          diag_.error(mj->joint_marks[i], fmt::format("'{}' is not a joint of {} ({}); its joints: {}{}", name,
-                                                     wc_.objects[d].name, type.name, fmt::join(names, ", "), did_you_mean(name, names)));
-          continue;
-        }
-        const Joint& j = m.joint(k);
-        Dim dim = j.type == JointType::Revolute ? Dim::Angle : Dim::Length;
-        auto v = literal_si(value, dim, fmt::format("joint '{}'", name), diag_);
-        if (!v) continue;
-        auto in = within_bounds(*v, j.lower, j.upper);  // a limit copied from `sscs types` is the limit
-        if (!in) {
-          diag_.error(value.mark, fmt::format("{} of {} is {}, outside its limits [{}, {}]", name, wc_.objects[d].name,
-                                              with_unit(*v, dim), with_unit(j.lower, dim), with_unit(j.upper, dim)));
-          continue;
-        }
-        target[k] = *in;
-      }
-      double f = speed_fraction(step, false);
-      end = move_joints(st, m, target, f, start);
-    } else if (const auto* mt = std::get_if<MoveToSpec>(&step.action)) {
-      auto target = target_pose(mt->target);
-      if (!mt->target.pose) ps.target = wc_.find_object(mt->target.ref.text.substr(0, mt->target.ref.text.rfind('.')));
-      Eigen::Isometry3d offset = literal_pose(mt->offset, "offset", diag_);
-      if (!target) return t0;
-      Eigen::Isometry3d X = *target * offset;
-      if (mt->linear) end = move_linear(st, d, X, step, index, start);
-      else end = move_to_joint(st, d, X, ps.target, speed_fraction(step, false), index, start);
-    } else if (const auto* g = std::get_if<GraspSpec>(&step.action)) {
-      int o = object(g->object, "grasp");
-      ps.object = o;
-      if (o >= 0) grasp(st, d, o, g->object);
-    } else if (const auto* r = std::get_if<ReleaseSpec>(&step.action)) {
-      int o = r->object.present ? object(r->object, "release") : st.held;
+      for (const auto& [k, value] : step.joints) target[k] = value;
+      end = move_joints(st, m, target, step.speed, start);
+    } else if (step.kind == StepKind::MoveTo) {
+      ps.target = step.target;
+      Eigen::Isometry3d target = step.pose ? *step.pose : frame_now(step.target, step.frame);
+      Eigen::Isometry3d X = target * step.offset;
+      if (step.linear) end = move_linear(st, d, X, step.speed, index, start);
+      else end = move_to_joint(st, d, X, ps.target, step.speed, index, start);
+    } else if (step.kind == StepKind::Grasp) {
+      ps.object = step.object;
+      if (step.object >= 0) grasp(st, d, step.object, step);
+    } else if (step.kind == StepKind::Release) {
+      const int o = step.object >= 0 ? step.object : st.held;
       ps.object = o;
       if (st.held < 0) {
         diag_.error(step.mark, fmt::format("release: {} holds nothing at this step", wc_.objects[d].name));
-      } else if (o != st.held && o >= 0) {
-        diag_.error(r->object.mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
-                                                r->object.text));
+      } else if (o != st.held) {
+        diag_.error(step.object_mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
+                                                  step.object_text));
       } else {
         const Eigen::Isometry3d X = tool_world(d, st.q) * st.X_tool_held;
         moved_[st.held] = X;
@@ -316,20 +217,6 @@ class Planner {
     st.free = ps.end;
     plan_.steps.push_back(ps);
     return ps.end;
-  }
-
-  /// `speed: 50%` scales the limits; absent is 100 %.
-  double speed_fraction(const StepSpec& step, bool linear) {
-    if (!step.speed.present) return 1.0;
-    ParsedValue v = parse_value(step.speed, Dim::None, "speed", diag_, true);
-    if (v.kind != ParsedValue::Kind::Number) return 1.0;
-    if (v.dim == Dim::Velocity && linear) return v.si / kLinearSpeed;
-    if (v.dim != Dim::Fraction || !(v.si > 0) || v.si > 1) {
-      diag_.error(step.speed.mark, fmt::format("expected a speed as a percentage in (0%, 100%]{} for speed, found '{}'",
-                                               linear ? " or a tool speed (0.25 m/s)" : "", step.speed.text));
-      return 1.0;
-    }
-    return v.si;
   }
 
   double move_joints(DeviceState& st, const Device& m, const Eigen::VectorXd& target, double f, double start) {
@@ -348,26 +235,9 @@ class Planner {
     return plan_.tracks[st.track].segments.back().t1;
   }
 
-  std::optional<Eigen::Isometry3d> target_pose(const TargetSpec& t) {
-    if (t.pose) return literal_pose(*t.pose, "move_to target", diag_);
-    const std::string& text = t.ref.text;
-    auto dot = text.rfind('.');
-    Scalar obj = t.ref;
-    std::string frame = "origin";
-    if (dot != std::string::npos) {
-      obj.text = text.substr(0, dot);
-      frame = text.substr(dot + 1);
-    }
-    int o = object(obj, "move_to target");
-    if (o < 0) return std::nullopt;
+  /// An object's frame where planning has the object now (carried, set down, or where it stood).
+  Eigen::Isometry3d frame_now(int o, const std::string& frame) const {
     const ObjectGeometry& g = geometry_.objects[o];
-    std::vector<std::string> names = wc_.frame_names(wc_.objects[o].type);
-    if (std::find(names.begin(), names.end(), frame) == names.end()) {
-      diag_.error(mark_at(t.ref, dot + 1), fmt::format("'{}' is not a frame of {}; its frames: {}{}", frame, obj.text,
-                                                      fmt::join(names, ", "), did_you_mean(frame, names)));
-      return std::nullopt;
-    }
-    // The frame rides on the object wherever planning has moved it.
     return object_pose(o) * (g.X_world_object.inverse() * g.frame_pose(frame));
   }
 
@@ -448,7 +318,7 @@ class Planner {
     return move_joints(st, m, q, f, start);
   }
 
-  double move_linear(DeviceState& st, int d, const Eigen::Isometry3d& X_world, const StepSpec& step, size_t index,
+  double move_linear(DeviceState& st, int d, const Eigen::Isometry3d& X_world, double f, size_t index,
                      double start) {
     const Device& m = model(d);
     Chain chain(m);
@@ -504,7 +374,6 @@ class Planner {
     }
     // Time scaling along s: the tool's speed (from `speed` or the default), and every joint
     // within its speed and acceleration limits (the path's curvature term is neglected).
-    double f = speed_fraction(step, true);
     double vs = INFINITY, as = INFINITY;
     if (length > 0) {
       vs = std::min(vs, kLinearSpeed * f / length);
@@ -523,30 +392,30 @@ class Planner {
     return plan_.tracks[st.track].segments.back().t1;
   }
 
-  void grasp(DeviceState& st, int d, int o, const Scalar& where) {
+  void grasp(DeviceState& st, int d, int o, const StepCommand& where) {
     if (st.held >= 0) {
-      diag_.error(where.mark, fmt::format("grasp: {} already holds {}", wc_.objects[d].name, wc_.objects[st.held].name));
+      diag_.error(where.object_mark, fmt::format("grasp: {} already holds {}", wc_.objects[d].name, wc_.objects[st.held].name));
       return;
     }
     for (const auto& [other, s] : states_)
       if (s.held == o) {
-        diag_.error(where.mark, fmt::format("grasp: {} is held by {}", where.text, wc_.objects[other].name));
+        diag_.error(where.object_mark, fmt::format("grasp: {} is held by {}", where.object_text, wc_.objects[other].name));
         return;
       }
     if (o == d || geometry_.objects[o].bbox_world.isEmpty()) {
-      diag_.error(where.mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.text));
+      diag_.error(where.object_mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.object_text));
       return;
     }
     if (wc_.types[wc_.objects[o].type].container) {
-      diag_.error(where.mark, fmt::format("grasp: {} is a container (a space that holds objects, such as a room): nothing lifts it",
-                                          where.text));
+      diag_.error(where.object_mark, fmt::format("grasp: {} is a container (a space that holds objects, such as a room): nothing lifts it",
+                                          where.object_text));
       st.held = o;  // as if held: its release is no second error
       return;
     }
     // A body the physics cannot integrate (ODE aborts, or loses every digit) is no run.
     if (const double m = object_mass(wc_, geometry_, o); !simulable_mass(m)) {
-      diag_.error(where.mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
-                                          where.text, m));
+      diag_.error(where.object_mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
+                                          where.object_text, m));
       st.held = o;  // as if held: its release is no second error
       return;
     }
@@ -555,8 +424,8 @@ class Planner {
       if (geometry_.objects[k].device)
         for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
           if (up == o) {
-            diag_.error(where.mark, fmt::format("grasp: {} stands on {} (its parent chain), and a device is not carried by what "
-                                                "it stands on; place it elsewhere", wc_.objects[k].name, where.text));
+            diag_.error(where.object_mark, fmt::format("grasp: {} stands on {} (its parent chain), and a device is not carried by what "
+                                                "it stands on; place it elsewhere", wc_.objects[k].name, where.object_text));
             return;
           }
     // The tool must be at the object: within kGraspReach of its solids where it is now (its
@@ -565,8 +434,8 @@ class Planner {
     CollisionWorld& scene = scene_now();
     double gap = scene.distance_to_point(o, X_tool.translation()).value_or(INFINITY);
     if (gap > kGraspReach) {
-      diag_.error(where.mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
-                                          wc_.objects[d].name, stable(gap), where.text, kGraspReach));
+      diag_.error(where.object_mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
+                                          wc_.objects[d].name, stable(gap), where.object_text, kGraspReach));
       return;
     }
     st.X_tool_held = X_tool.inverse() * object_pose(o);  // before it is held: object_pose follows the tool then
@@ -615,9 +484,9 @@ const Track* Plan::track(int object) const {
   return nullptr;
 }
 
-std::optional<Plan> plan_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry,
+std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workcell& wc, const GeometryModel& geometry,
                                   Diagnostics& diag) {
-  return Planner(wc, geometry, diag).run(spec);
+  return Planner(wc, geometry, diag).run(scenario);
 }
 
 }  // namespace sscs

@@ -7,6 +7,7 @@
 /// while the tool is away from the object, a release with nothing held) are input errors.
 /// Problems of the motion itself (an unreachable target, a linear path through a singularity)
 /// end the plan with a failure event at that step: the run fails, it does not hang.
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@
 #include "compile/workcell.h"
 #include "core/diagnostics.h"
 #include "geometry/geometry.h"
-#include "load/scenario.h"
+#include "core/written.h"
 #include "simulate/events.h"
 #include "simulate/profile.h"
 
@@ -57,11 +58,48 @@ struct Track {
   Eigen::VectorXd at(double t) const;
 };
 
-/// What a step does, in the order of StepSpec::action's alternatives.
+/// What a step does, in the order of kStepActionNames (and of a scenario step's alternatives).
 enum class StepKind : uint8_t { MoveJoints, MoveTo, Grasp, Release, Wait, Parallel };
-static_assert(std::variant_size_v<decltype(StepSpec::action)> == 6);
+static_assert(std::size(kStepActionNames) == 6);
 /// The step's key as the scenario writes it (`move_joints`, `grasp`, ...).
 const char* step_kind_name(StepKind kind);
+
+/// The default tool speed of a linear path (m/s): a `speed` in m/s is a fraction of it.
+constexpr double kLinearSpeed = 0.25;
+
+/// A scenario's step as planning takes it: names resolved to indices, values in SI
+/// (pipeline/scenario.h compiles them from the file, where their mistakes are input errors).
+/// A step whose device could not be resolved has device -1 and is skipped.
+struct StepCommand {
+  size_t index = 0;          ///< in the file's order; members of a parallel group have the group's
+  StepKind kind = StepKind::Wait;
+  SourceMark mark;
+  int device = -1;
+  double speed = 1;          ///< a fraction of the device's limits (linear: of kLinearSpeed)
+  // move_joints
+  bool home = false;                           ///< first every joint to its home value
+  std::vector<std::pair<int, double>> joints;  ///< joint index -> value (SI, within limits)
+  // move_to: a pose in the world, or an object's frame (where planning has the object then)
+  std::optional<Eigen::Isometry3d> pose;
+  int target = -1;
+  std::string frame;
+  Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
+  bool linear = false;
+  // grasp, release (object -1: what is held)
+  int object = -1;
+  std::string object_text;   ///< as written, for messages
+  SourceMark object_mark;
+  // wait
+  double duration = 0;       ///< s
+  // parallel
+  std::vector<StepCommand> members;
+};
+
+/// A scenario compiled against its vault: settings and steps.
+struct ScenarioCommands {
+  SimSettings settings;
+  std::vector<StepCommand> steps;
+};
 
 struct PlannedStep {
   size_t index = 0;           ///< in the file's order; members of a parallel group follow it
@@ -92,8 +130,9 @@ struct Plan {
   const Track* track(int object) const;
 };
 
-/// Resolves and plans a scenario. Returns nullopt when an input error was reported.
-std::optional<Plan> plan_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry,
+/// Plans a compiled scenario. Returns nullopt when an input error was reported (here or in `diag`
+/// before: the steps that could not be compiled are skipped, and the others still checked).
+std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workcell& wc, const GeometryModel& geometry,
                                   Diagnostics& diag);
 
 }  // namespace sscs

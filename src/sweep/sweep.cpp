@@ -33,7 +33,7 @@
 #include "load/sweep.h"
 #include "pipeline/prepare.h"
 #include "report/report.h"
-#include "simulate/plan.h"
+#include "pipeline/scenario.h"
 #include "pipeline/resolved.h"
 #include "simulate/simulate.h"
 #include "sweep/metrics.h"

@@ -21,11 +21,8 @@ LEVEL = {"core": 0, "load": 1, "plugin": 2, "compile": 3, "model": 4, "geometry"
 # Stages that read the compiled model only.
 MODEL_READERS = {"model", "geometry", "kinematics", "check", "simulate", "render"}
 INTERNALS = re.compile(r"^(load/.*|compile/values\.h|compile/compile\.h|plugin/.*)$")
-# file -> included header: arrows that remain (issue 20, "templates compiled once").
-KNOWN = {
-    ("simulate/plan.cpp", "compile/values.h"),
-    ("simulate/plan.h", "load/scenario.h"),
-}
+# file -> included header: arrows that remain (issue 20 removed the last of them; keep it empty).
+KNOWN = set()
 
 
 def includes(src):

@@ -23,6 +23,7 @@
 
 #include "compile/compile.h"
 #include "geometry/geometry.h"
+#include "pipeline/scenario.h"
 #include "simulate/plan.h"
 #include "simulate/simulate.h"
 #include "simulate/world.h"

@@ -7,7 +7,7 @@
 
 #include "geometry/collision.h"
 #include "model/device.h"
-#include "simulate/plan.h"
+#include "pipeline/scenario.h"
 #include "simulate/world.h"
 #include "vault_fixture.h"
 

@@ -7,7 +7,7 @@
 #include "geometry/geometry.h"
 #include "model/device.h"
 #include "kinematics/ik.h"
-#include "simulate/plan.h"
+#include "pipeline/scenario.h"
 #include "vault_fixture.h"
 
 namespace sscs::testing {
