@@ -56,6 +56,8 @@ constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
 constexpr double kRestTurnLimit = 0.02;       // rad: an object at rest turned by more moves again
+constexpr double kProppedShare = 0.01;        // of its weight: a device pushing harder at the end holds it up
+constexpr double kGravity = 9.80665;
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {
@@ -193,7 +195,10 @@ class Run {
         if (settle_until < 0) settle_until = t + kSettleLimit;
         bool settled = true;
         for (int o : loose()) settled = settled && world_.at_rest(o);
-        if (settled) break;
+        if (settled) {
+          check_propped(t);
+          break;
+        }
         if (t >= settle_until) {
           // Still moving 5 s after the last step (rolling off a rack, rocking, sliding): where it
           // ends is unknown, so the operation is not shown to hold.
@@ -203,6 +208,7 @@ class Run {
               events_.add(t, EventKind::NotAtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}},
                                                     {"speed", r9(world_.velocity(o).norm())}});
             }
+          check_propped(t);
           break;
         }
       }
@@ -686,6 +692,22 @@ class Run {
                                           {"fall", r9(fall)}});
   }
 
+  /// At the end of the run, a released object that a device's part still holds up (pushes
+  /// sideways or up with more than kProppedShare of its weight) was not set down: it leans on what will move away
+  /// (a drum set down 1 deg past its tipping angle, the gripper's fingers against its lid, stood
+  /// at rest and the run said ok). A `propped` event.
+  void check_propped(double t) {
+    for (int o : loose()) {
+      // Pressing it down holds nothing up: only the sideways and upward push counts.
+      Eigen::Vector3d F = world_.device_force(o);
+      F.z() = std::max(F.z(), 0.0);
+      const double weight = world_.mass(o) * kGravity;
+      if (world_.device_pushing(o) < 0 || F.norm() <= kProppedShare * weight) continue;
+      events_.add(t, EventKind::Propped, {{"object", wc_.objects[o].name}, {"by", wc_.objects[world_.device_pushing(o)].name},
+                                          {"force", r9(F.norm())}, {"share", r9(F.norm() / weight)}});
+    }
+  }
+
   /// The height of an object's lowest point where the physics has it now.
   double bottom_of(int o) const {
     ObjectGeometry g = geometry_.objects[o];
@@ -712,7 +734,7 @@ class Run {
     s.collisions = events_.count(EventKind::Collision);
     bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
                       events_.count(EventKind::LoadShifted) || events_.count(EventKind::NotAtRest) ||
-                      events_.count(EventKind::Displaced) || rechecks_.failures() > 0;
+                      events_.count(EventKind::Displaced) || events_.count(EventKind::Propped) || rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;

@@ -208,6 +208,27 @@ struct PhysicsWorld::Impl {
   /// Per object: what its body touched at the last step ((object, part), sorted).
   std::vector<std::vector<std::pair<int, int>>> touching;
 
+  void sum_device_forces() {
+    std::fill(device_force.begin(), device_force.end(), Eigen::Vector3d::Zero());
+    std::fill(device_pushing.begin(), device_pushing.end(), -1);
+    std::map<std::pair<int, int>, Eigen::Vector3d> by_device;
+    for (size_t k = 0; k < feedback_of.size(); ++k) {
+      const dReal* f = feedback_of[k].first ? feedback[k].f1 : feedback[k].f2;
+      auto [it, fresh] = by_device.try_emplace({feedback_of[k].object, feedback_of[k].device}, Eigen::Vector3d::Zero());
+      it->second += Eigen::Vector3d(f[0], f[1], f[2]);
+    }
+    std::vector<double> largest(device_force.size(), 0);
+    for (const auto& [key, F] : by_device) {
+      device_force[key.first] += F;
+      if (F.norm() > largest[key.first]) {
+        largest[key.first] = F.norm();
+        device_pushing[key.first] = key.second;
+      }
+    }
+    feedback.clear();
+    feedback_of.clear();
+  }
+
   /// A body ODE has put to sleep stays asleep when what held it goes away (a drum set down on
   /// its rim, leaning on the gripper's fingers, froze 3.5 deg past tipping when they drew back,
   /// and the run said ok; it had lain still long enough while they touched it): one that loses
@@ -234,6 +255,15 @@ struct PhysicsWorld::Impl {
   std::vector<std::vector<double>> mesh_vertices;
   std::vector<std::vector<int>> mesh_indices;
   std::vector<PhysicsContact> contacts;
+  /// This step's contact forces of device parts on free bodies (ODE fills them in the step).
+  struct Pushed {
+    int object = -1, device = -1;
+    bool first = false;  ///< the object is the joint's first body
+  };
+  std::deque<dJointFeedback> feedback;
+  std::vector<Pushed> feedback_of;
+  std::vector<Eigen::Vector3d> device_force;  ///< per object: the force devices' parts exerted on it in the last step
+  std::vector<int> device_pushing;            ///< per object: the device whose parts pushed hardest, or -1
   std::map<std::tuple<int, int, int, int>, size_t> contact_index;
   std::deque<GeomTag> tags;
   std::map<int, DeviceBodies> devices;
@@ -324,6 +354,10 @@ struct PhysicsWorld::Impl {
         deepest_at = {found[i].pos[0], found[i].pos[1], found[i].pos[2]};
       }
     const int n = spread_contacts(found.data(), all, kMaxContacts);
+    // A device's part against a free body (not one it holds: that is no contact).
+    int pushed = -1, pusher = -1;
+    if (t1.part >= 0 && t2.part < 0 && b2) pushed = o2, pusher = o1;
+    if (t2.part >= 0 && t1.part < 0 && b1) pushed = o1, pusher = o2;
     for (int i = 0; i < n; ++i) {
       dContact c{};
       c.geom = found[i];
@@ -336,6 +370,11 @@ struct PhysicsWorld::Impl {
       c.surface.soft_cfm = 1e-6;
       dJointID j = dJointCreateContact(world, contact_group, &c);
       dJointAttach(j, b1, b2);
+      if (pushed >= 0) {  // what a device's part does to a free body: measured by the step
+        feedback.emplace_back();
+        dJointSetFeedback(j, &feedback.back());
+        feedback_of.push_back({pushed, pusher, pushed == o1});
+      }
     }
     if (all == 0) return;
     bool swap = std::make_pair(o1, t1.part) > std::make_pair(o2, t2.part);
@@ -380,6 +419,8 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   w.still_for.assign(n, 0);
   w.recent.assign(n, {});
   w.touching.assign(n, {});
+  w.device_force.assign(n, Eigen::Vector3d::Zero());
+  w.device_pushing.assign(n, -1);
   // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
   // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
@@ -696,6 +737,7 @@ void PhysicsWorld::step() {
     dSpaceCollide(w.space, &w, &Impl::near_callback);
     w.wake_unsupported();
     dWorldStep(w.world, w.options.timestep);
+    w.sum_device_forces();
   } catch (const PhysicsFailure&) {
     w.broken = true;
     throw;
@@ -736,6 +778,8 @@ double PhysicsWorld::time() const { return impl_->time; }
 double PhysicsWorld::floor_z() const { return impl_->floor; }
 double PhysicsWorld::mass(int o) const { return impl_->masses[o]; }
 const std::vector<PhysicsContact>& PhysicsWorld::contacts() const { return impl_->contacts; }
+Eigen::Vector3d PhysicsWorld::device_force(int o) const { return impl_->device_force[o]; }
+int PhysicsWorld::device_pushing(int o) const { return impl_->device_pushing[o]; }
 
 OdeHandles PhysicsWorld::ode_handles(int object) const {
   const Impl& w = *impl_;

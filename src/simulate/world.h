@@ -108,6 +108,10 @@ class PhysicsWorld {
   /// Contacts of the last step between distinct objects (or an object and the floor), deepest
   /// point per pair.
   const std::vector<PhysicsContact>& contacts() const;
+  /// The force (N) the devices' parts exerted on free object `o` in the last step, and the
+  /// device that pushed hardest (-1: none touched it).
+  Eigen::Vector3d device_force(int o) const;
+  int device_pushing(int o) const;
 
   /// The ODE world, space and contact group, and the motors of device `object` (if any).
   OdeHandles ode_handles(int object) const;

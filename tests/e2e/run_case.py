@@ -672,6 +672,13 @@ def agreement(sscs, root):
         shown = [e for e in events if e["kind"] == "displaced" and e["object"] == "D"]
         if p.returncode != 1 or not shown or abs(abs(last_rows(out)["D"][3]) - 90) > 1:
             fail(f"the leaning drum must fall when the tool draws back: {events}", p)
+        # A run that ends with a released object held up by a device is no set-down: a drum
+        # leaning on the tool past its tipping angle, a pallet on forks left at its pockets' ceiling.
+        for name, obj, by in [("lean-held", "D", "Robot"), ("forks-left-under", "P", "Truck")]:
+            p, summary, events, _ = events_of(name)
+            shown = [e for e in events if e["kind"] == "propped" and e["object"] == obj and e["by"] == by]
+            if p.returncode != 1 or summary["status"] != "violations" or not shown:
+                fail(f"{name}: {obj} is propped by {by} at the end: {events}", p)
         p, summary, events, _ = events_of("pedestal-dive")
         hits = collisions_between(events, "Ped", "Robot.link6")
         if p.returncode != 1 or summary["status"] != "violations" or not hits:
