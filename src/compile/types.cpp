@@ -325,13 +325,21 @@ std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const 
         in.inertia[k] = compile_value(p.inertial->inertia[k], Dim::None, type, fmt::format("the inertia of part '{}'", p.name), diag);
     }
   }
-  // Parents before children, from the root (parts a broken tree leaves out are never built:
-  // the type's errors stop every vault using it).
+  // Parents before children, from the root, each part once (a broken tree, with names used twice
+  // or a cycle, never loops here; what it leaves out is never built: the type's errors stop every
+  // vault using it).
+  std::vector<char> placed(dt->parts.size(), 0);
   for (size_t k = 0; k < dt->parts.size(); ++k)
-    if (d.parts[k].parent.empty()) dt->build_order.push_back(static_cast<int>(k));
+    if (d.parts[k].parent.empty()) {
+      dt->build_order.push_back(static_cast<int>(k));
+      placed[k] = 1;
+    }
   for (size_t i = 0; i < dt->build_order.size(); ++i)
     for (size_t k = 0; k < dt->parts.size(); ++k)
-      if (!d.parts[k].parent.empty() && d.parts[k].parent == d.parts[dt->build_order[i]].name) dt->build_order.push_back(static_cast<int>(k));
+      if (!placed[k] && !d.parts[k].parent.empty() && d.parts[k].parent == d.parts[dt->build_order[i]].name) {
+        dt->build_order.push_back(static_cast<int>(k));
+        placed[k] = 1;
+      }
   for (const DeviceSpec::AllowedCollision& pair : d.allowed_collisions) {
     dt->allowed_names.emplace_back(pair.a, pair.b);
     int a = find(pair.a), b = find(pair.b);
