@@ -243,31 +243,33 @@ class Run {
 
   /// Writes every output into a hidden temporary folder beside the target, then renames it
   /// (and/or packs it into the bundle): nothing under the requested names until complete.
-  std::string write(const RunSummary& summary, std::string* error) {
+  /// Returns why it could not ("" when written).
+  std::string write(const RunSummary& summary) {
+    std::string error;
     const fs::path tmp = work_dir(options_);
     std::error_code ec;
     auto put = [&](const std::string& rel, const std::string& text) {
-      if (!error->empty()) return;
+      if (!error.empty()) return;
       fs::path p = tmp / rel;
       fs::create_directories(p.parent_path(), ec);
       std::ofstream f(p, std::ios::binary);
       f << text;
-      if (ec || !f) *error = fmt::format("cannot write '{}': {}", p.string(), ec ? ec.message() : std::strerror(errno));
+      if (ec || !f) error = fmt::format("cannot write '{}': {}", p.string(), ec ? ec.message() : std::strerror(errno));
     };
     put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
     put("events.jsonl", events_.jsonl());
     for (const auto& [rel, text] : recorder_.files()) put(rel, text);
     if (options_.inputs)
       for (const auto& [rel, bytes] : options_.inputs->resolved) put(rel, bytes);
-    if (error->empty() && !options_.bundle.empty()) {
+    if (error.empty() && !options_.bundle.empty()) {
       std::string zip_tmp = temp_path_for(options_.bundle);
-      *error = zip_folder(tmp.string(), zip_tmp);
-      if (error->empty()) *error = commit_file(zip_tmp, options_.bundle);
+      error = zip_folder(tmp.string(), zip_tmp);
+      if (error.empty()) error = commit_file(zip_tmp, options_.bundle);
       else std::remove(zip_tmp.c_str());
     }
-    if (error->empty() && !options_.out_dir.empty()) *error = commit_dir(tmp.string(), options_.out_dir);
+    if (error.empty() && !options_.out_dir.empty()) error = commit_dir(tmp.string(), options_.out_dir);
     fs::remove_all(tmp, ec);
-    return *error;
+    return error;
   }
 
  private:
@@ -845,7 +847,7 @@ Expected<RunSummary> run_simulation(const Workcell& wc, const GeometryModel& geo
   }
   std::string error;
   if (!summary.interrupted && options.before_write) error = options.before_write();
-  if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) run.write(summary, &error);
+  if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) error = run.write(summary);
   std::error_code ec;
   if (summary.interrupted || !error.empty()) fs::remove_all(work_dir(options), ec);
   if (!error.empty()) return Unexpected{error};
