@@ -206,9 +206,11 @@ struct PhysicsWorld::Impl {
   };
   std::vector<Velocities> recent;
   /// Per object: what its body touched at the last step ((object, part), sorted).
-  std::vector<std::vector<std::pair<int, int>>> touching;
+  std::vector<std::vector<std::pair<int, int>>> touching, touching_next;
 
   void sum_device_forces() {
+    if (feedback_of.empty() && !pushed_last_step) return;  // the common step: no device touches a free body
+    pushed_last_step = !feedback_of.empty();
     std::fill(device_force.begin(), device_force.end(), Eigen::Vector3d::Zero());
     std::fill(device_pushing.begin(), device_pushing.end(), -1);
     std::map<std::pair<int, int>, Eigen::Vector3d> by_device;
@@ -234,7 +236,9 @@ struct PhysicsWorld::Impl {
   /// and the run said ok; it had lain still long enough while they touched it): one that loses
   /// a contact it had is woken, with ODE's idle time started anew, so gravity acts on it.
   void wake_unsupported() {
-    std::vector<std::vector<std::pair<int, int>>> now(bodies.size());
+    std::vector<std::vector<std::pair<int, int>>>& now = touching_next;  // reused: no allocation a step
+    now.resize(bodies.size());
+    for (auto& partners : now) partners.clear();
     for (const PhysicsContact& c : contacts) {
       if (c.a >= 0 && bodies[c.a]) now[c.a].emplace_back(c.b, c.part_b);
       if (c.b >= 0 && bodies[c.b]) now[c.b].emplace_back(c.a, c.part_a);
@@ -264,6 +268,7 @@ struct PhysicsWorld::Impl {
   std::vector<Pushed> feedback_of;
   std::vector<Eigen::Vector3d> device_force;  ///< per object: the force devices' parts exerted on it in the last step
   std::vector<int> device_pushing;            ///< per object: the device whose parts pushed hardest, or -1
+  bool pushed_last_step = false;
   std::map<std::tuple<int, int, int, int>, size_t> contact_index;
   std::deque<GeomTag> tags;
   std::map<int, DeviceBodies> devices;

@@ -660,6 +660,12 @@ def agreement(sscs, root):
             summary = json.load(open(os.path.join(out, "summary.json")))
             events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
             return p, summary, events, out
+
+        def must_collide(name, a, b, what):
+            """Scenario `name` ends with violations and a collision between a and b."""
+            p, summary, events, _ = events_of(name)
+            if p.returncode != 1 or not collisions_between(events, a, b):
+                fail(f"{name}: {what}: {events}", p)
         # A drum released 0.2 m above the deck falls onto it: no set-down (it landed, came to
         # rest, and the run said ok).
         p, summary, events, _ = events_of("drop")
@@ -777,10 +783,7 @@ def agreement(sscs, root):
         p, summary, events, out = events_of("rack-lift")
         if p.returncode != 0 or any(e["kind"] == "collision" for e in events):
             fail(f"the drum lifted off the rack deck runs ok: {events}", p)
-        p, summary, events, out = events_of("rack-place-drag")
-        hits = collisions_between(events, "R", "D")
-        if p.returncode != 1 or not hits:
-            fail(f"the drum pushed into the rack's upright collides: {events}", p)
+        must_collide("rack-place-drag", "R", "D", "the drum pushed into the rack's upright collides")
         # A drum beside a tray turned 45 deg is no rider of it.
         p, summary, events, out = events_of("turned-tray-lift")
         if p.returncode != 0 or "D2" in last_positions(out):
@@ -792,10 +795,7 @@ def agreement(sscs, root):
             fail(f"the drum set on the carried pallet is picked where it rode to: {events}", p)
         # Forks backing out of a pallet they set down drag it: a collision once it has moved 5 mm
         # sideways since its release (the excused touch of a released load hid a 127 mm drag).
-        p, summary, events, out = events_of("forks-drag-released")
-        hits = collisions_between(events, "P", "Truck.carriage")
-        if p.returncode != 1 or not hits:
-            fail(f"the forks dragging the released pallet collide: {events}", p)
+        must_collide("forks-drag-released", "P", "Truck.carriage", "the forks dragging the released pallet collide")
         # A release on a trajectory sample: min_clearance is no gripper inside the drum it lets go.
         p, summary, events, out = events_of("shelf-to-pallet-run")
         near = summary["min_clearance"]
