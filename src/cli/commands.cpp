@@ -265,7 +265,7 @@ int run_export(const Common& common, const std::string& vault, const std::string
   if (!common.apply(options, {vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
-  auto [wc, geometry] = prepare_vault(vault, options, sources, diag, {.visuals = true});  // drawn: what devices look like
+  auto [wc, geometry] = prepare_vault(vault, options, sources, diag, {.visuals = true, .contacts = nullptr});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
     std::cerr << "sscs: error: " << err << "\n";
@@ -323,7 +323,7 @@ int run_render(const Common& common, const RenderArgs& args) {
   if (!common.apply(options, {args.vault})) return kInputError;
   Sources sources;
   Diagnostics diag;
-  auto [wc, geometry] = prepare_vault(args.vault, options, sources, diag, {.visuals = true});  // drawn: what devices look like
+  auto [wc, geometry] = prepare_vault(args.vault, options, sources, diag, {.visuals = true, .contacts = nullptr});  // drawn: what devices look like
   if (report_diagnostics(diag, sources, common)) return kInputError;
   // A named camera of the vault, compiled like a scenario's keyframe.
   std::optional<CameraPath> named;

@@ -11,6 +11,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
+#include <bit>
 #include <filesystem>
 #include <cmath>
 #include <map>
@@ -240,8 +241,17 @@ struct SurfaceDepth {
 /// on a block) have no point of one surface inside the other: their overlap is inside both. From
 /// the centres of (up to 64, spread) triangles of `surface` that lie on or in `other`, steps
 /// inward along the triangle's normal; returns the deepest point inside both found: its
-/// distance to the nearer of the two surfaces (0 when they only touch).
-double common_depth(const Surface& surface, const Solid& own, const Solid& other, const std::vector<int>& tris) {
+/// distance to the nearer of the two surfaces (0 when they only touch). Stops at the first point
+/// deeper than `enough`.
+double common_depth(const Surface& surface, const Solid& own, const Solid& other, const std::vector<int>& tris, double enough) {
+  // A point's depth in both: the cheaper solid (a primitive) asked first, the other only when
+  // the point is inside the first.
+  const bool swap = own.shape.kind == Shape::Kind::Mesh && other.shape.kind != Shape::Kind::Mesh;
+  const Solid &first = swap ? other : own, &second = swap ? own : other;
+  auto inside_both = [&](const Eigen::Vector3d& p) {
+    const double d = std::max(0.0, first.depth_of(p));
+    return d == 0 ? 0.0 : std::min(d, std::max(0.0, second.depth_of(p)));
+  };
   double best = 0;
   const size_t stride = std::max<size_t>(1, tris.size() / 64);
   for (size_t k = 0; k < tris.size(); k += stride) {
@@ -255,8 +265,9 @@ double common_depth(const Surface& surface, const Solid& own, const Solid& other
     double last = -1;
     for (double step = 1e-6; step <= size; step *= 2) {
       const Eigen::Vector3d p = c + step * inward;
-      const double d = std::min(std::max(0.0, own.depth_of(p)), std::max(0.0, other.depth_of(p)));
+      const double d = inside_both(p);
       best = std::max(best, d);
+      if (best > enough) return best;
       if (d < last || (d == 0 && step >= 1e-3)) break;
       last = d;
     }
@@ -307,6 +318,7 @@ double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionO
   std::vector<Eigen::AlignedBox3d> boxes_b;
   for (int j : tb) boxes_b.push_back(sb.box(j));
   for (int i : ta) {
+    if (found() > enough) return found();
     const Eigen::AlignedBox3d box_i = sa.box(i);
     const Eigen::Vector3d na = sa.normal(i).normalized();
     for (size_t jj = 0; jj < tb.size(); ++jj) {
@@ -331,8 +343,10 @@ double solid_overlap_depth(const fcl::CollisionObjectd* a, const fcl::CollisionO
       in_a.along(mid, j, into_a);
     }
   }
+  if (found() > enough) return found();
   double depth = 0;
-  if (a_solid && b_solid) depth = std::max(common_depth(sa, solid_a, solid_b, ta), common_depth(sb, solid_b, solid_a, tb));
+  if (a_solid && b_solid)
+    depth = std::max(common_depth(sa, solid_a, solid_b, ta, enough), common_depth(sb, solid_b, solid_a, tb, enough));
   if (b_solid) {
     in_b.polish(4);
     depth = std::max(depth, in_b.best);
@@ -402,6 +416,37 @@ double signed_distance(const fcl::CollisionObjectd* a, const fcl::CollisionObjec
   return -contact_depth(a, b, cres, INFINITY);
 }
 
+/// The queries ContactMemo remembers.
+enum class PairQuery : uint64_t { Penetration = 1, SignedDistance = 2 };
+
+/// A pair query's answer from `memo` when it involves a closed mesh (what costs): remembered, or
+/// computed by `query` and remembered. Other pairs (and a null memo) are computed each time.
+template <class Query>
+double remembered(ContactMemo* memo, PairQuery kind, const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b,
+                  double enough, Query query) {
+  const Shape &A = shape_of(a), &B = shape_of(b);
+  if (!memo || !(closed_mesh(A) || closed_mesh(B))) return query();
+  ContactMemo::Key key{};
+  size_t n = 0;
+  auto put = [&](double x) { key[n++] = std::bit_cast<uint64_t>(x); };
+  key[n++] = static_cast<uint64_t>(kind);
+  put(enough);
+  for (const fcl::CollisionObjectd* o : {a, b}) {
+    const Shape& s = shape_of(o);
+    key[n++] = static_cast<uint64_t>(s.kind) | (s.mesh && s.mesh->closed ? 16u : 0u);
+    key[n++] = reinterpret_cast<uintptr_t>(s.mesh.get());
+    for (double x : {s.box_size.x(), s.box_size.y(), s.box_size.z(), s.radius, s.length, s.scale.x(), s.scale.y(), s.scale.z()})
+      put(x);
+    const fcl::Transform3d& X = o->getTransform();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) put(X(r, c));
+  }
+  if (std::optional<double> known = memo->find(key)) return *known;
+  const double answer = query();
+  memo->store(key, answer, A.mesh, B.mesh);
+  return answer;
+}
+
 /// How far any point of a placed shape has moved since it was at `X_then`: the displacement of
 /// its origin plus the turn (rad) times the farthest the shape reaches from its origin.
 double travel(const fcl::CollisionObjectd& shape, const fcl::Transform3d& X_then) {
@@ -419,8 +464,36 @@ double box_gap(const fcl::AABBd& a, const fcl::AABBd& b) {
 
 }  // namespace
 
+size_t ContactMemo::KeyHash::operator()(const Key& k) const {
+  uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (uint64_t w : k) {
+    h ^= w + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdull;
+  }
+  return static_cast<size_t>(h ^ (h >> 33));
+}
+
+std::optional<double> ContactMemo::find(const Key& key) {
+  auto it = answers_.find(key);
+  if (it == answers_.end()) return std::nullopt;
+  ++hits_;
+  return it->second;
+}
+
+void ContactMemo::store(const Key& key, double answer, const std::shared_ptr<const TriangleMesh>& a,
+                        const std::shared_ptr<const TriangleMesh>& b) {
+  if (answers_.size() >= kCapacity) {
+    answers_.clear();
+    meshes_.clear();
+  }
+  answers_.emplace(key, answer);
+  for (const auto& m : {a, b})
+    if (m) meshes_.emplace(m.get(), m);
+}
+
 struct CollisionWorld::Impl {
   const GeometryModel& geometry;
+  ContactMemo* memo = geometry.contacts.get();
   // Per object, its shapes as FCL objects in world placement. Built on first use.
   std::map<int, std::vector<std::unique_ptr<fcl::CollisionObjectd>>> parts;
   // FCL geometry per shape (device parts are placed anew for each configuration).
@@ -499,7 +572,8 @@ struct CollisionWorld::Impl {
         int a = shapes[i].first, b = shapes[k].first;
         if (a == b || d.may_touch(a, b)) continue;
         if (!shapes[i].second->getAABB().overlap(shapes[k].second->getAABB())) continue;
-        double depth = penetration(shapes[i].second.get(), shapes[k].second.get());
+        double depth = remembered(memo, PairQuery::Penetration, shapes[i].second.get(), shapes[k].second.get(), INFINITY,
+                                  [&] { return penetration(shapes[i].second.get(), shapes[k].second.get()); });
         if (depth <= kTouchTolerance) continue;
         auto same = std::find_if(found.begin(), found.end(), [&](const Collision& c) {
           return c.part == std::min(a, b) && c.other_part == std::max(a, b);
@@ -515,7 +589,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, {}, {}, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b) {
@@ -524,7 +598,9 @@ std::optional<double> CollisionWorld::distance(int a, int b) {
   if (pa.empty() || pb.empty()) return std::nullopt;
   double best = INFINITY;
   for (const auto& x : pa)
-    for (const auto& y : pb) best = std::min(best, signed_distance(x.get(), y.get()));
+    for (const auto& y : pb)
+      best = std::min(best, remembered(impl_->memo, PairQuery::SignedDistance, x.get(), y.get(), INFINITY,
+                                       [&] { return signed_distance(x.get(), y.get()); }));
   return best;
 }
 
@@ -605,7 +681,9 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
         const bool touches = other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p];
         if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
         const double limit = touches ? kTargetTouch : kTouchTolerance;
-        double depth = penetration(s.get(), theirs[k].get(), first ? limit : INFINITY);
+        const double enough = first ? limit : INFINITY;
+        double depth = remembered(impl_->memo, PairQuery::Penetration, s.get(), theirs[k].get(), enough,
+                                  [&] { return penetration(s.get(), theirs[k].get(), enough); });
         if (depth > limit) {
           int other_part = objects[o].shapes[k].part;
           note({other, p, other_part, depth});

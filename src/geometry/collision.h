@@ -1,8 +1,11 @@
 #pragma once
 /// Distances, overlaps and containment between objects' geometry, through FCL.
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <functional>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -32,6 +35,29 @@ struct Proximity {
   int part = -1;        ///< the moving object's part (devices), else -1
   int other_part = -1;  ///< the other object's part (devices), else -1
   double distance = 0;  ///< m; minus the penetration depth when they interpenetrate
+};
+
+/// Answers of the costly pair queries (a closed mesh in contact or containing: the exact depth
+/// search), remembered by everything that decides them, bit for bit: both shapes (kind, sizes,
+/// scale, mesh), both placements, the query and the depth its caller needs. A hit returns what
+/// the query would compute, so results do not depend on what was asked before. Holds its meshes
+/// (their addresses are part of a key). Full, it starts again empty.
+class ContactMemo {
+ public:
+  static constexpr size_t kCapacity = 20000;  ///< entries, about 8 MB
+  using Key = std::array<uint64_t, 46>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const;
+  };
+  std::optional<double> find(const Key& key);
+  void store(const Key& key, double answer, const std::shared_ptr<const TriangleMesh>& a, const std::shared_ptr<const TriangleMesh>& b);
+  size_t hits() const { return hits_; }
+  size_t size() const { return answers_.size(); }
+
+ private:
+  std::unordered_map<Key, double, KeyHash> answers_;
+  std::unordered_map<const TriangleMesh*, std::shared_ptr<const TriangleMesh>> meshes_;
+  size_t hits_ = 0;
 };
 
 /// FCL collision objects for the shapes of a GeometryModel, built on first use per object.

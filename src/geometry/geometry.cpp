@@ -335,6 +335,7 @@ class Builder {
 GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes, const GeometryOptions& options) {
   GeometryModel model;
   model.objects.resize(wc.objects.size());
+  model.contacts = options.contacts;
   MeshCache own;
   Builder build(wc, diag, meshes ? *meshes : own);
   build.visuals = options.visuals;

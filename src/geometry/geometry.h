@@ -45,9 +45,15 @@ struct ObjectGeometry {
   Eigen::Isometry3d frame_pose(std::string_view name) const;
 };
 
+class ContactMemo;
+
 /// Geometry of a whole workcell, indexed like Workcell::objects. Immutable once built.
 struct GeometryModel {
   std::vector<ObjectGeometry> objects;
+  /// Where the collision queries of this geometry remember costly answers (closed meshes in
+  /// contact), to answer them again across variants; null: nothing is remembered. Not part of
+  /// the model's value: a hit returns what the query computes.
+  std::shared_ptr<ContactMemo> contacts;
 };
 
 /// Where everything is at one moment of a run: each object's world pose and, for devices, each
@@ -113,6 +119,9 @@ struct GeometryOptions {
   /// Also build what devices look like (URDF <visual> shapes, read with their meshes): for
   /// render, frames and export. Checks and sweeps leave it off and read no visual mesh.
   bool visuals = false;
+  /// Remember costly collision answers here (GeometryModel::contacts): a sweep's worker passes
+  /// one memo to every variant it builds, so shapes a variant did not move are not measured again.
+  std::shared_ptr<ContactMemo> contacts;
 };
 GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* meshes = nullptr, const GeometryOptions& options = {});
 

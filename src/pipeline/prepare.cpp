@@ -27,7 +27,7 @@ bool PreparedScenario::prepare(const std::string& path, const CompileOptions& ba
   for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
   overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
   options.overrides = overrides;
-  PreparedVault vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true});  // frames draw what devices look like
+  PreparedVault vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true, .contacts = nullptr});  // frames draw what devices look like
   wc = std::move(vault.wc);
   geometry = std::move(vault.geometry);
   if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);

@@ -26,6 +26,7 @@
 #include "core/digest.h"
 #include "core/files.h"
 #include "core/names.h"
+#include "geometry/collision.h"
 #include "geometry/geometry.h"
 #include "geometry/mesh_io.h"
 #include "load/load.h"
@@ -36,6 +37,7 @@
 #include "pipeline/scenario.h"
 #include "pipeline/resolved.h"
 #include "simulate/simulate.h"
+#include "sweep/dealer.h"
 #include "sweep/metrics.h"
 #include "sweep/results.h"
 #include "sweep/variants.h"
@@ -122,6 +124,9 @@ class Study {
   std::vector<Case> cases_;
   std::vector<size_t> case_of_;  ///< per variant
   MeshCache meshes_;
+  /// The costly collision answers of the variants a worker has checked: a pair of shapes the
+  /// variant did not move (a rack row the aisle width leaves in place) is not measured again.
+  std::shared_ptr<ContactMemo> contacts_ = std::make_shared<ContactMemo>();
   TableHeader header_;
   Manifest manifest_;
   std::string out_;
@@ -333,7 +338,9 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   for (size_t a = 0; a < set_.axes.size(); ++a)
     if (!set_.axes[a].spec->files()) options.overrides.emplace_back(set_.axes[a].spec->name, set_.value(v, a).set_text);
   Diagnostics diag;
-  auto [wc, geometry] = prepare_vault(*c.vault, options, sources_, diag, {}, &meshes_);
+  GeometryOptions remember;
+  remember.contacts = contacts_;
+  auto [wc, geometry] = prepare_vault(*c.vault, options, sources_, diag, remember, &meshes_);
   if (!wc || diag.has_errors()) {
     row.message = "the vault does not compile with these values: " + first_line(diag.format_errors(sources_));
     return row;
@@ -347,6 +354,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   row.status = report.failed > 0 ? "fail" : "pass";
   std::optional<RunSummary> run;
   if (c.scenario) {
+    geometry.contacts.reset();  // a run's moving shapes are never placed alike twice: nothing to remember
     auto plan = plan_scenario(*c.scenario, *wc, geometry, diag);
     if (!plan || diag.has_errors()) {
       row.status = "error";
@@ -518,7 +526,8 @@ SweepOutcome Study::run() {
   };
   std::vector<Worker> workers(jobs);
   ProgressBar progress(options_.progress, todo.size());
-  size_t next = 0, done = 0;
+  Dealer dealer(todo.size(), jobs);
+  size_t done = 0;
   std::string failure;
   bool output_failure = false;  // a variant or its result could not be written
   auto start_worker = [&](Worker& w) {
@@ -556,8 +565,10 @@ SweepOutcome Study::run() {
     w.pid = -1;
   };
   auto give = [&](Worker& w) {
-    if (next >= todo.size() || !failure.empty()) return;
-    const Variant* v = todo[next++];
+    if (!failure.empty()) return;
+    std::optional<size_t> task = dealer.next(static_cast<size_t>(&w - workers.data()));
+    if (!task) return;
+    const Variant* v = todo[*task];
     std::string tmp = tmp_dir(*v);
     fs::remove_all(tmp, ec);
     fs::create_directories(tmp, ec);
@@ -594,7 +605,7 @@ SweepOutcome Study::run() {
     progress.update(++done);
   };
   for (Worker& w : workers) {
-    if (next >= todo.size() || !failure.empty()) break;
+    if (dealer.left() == 0 || !failure.empty()) break;
     start_worker(w);
     if (w.pid > 0) give(w);
   }
@@ -638,7 +649,7 @@ SweepOutcome Study::run() {
       waitpid(w.pid, &status, 0);
       w.pid = -1;
       lost(w, status);
-      if (next < todo.size() && failure.empty() && !(options_.interrupted && *options_.interrupted)) {
+      if (dealer.left() > 0 && failure.empty() && !(options_.interrupted && *options_.interrupted)) {
         start_worker(w);
         if (w.pid > 0) give(w);
       }

@@ -1849,8 +1849,40 @@ def tutorials(sscs, root):
     print("ok tutorials")
 
 
+def sweep_reuse(sscs, root):
+    """A sweep worker reuses collision answers of shapes a variant did not move (issue 20): every
+    variant's report.json, with one worker and with two, is byte-identical to the report of its
+    own `sscs check --set ...` process, which remembers nothing. The demo vault's variants move
+    racks into the robot's reach, so reach, no_overlap and clearance all hit remembered answers."""
+    variants = [(a, r, b) for a in ("1.4", "2.2") for r in (2, 4) for b in (3, 5)]
+    with tempfile.TemporaryDirectory() as tmp:
+        study = os.path.join(tmp, "reuse.yaml")
+        open(study, "w").write("sscs: 1\nsweep: reuse\nvault: " + os.path.join(root, "scenarios/demo/demo.yaml") + "\n"
+                               "vary:\n  aisle: {values: [1.4 m, 2.2 m]}\n  rows: {values: [2, 4]}\n  bays: {values: [3, 5]}\n"
+                               "metrics:\n  min_margin: \"min_margin()\"\n")
+        alone = []
+        for i, (a, r, b) in enumerate(variants):
+            out = os.path.join(tmp, f"check-{i}.json")
+            p = run(sscs, root, ["check", os.path.join(root, "scenarios/demo/demo.yaml"), "--set", f"aisle={a} m", "--set", f"rows={r}", "--set", f"bays={b}",
+                                 "--format", "json", "--out", out, "--quiet"])
+            if p.returncode != 1:
+                fail(f"check of variant {i}", p)
+            alone.append(open(out, "rb").read())
+        for jobs in ("1", "2"):
+            out = os.path.join(tmp, f"jobs{jobs}")
+            p = run(sscs, root, ["sweep", study, "--out", out, "--jobs", jobs, "--quiet", "--allow-outside-root"])
+            if p.returncode != 1 or "swept 8 variants: 0 pass, 8 fail, 0 error" not in p.stdout:
+                fail(f"the reuse sweep with --jobs {jobs}", p)
+            for i, (a, r, b) in enumerate(variants):
+                report = open(os.path.join(out, f"{i}-aisle={a}m-rows={r}-bays={b}", "report.json"), "rb").read()
+                if report != alone[i]:
+                    fail(f"--jobs {jobs}: variant {i} (aisle {a} m, rows {r}, bays {b}): its report.json differs from "
+                         f"its own check's (a remembered answer that is not what the check computes)")
+    print("ok sweep_reuse")
+
+
 MODES = {"simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
-         "schemas": schemas, "sweep": sweep, "cli": cli, "tutorials": tutorials}
+         "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 
 def main():

@@ -504,7 +504,7 @@ TEST_F(Vendor, VisualsAreDrawnWithTheirMaterialsWhileChecksUseTheCollisionShapes
   options.library_dirs = {data + "/library"};
   Workcell wc = must_compile("objects:\n  - {type: rx6, name: R}\n");
   GeometryModel checked = build_geometry(wc, diag);
-  GeometryModel drawn = build_geometry(wc, diag, nullptr, {.visuals = true});
+  GeometryModel drawn = build_geometry(wc, diag, nullptr, {.visuals = true, .contacts = nullptr});
   ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
   const ObjectGeometry& c = checked.objects[0];
   const ObjectGeometry& v = drawn.objects[0];

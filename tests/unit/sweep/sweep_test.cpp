@@ -6,6 +6,7 @@
 #include <set>
 
 #include "load/sweep.h"
+#include "sweep/dealer.h"
 #include "sweep/metrics.h"
 #include "sweep/progress.h"
 #include "sweep/results.h"
@@ -14,6 +15,41 @@
 
 namespace sscs {
 namespace {
+
+TEST(Dealer, EachWorkerWalksItsOwnStretchThenSplitsTheLongestLeft) {
+  Dealer d(10, 2);
+  // Worker 0 starts at 0, worker 1 at 5; each goes on from where it was.
+  EXPECT_EQ(d.next(0), 0u);
+  EXPECT_EQ(d.next(1), 5u);
+  EXPECT_EQ(d.next(1), 6u);
+  EXPECT_EQ(d.next(1), 7u);
+  EXPECT_EQ(d.next(1), 8u);
+  EXPECT_EQ(d.next(1), 9u);
+  // Worker 1's stretch is done: it takes the middle of the longest left (1..4), from 3 on.
+  EXPECT_EQ(d.next(1), 3u);
+  EXPECT_EQ(d.next(0), 1u);
+  EXPECT_EQ(d.next(1), 4u);
+  EXPECT_EQ(d.next(0), 2u);
+  EXPECT_EQ(d.left(), 0u);
+  EXPECT_EQ(d.next(0), std::nullopt);
+  EXPECT_EQ(d.next(1), std::nullopt);
+}
+
+TEST(Dealer, EveryTaskOnceWhateverTheOrderOfAsking) {
+  for (size_t workers : {1u, 2u, 3u, 7u})
+    for (size_t tasks : {0u, 1u, 2u, 5u, 100u}) {
+      Dealer d(tasks, workers);
+      std::multiset<size_t> got;
+      uint64_t state = 12345;
+      for (std::optional<size_t> t; ;) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        if (!(t = d.next(static_cast<size_t>(state >> 33) % workers))) break;
+        got.insert(*t);
+      }
+      ASSERT_EQ(got.size(), tasks) << workers << " workers";
+      for (size_t k = 0; k < tasks; ++k) EXPECT_EQ(got.count(k), 1u) << k;
+    }
+}
 
 class SweepTest : public ::testing::Test {
  public:
