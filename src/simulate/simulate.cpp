@@ -74,171 +74,218 @@ class Run {
         recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
         rechecks_(wc, movers(plan), plan.settings.check_tolerance) {}
 
+  /// The run: each tick, the steps due start and end (grasps and releases with them), the state
+  /// is recorded and watched, a frame drawn, the stops looked for, the devices driven along their
+  /// tracks and the physics stepped.
   RunSummary run() {
-    const SimSettings& s = plan_.settings;
-    const double dt = s.timestep;
+    const double dt = plan_.settings.timestep;
     for (const Track& t : plan_.tracks) {
       world_.add_device(t.object, t.q_start);
       devices_.push_back({t.object, &t, t.q_start, tool_now(t.object), 0, Eigen::VectorXd::Zero(t.q_start.size()), false,
                           geometry_.objects[t.object].device->moved_parts(), 0, 0});
     }
-    const long every = std::max(1L, std::lround(1.0 / (s.rate * dt)));
-    std::vector<char> started(plan_.steps.size(), 0), ended(plan_.steps.size(), 0);
-    double settle_until = -1;
-    bool grasp_missed = false;
-    const auto wall_start = std::chrono::steady_clock::now();
+    const long every = std::max(1L, std::lround(1.0 / (plan_.settings.rate * dt)));
+    started_.assign(plan_.steps.size(), 0);
+    ended_.assign(plan_.steps.size(), 0);
+    wall_start_ = std::chrono::steady_clock::now();
     long k = 0;
     for (;; ++k) {
       const double t = k * dt;
-      // Step boundaries, grasps and releases due now.
-      for (size_t i = 0; i < plan_.steps.size(); ++i) {
-        const PlannedStep& ps = plan_.steps[i];
-        if (!started[i] && ps.start <= t + dt / 2) {
-          started[i] = 1;
-          current_step_ = i;
-          current_action_ = ps.device >= 0 ? fmt::format("{} {}", step_kind_name(ps.kind), wc_.objects[ps.device].name) : step_kind_name(ps.kind);
-          if (options_.progress == RunOptions::Progress::Lines && options_.progress_to)
-            *options_.progress_to << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
-          step_event(t, EventKind::StepStart, ps);
-          if (ps.kind == StepKind::Grasp) {
-            // The plan found the tool at the object where planning had it; the physics may have
-            // moved it since (fallen, rolled, carried on a pallet): a grasp from afar held a drum
-            // 0.4 m below the gripper and the run said ok.
-            if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach) {
-              const double lag = lag_now(ps.device, t);
-              const std::string why =
-                  lag > kGraspReach ? fmt::format("its tool is {:g} m from where the plan put it (something held it back)", stable(lag))
-                                    : fmt::format("{} is not where the plan expected it (it fell, rolled, was carried or pushed)",
-                                                  wc_.objects[ps.object].name);
-              const std::string message = fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
-                                                      wc_.objects[ps.device].name, wc_.objects[ps.object].name, stable(gap),
-                                                      kGraspReach, why);
-              events_.add(t, EventKind::GraspMissed, {{"step", ps.index}, {"device", wc_.objects[ps.device].name},
-                                                      {"object", wc_.objects[ps.object].name}, {"distance", r9(gap)}, {"message", message}});
-              stop(EventKind::GraspMissed, message);
-              grasp_missed = true;
-              break;
-            }
-            world_.grasp(ps.device, ps.object);
-            // Taken again after a release: held, not watched for rest (the run waited 5 s after
-            // its last step for a drum in the gripper to settle). Taken off a load: it rides no
-            // more (a drum picked off a lifted pallet was a load_shifted of 1.3 m).
-            released_.erase(ps.object);
-            rested_.erase(ps.object);
-            rider_of_.erase(ps.object);
-            set_down_at_.erase(ps.object);
-            events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
-            // What the load stood on when lifted is no clearance to report.
-            // What it stands on: near it, and below its bottom (a drum resting on the pallet is
-            // no support of the pallet: lifting the pallet 4 mm into it was excused).
-            // (Its bounds reach the load's bottom and lie under its footprint: a rack whose deck
-            // the drum stands on rises far above the drum's bottom, and lifting the drum off
-            // the deck was a collision.)
-            const Eigen::AlignedBox3d& load_box = live_.objects[ps.object].bbox_world;
-            const double bottom = load_box.min().z();
-            for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap)) {
-              const Eigen::AlignedBox3d& box = live_.objects[other].bbox_world;
-              const Eigen::AlignedBox2d under = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())
-                                                    .intersection(Eigen::AlignedBox2d(load_box.min().head<2>(), load_box.max().head<2>()));
-              if (box.min().z() <= bottom + kSupportGap && box.max().z() >= bottom - kSupportGap && !under.isEmpty() &&
-                  (under.sizes().array() > 0).all())
-                supports_.insert({ps.object, other});
-            }
-            if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
-            // What stands on the load rides with it as free bodies: drums on a pallet a forklift
-            // lifts (they stood still in the air).
-            for (int k : riders(ps.object)) {
-              world_.make_dynamic(k);
-              rider_of_[k] = ps.object;
-              rode_on_[k] = ps.object;
-              X_load_rider_[k] = world_.pose(ps.object).inverse() * world_.pose(k);
-            }
-          } else if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) {
-            int o = world_.held(ps.device);
-            world_.release(ps.device);
-            released_[o] = false;
-            released_at_[o] = world_.pose(o).translation();
-            set_down_at_[o] = {released_at_[o], bottom_of(o)};
-            // Its riders stay where they are, on it: free bodies, watched until they rest.
-            for (auto it = rider_of_.begin(); it != rider_of_.end();)
-              if (it->second == o) {
-                released_[it->first] = true;
-                set_down_at_[it->first] = {world_.pose(it->first).translation(), bottom_of(it->first)};
-                it = rider_of_.erase(it);
-              } else {
-                ++it;
-              }
-            events_.add(t, EventKind::Release, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
-          }
-        }
-        if (started[i] && !ended[i] && ps.end <= t + dt / 2) {
-          ended[i] = 1;
-          step_event(t, EventKind::StepEnd, ps);
-          if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
-        }
-      }
-      if (grasp_missed) break;
+      if (!begin_and_end_steps(t)) break;  // a grasp missed
       if (k % every == 0) {
         recorder_.record(t);
         observe(t);
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
-      if (plan_.failure && plan_.failure->t <= t + dt / 2) {
-        const PlanFailure& f = *plan_.failure;
-        nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
-        if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
-        events_.add(t, f.kind, fields);
-        stop(f.kind, f.message);
-        break;
-      }
-      if (t >= plan_.end - dt / 2) {
-        if (settle_until < 0) settle_until = t + kSettleLimit;
-        bool settled = true;
-        for (int o : loose()) settled = settled && world_.at_rest(o);
-        if (settled) {
-          check_propped(t);
-          break;
-        }
-        if (t >= settle_until) {
-          // Still moving 5 s after the last step (rolling off a rack, rocking, sliding): where it
-          // ends is unknown, so the operation is not shown to hold.
-          for (int o : loose())
-            if (!world_.at_rest(o)) {
-              const Eigen::Vector3d p = world_.pose(o).translation();
-              events_.add(t, EventKind::NotAtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}},
-                                                    {"speed", r9(world_.velocity(o).norm())}});
-            }
-          check_propped(t);
-          break;
-        }
-      }
-      if (t >= s.limit - dt / 2) {
-        events_.add(t, EventKind::TimeLimit, {{"limit", s.limit}});
-        stop(EventKind::TimeLimit, fmt::format("the run reached sim.limit ({:g} s of simulated time)", s.limit));
-        break;
-      }
-      if (options_.wall_limit > 0 && k % 64 == 0 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > options_.wall_limit) {
-        events_.add(t, EventKind::WallLimit, {{"limit", options_.wall_limit}});
-        stop(EventKind::WallLimit, fmt::format("the run took more than --wall-limit {:g} s of wall-clock time", options_.wall_limit));
-        break;
-      }
+      if (plan_failed(t) || settled(t) || out_of_time(t, k)) break;
       if (options_.interrupted && *options_.interrupted) {
         interrupted_ = true;
         break;
       }
-      if (options_.progress == RunOptions::Progress::Live && options_.progress_to && k % std::max(1L, std::lround(0.1 / dt)) == 0)
-        *options_.progress_to << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
-                                 plan_.end, s.limit, current_step_ + 1, plan_.steps.size(), current_action_);
-      for (const DeviceRun& dr : devices_) {
-        Eigen::VectorXd q1 = dr.track->at(t + dt);
-        world_.drive(dr.object, q1, (q1 - dr.track->at(t)) / dt);
-      }
+      show_progress(t, k);
+      drive(t);
       world_.step();
       after_step(world_.time());
     }
     if (options_.progress == RunOptions::Progress::Live && options_.progress_to) *options_.progress_to << "\r\x1b[K" << std::flush;
     return finish(k * dt);
+  }
+
+  /// Starts and ends the steps due at t, grasping and releasing. False when a grasp missed
+  /// (the run stops).
+  bool begin_and_end_steps(double t) {
+    const double dt = plan_.settings.timestep;
+    for (size_t i = 0; i < plan_.steps.size(); ++i) {
+      const PlannedStep& ps = plan_.steps[i];
+      if (!started_[i] && ps.start <= t + dt / 2) {
+        started_[i] = 1;
+        current_step_ = i;
+        current_action_ = ps.device >= 0 ? fmt::format("{} {}", step_kind_name(ps.kind), wc_.objects[ps.device].name) : step_kind_name(ps.kind);
+        if (options_.progress == RunOptions::Progress::Lines && options_.progress_to)
+          *options_.progress_to << fmt::format("simulate: t = {:.2f} s: step {}/{} {}\n", t, i + 1, plan_.steps.size(), current_action_);
+        step_event(t, EventKind::StepStart, ps);
+        if (ps.kind == StepKind::Grasp && !grasp(t, ps)) return false;
+        if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) release(t, ps);
+      }
+      if (started_[i] && !ended_[i] && ps.end <= t + dt / 2) {
+        ended_[i] = 1;
+        step_event(t, EventKind::StepEnd, ps);
+        if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
+      }
+    }
+    return true;
+  }
+
+  /// A grasp step: the tool takes its object, and what stands on the object rides with it.
+  /// False (a grasp_missed event, the run stopped) when the tool is not at the object.
+  bool grasp(double t, const PlannedStep& ps) {
+    // The plan found the tool at the object where planning had it; the physics may have
+    // moved it since (fallen, rolled, carried on a pallet): a grasp from afar held a drum
+    // 0.4 m below the gripper and the run said ok.
+    if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach) {
+      const double lag = lag_now(ps.device, t);
+      const std::string why =
+          lag > kGraspReach ? fmt::format("its tool is {:g} m from where the plan put it (something held it back)", stable(lag))
+                            : fmt::format("{} is not where the plan expected it (it fell, rolled, was carried or pushed)",
+                                          wc_.objects[ps.object].name);
+      const std::string message = fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
+                                              wc_.objects[ps.device].name, wc_.objects[ps.object].name, stable(gap),
+                                              kGraspReach, why);
+      events_.add(t, EventKind::GraspMissed, {{"step", ps.index}, {"device", wc_.objects[ps.device].name},
+                                              {"object", wc_.objects[ps.object].name}, {"distance", r9(gap)}, {"message", message}});
+      stop(EventKind::GraspMissed, message);
+      return false;
+    }
+    world_.grasp(ps.device, ps.object);
+    // Taken again after a release: held, not watched for rest (the run waited 5 s after
+    // its last step for a drum in the gripper to settle). Taken off a load: it rides no
+    // more (a drum picked off a lifted pallet was a load_shifted of 1.3 m).
+    released_.erase(ps.object);
+    rested_.erase(ps.object);
+    rider_of_.erase(ps.object);
+    set_down_at_.erase(ps.object);
+    events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
+    // What the load stood on when lifted is no clearance to report.
+    // What it stands on: near it, and below its bottom (a drum resting on the pallet is
+    // no support of the pallet: lifting the pallet 4 mm into it was excused).
+    // (Its bounds reach the load's bottom and lie under its footprint: a rack whose deck
+    // the drum stands on rises far above the drum's bottom, and lifting the drum off
+    // the deck was a collision.)
+    const Eigen::AlignedBox3d& load_box = live_.objects[ps.object].bbox_world;
+    const double bottom = load_box.min().z();
+    for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap)) {
+      const Eigen::AlignedBox3d& box = live_.objects[other].bbox_world;
+      const Eigen::AlignedBox2d under = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())
+                                            .intersection(Eigen::AlignedBox2d(load_box.min().head<2>(), load_box.max().head<2>()));
+      if (box.min().z() <= bottom + kSupportGap && box.max().z() >= bottom - kSupportGap && !under.isEmpty() &&
+          (under.sizes().array() > 0).all())
+        supports_.insert({ps.object, other});
+    }
+    if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
+    // What stands on the load rides with it as free bodies: drums on a pallet a forklift
+    // lifts (they stood still in the air).
+    for (int k : riders(ps.object)) {
+      world_.make_dynamic(k);
+      rider_of_[k] = ps.object;
+      rode_on_[k] = ps.object;
+      X_load_rider_[k] = world_.pose(ps.object).inverse() * world_.pose(k);
+    }
+    return true;
+  }
+
+  /// A release step: the held object (and what rode on it) is let go, watched until it rests.
+  void release(double t, const PlannedStep& ps) {
+    int o = world_.held(ps.device);
+    world_.release(ps.device);
+    released_[o] = false;
+    released_at_[o] = world_.pose(o).translation();
+    set_down_at_[o] = {released_at_[o], bottom_of(o)};
+    // Its riders stay where they are, on it: free bodies, watched until they rest.
+    for (auto it = rider_of_.begin(); it != rider_of_.end();)
+      if (it->second == o) {
+        released_[it->first] = true;
+        set_down_at_[it->first] = {world_.pose(it->first).translation(), bottom_of(it->first)};
+        it = rider_of_.erase(it);
+      } else {
+        ++it;
+      }
+    events_.add(t, EventKind::Release, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
+  }
+
+  /// The plan's own failure (a target it could not reach) is due at t: its event, and the run stops.
+  bool plan_failed(double t) {
+    const double dt = plan_.settings.timestep;
+    if (plan_.failure && plan_.failure->t <= t + dt / 2) {
+      const PlanFailure& f = *plan_.failure;
+      nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
+      if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
+      events_.add(t, f.kind, fields);
+      stop(f.kind, f.message);
+      return true;
+    }
+    return false;
+  }
+
+  /// After the last step: true once every loose object rests (or 5 s have passed: not_at_rest).
+  bool settled(double t) {
+    const double dt = plan_.settings.timestep;
+    if (t >= plan_.end - dt / 2) {
+      if (settle_until_ < 0) settle_until_ = t + kSettleLimit;
+      bool settled = true;
+      for (int o : loose()) settled = settled && world_.at_rest(o);
+      if (settled) {
+        check_propped(t);
+        return true;
+      }
+      if (t >= settle_until_) {
+        // Still moving 5 s after the last step (rolling off a rack, rocking, sliding): where it
+        // ends is unknown, so the operation is not shown to hold.
+        for (int o : loose())
+          if (!world_.at_rest(o)) {
+            const Eigen::Vector3d p = world_.pose(o).translation();
+            events_.add(t, EventKind::NotAtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}},
+                                                  {"speed", r9(world_.velocity(o).norm())}});
+          }
+        check_propped(t);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// sim.limit of simulated time or --wall-limit of wall-clock time reached: its event, and the run stops.
+  bool out_of_time(double t, long k) {
+    const double dt = plan_.settings.timestep;
+    const SimSettings& s = plan_.settings;
+    if (t >= s.limit - dt / 2) {
+      events_.add(t, EventKind::TimeLimit, {{"limit", s.limit}});
+      stop(EventKind::TimeLimit, fmt::format("the run reached sim.limit ({:g} s of simulated time)", s.limit));
+      return true;
+    }
+    if (options_.wall_limit > 0 && k % 64 == 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count() > options_.wall_limit) {
+      events_.add(t, EventKind::WallLimit, {{"limit", options_.wall_limit}});
+      stop(EventKind::WallLimit, fmt::format("the run took more than --wall-limit {:g} s of wall-clock time", options_.wall_limit));
+      return true;
+    }
+    return false;
+  }
+
+  void show_progress(double t, long k) {
+    const double dt = plan_.settings.timestep;
+    const SimSettings& s = plan_.settings;
+    if (options_.progress == RunOptions::Progress::Live && options_.progress_to && k % std::max(1L, std::lround(0.1 / dt)) == 0)
+      *options_.progress_to << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
+                               plan_.end, s.limit, current_step_ + 1, plan_.steps.size(), current_action_);
+  }
+
+  /// Each device driven towards where its track is at the next tick.
+  void drive(double t) {
+    const double dt = plan_.settings.timestep;
+    for (const DeviceRun& dr : devices_) {
+      Eigen::VectorXd q1 = dr.track->at(t + dt);
+      world_.drive(dr.object, q1, (q1 - dr.track->at(t)) / dt);
+    }
   }
 
   /// Writes every output into a hidden temporary folder beside the target, then renames it
@@ -817,6 +864,9 @@ class Run {
   bool failed_ = false;
   std::string stopped_by_, stop_message_;
   bool interrupted_ = false;
+  std::vector<char> started_, ended_;  // per step
+  double settle_until_ = -1;           // after the last step: when loose objects must rest by
+  std::chrono::steady_clock::time_point wall_start_;
   size_t current_step_ = 0;
   int frames_ = 0;
   std::string current_action_;
