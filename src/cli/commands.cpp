@@ -150,6 +150,9 @@ int run_check(const Common& common, const CheckArgs& args) {
   if (!common.apply(options, args.vaults)) return kInputError;
   Sources sources;
   Diagnostics diag;
+  // --strict: what sscs would skip or assume with a warning (a degenerate URDF shape) is an
+  // input error, as a failed warning constraint fails the gate.
+  diag.set_strict(args.strict, "(a warning; an error with --strict)");
   std::vector<Workcell> cells;
   std::vector<GeometryModel> geometry;
   std::vector<std::vector<Diagnostic>> input_warnings;

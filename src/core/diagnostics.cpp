@@ -37,6 +37,13 @@ void Diagnostics::error(SourceMark mark, std::string message) {
 }
 
 void Diagnostics::warning(SourceMark mark, std::string message) {
+  if (strict_) {
+    if (!strict_note_.empty()) message += " " + strict_note_;
+    for (const Diagnostic& e : errors_)  // once each, as a warning is
+      if (e.mark.file == mark.file && e.mark.line == mark.line && e.mark.column == mark.column && e.message == message) return;
+    error(mark, std::move(message));
+    return;
+  }
   for (const Diagnostic& w : warnings_)  // a type used by many objects warns once
     if (w.mark.file == mark.file && w.mark.line == mark.line && w.mark.column == mark.column && w.message == message) return;
   if (warnings_.size() < limit_) warnings_.push_back({mark, std::move(message), true});
@@ -72,6 +79,7 @@ std::string format_one(const Diagnostic& d, const Sources& sources, bool color) 
 }  // namespace
 
 std::string Diagnostics::format_errors(const Sources& sources, bool color) const {
+  examined_errors_ = errors_.size();
   std::string out;
   for (const Diagnostic& d : errors_) out += format_one(d, sources, color);
   if (count_ > errors_.size())
@@ -80,6 +88,7 @@ std::string Diagnostics::format_errors(const Sources& sources, bool color) const
 }
 
 std::string Diagnostics::format(const Sources& sources, bool color) const {
+  examined_warnings_ = warnings_.size();
   std::string out;
   for (const Diagnostic& d : warnings_) out += format_one(d, sources, color);
   return out + format_errors(sources, color);

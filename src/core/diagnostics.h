@@ -30,13 +30,32 @@ class Diagnostics {
 
   void error(SourceMark mark, std::string message);
   /// Something the input does that sscs skips or works around (a degenerate shape in a vendor's
-  /// URDF): shown on stderr, never fails the command. Kept up to the same limit, once each.
+  /// URDF): shown on stderr, never fails the command (unless strict: then it is an error). Kept
+  /// up to the same limit, once each.
   void warning(SourceMark mark, std::string message);
-  const std::vector<Diagnostic>& warnings() const { return warnings_; }
+  const std::vector<Diagnostic>& warnings() const {
+    examined_warnings_ = warnings_.size();
+    return warnings_;
+  }
   bool has_errors() const { return count_ > 0; }
   size_t count() const { return count_; }
   bool full() const { return count_ >= limit_; }
-  const std::vector<Diagnostic>& errors() const { return errors_; }
+  const std::vector<Diagnostic>& errors() const {
+    examined_errors_ = errors_.size();
+    return errors_;
+  }
+
+  /// Strict (Drake's diagnostic policy with warnings turned into errors): warning() records an
+  /// error, its message followed by `note` (what made it one), so nothing sscs skipped or
+  /// assumed passes (`sscs check --strict`).
+  void set_strict(bool strict, std::string note = {}) {
+    strict_ = strict;
+    strict_note_ = std::move(note);
+  }
+  bool strict() const { return strict_; }
+  /// Whether a diagnostic was recorded that nothing has looked at since: errors(), warnings(),
+  /// format() and format_errors() look. The tests' fixtures fail on one left unchecked.
+  bool unexamined() const { return errors_.size() > examined_errors_ || warnings_.size() > examined_warnings_; }
 
   /// `file:line:col: warning: message` for each warning, then `file:line:col: error: message` for
   /// each error, each with the source line and a caret under the column; then a line saying how
@@ -47,7 +66,10 @@ class Diagnostics {
 
  private:
   size_t limit_;
+  bool strict_ = false;
+  std::string strict_note_;
   size_t count_ = 0;
+  mutable size_t examined_errors_ = 0, examined_warnings_ = 0;
   std::vector<Diagnostic> errors_;
   std::vector<Diagnostic> warnings_;
 };

@@ -13,11 +13,19 @@
 
 namespace sscs::testing {
 
+/// Fails the running test when `diag` holds an error or warning no assertion looked at (its
+/// message compared, or shown on a failure): a diagnostic nobody checked is behaviour no test pins.
+inline void expect_examined(const Diagnostics& diag, const Sources& sources) {
+  if (diag.unexamined()) ADD_FAILURE() << "diagnostics no assertion looked at:\n" << diag.format(sources);
+}
+
 class VaultTest : public ::testing::Test {
  public:
   Sources sources;
   Diagnostics diag;
   CompileOptions options;
+
+  void TearDown() override { expect_examined(diag, sources); }
 
   std::optional<Workcell> compile_text(const std::string& body) {
     uint32_t file = sources.add("vault.yaml", "sscs: 1\nvault: T\n" + body);

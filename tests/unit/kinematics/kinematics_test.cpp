@@ -480,6 +480,10 @@ TEST_F(Vendor, AnSrdfOfAnotherRobotIsAnErrorInTheSrdf) {
   options.library_dirs = {dir.string()};
   std::string e = first_error("objects:\n  - {type: rx6, name: R}\n");
   EXPECT_EQ(e, "this <disable_collisions> names 'forearm', which is no link of 'rx6' (is the SRDF another robot's?)");
+  // The robot's name differs too: a warning at the SRDF's <robot>, beside the error.
+  ASSERT_EQ(diag.warnings().size(), 1u);
+  EXPECT_EQ(diag.warnings()[0].message, "this SRDF is for robot 'other', but the URDF is robot 'acme_rx6' (is the SRDF another robot's?)");
+  EXPECT_EQ(diag.warnings()[0].mark.line, 1u);
   ASSERT_FALSE(diag.errors().empty());
   EXPECT_EQ(sources.path(diag.errors()[0].mark.file), (dir / "other.srdf").string());
   EXPECT_EQ(diag.errors()[0].mark.line, 2u);
@@ -495,6 +499,10 @@ TEST_F(Vendor, AnSrdfToolThatIsNoLinkIsReportedWhereTheTypeIsUsed) {
   must_compile("objects:\n  - {type: drum, name: D}\n");
   std::string e = first_error("objects:\n  - {type: rx6, name: R}\n");
   EXPECT_EQ(e, "the tool this SRDF names, 'hand_flange', is no link of 'rx6' (is the SRDF another robot's?)");
+  // The robot's name differs too: a warning at the SRDF's <robot>, beside the error.
+  ASSERT_EQ(diag.warnings().size(), 1u);
+  EXPECT_EQ(diag.warnings()[0].message, "this SRDF is for robot 'other', but the URDF is robot 'acme_rx6' (is the SRDF another robot's?)");
+  EXPECT_EQ(diag.warnings()[0].mark.line, 1u);
   ASSERT_FALSE(diag.errors().empty());
   EXPECT_EQ(sources.path(diag.errors()[0].mark.file), (dir / "other.srdf").string());
   EXPECT_EQ(diag.errors()[0].mark.line, 2u);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "load/scenario.h"
+#include "vault_fixture.h"
 
 namespace sscs {
 namespace {
@@ -9,6 +10,7 @@ class Scenario : public ::testing::Test {
  public:
   Sources sources;
   Diagnostics diag;
+  void TearDown() override { testing::expect_examined(diag, sources); }
   std::optional<ScenarioSpec> load(const std::string& text) {
     return load_scenario(sources.add("dir/s.yaml", text), sources, diag);
   }

@@ -55,6 +55,7 @@ class SweepTest : public ::testing::Test {
  public:
   Sources sources;
   Diagnostics diag;
+  void TearDown() override { testing::expect_examined(diag, sources); }
 
   std::optional<SweepSpec> spec_of(const std::string& body) {
     uint32_t file = sources.add("study/sweep.yaml", "sscs: 1\nsweep: s\nvault: v.yaml\n" + body);
