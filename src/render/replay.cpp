@@ -51,6 +51,7 @@ std::tuple<size_t, size_t, double> bracket(const std::vector<double>& ts, double
 Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry) {
   RecordedRun run;
   run.geometry_ = &geometry;
+  run.dir_ = dir;
   for (size_t o = 0; o < wc.objects.size(); ++o) {
     const auto& device = geometry.objects[o].device;
     if (!device) continue;
@@ -109,6 +110,26 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
     run.duration_ = std::max(run.duration_, s.t.back());
   }
   return run;
+}
+
+Expected<std::vector<double>> RecordedRun::frame_times(double fps) const {
+  std::vector<double> times;
+  const std::string path = dir_ + "/frames/index.csv";
+  std::ifstream index(path);
+  if (!index) {
+    for (int n = 0; n <= static_cast<int>(duration_ * fps + 1e-9); ++n) times.push_back(static_cast<double>(n) / fps);
+    return times;
+  }
+  std::string line;
+  std::getline(index, line);  // frame,t,file
+  for (int row = 2; std::getline(index, line); ++row) {
+    Expected<double> t = number_at(split(line), 1, path, row);
+    if (!t) return Unexpected{t.error()};
+    if (!times.empty() && *t < times.back())
+      return Unexpected{fmt::format("{}:{}: time {} comes before {} (is the index corrupt?)", path, row, *t, times.back())};
+    times.push_back(*t);
+  }
+  return times;
 }
 
 ScenePose RecordedRun::at(double t) const {

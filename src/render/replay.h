@@ -22,6 +22,10 @@ class RecordedRun {
   /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
   ScenePose at(double t) const;
   double duration() const { return duration_; }
+  /// The times to draw frames at: the run's own (its frames/index.csv, as FrameRecorder wrote
+  /// it) when it recorded frames, else every 1/fps of its duration. Why not when the index holds
+  /// a cell that is not a finite number, or times that go back (file and line named).
+  Expected<std::vector<double>> frame_times(double fps) const;
 
  private:
   struct Series {
@@ -29,6 +33,7 @@ class RecordedRun {
     std::vector<Eigen::VectorXd> values;  ///< devices: SI joint values; objects: x y z qw qx qy qz
   };
   const GeometryModel* geometry_ = nullptr;
+  std::string dir_;
   std::map<int, Series> devices_, objects_;
   double duration_ = 0;
 };

@@ -302,6 +302,17 @@ def simulate(sscs, root):
             if p.returncode != 2 or "Robot.csv:4:" not in p.stderr or os.path.exists(os.path.join(tmp, "corrupt-" + label)):
                 fail(f"replay of a run whose trajectory log is corrupt ({label})", p)
         open(robot_csv, "w").write(good)
+        # The same for the frame index the replay takes its times from (it crashed on a cell
+        # that was no number: exit 3, "internal error: stod").
+        index_csv = os.path.join(out, "frames", "index.csv")
+        good = open(index_csv).read()
+        lines = good.splitlines(True)
+        for label, bad_row in [("text", "2,abc,frame_000002.png\n"), ("backwards", "2,0.0000,frame_000002.png\n")]:
+            open(index_csv, "w").write("".join(lines[:3] + [bad_row] + lines[4:]))
+            p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "index-" + label)])
+            if p.returncode != 2 or "frames/index.csv:4:" not in p.stderr or os.path.exists(os.path.join(tmp, "index-" + label)):
+                fail(f"replay of a run whose frame index is corrupt ({label})", p)
+        open(index_csv, "w").write(good)
         # --video pipes the raw frames to ffmpeg (a stand-in here that records what it got: the
         # real encoder is not installed on CI); without ffmpeg on PATH it is an input error.
         fake = os.path.join(root, "tests/data/fake-ffmpeg")

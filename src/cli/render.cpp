@@ -1,0 +1,131 @@
+#include <algorithm>
+#include <filesystem>
+#include <optional>
+
+#include "cli/subcommands.h"
+#include "core/files.h"
+#include "core/names.h"
+#include "pipeline/prepare.h"
+#include "render/camera_path.h"
+#include "render/frames.h"
+#include "render/image.h"
+#include "render/renderer.h"
+#include "render/replay.h"
+
+namespace sscs::cli {
+
+int run_render(const Common& common, const RenderArgs& args) {
+  int width = 0, height = 0;
+  if (!parse_size(args.size, width, height)) return kInputError;
+  if (std::filesystem::path(args.out).extension() != ".png") {
+    std::cerr << fmt::format("sscs: error: --out expects a .png file, found '{}'\n", args.out);
+    return kInputError;
+  }
+  if (args.fov != 0 && !(args.fov > 1 && args.fov < 179)) {
+    std::cerr << fmt::format("sscs: error: --fov expects degrees between 1 and 179, found {:g}\n", args.fov);
+    return kInputError;
+  }
+  Eigen::Vector3d eye, target;
+  for (auto [text, v, name] : {std::tuple{&args.eye, &eye, "--eye"}, std::tuple{&args.target, &target, "--target"}})
+    if (!text->empty() && !parse_vec3(*text, *v)) {
+      std::cerr << fmt::format("sscs: error: {} expects x,y,z in metres, found '{}'\n", name, *text);
+      return kInputError;
+    }
+  CompileOptions options;
+  if (!common.apply(options, {args.vault})) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  auto [wc, geometry] = prepare_vault(args.vault, options, sources, diag, {.visuals = true, .contacts = nullptr});  // drawn: what devices look like
+  if (report_diagnostics(diag, sources, common)) return kInputError;
+  // A named camera of the vault, compiled like a scenario's keyframe.
+  std::optional<CameraPath> named;
+  if (!args.camera.empty()) {
+    auto it = std::find_if(wc->cameras.begin(), wc->cameras.end(), [&](const auto& c) { return c.first == args.camera; });
+    if (it == wc->cameras.end()) {
+      std::vector<std::string> names;
+      for (const auto& c : wc->cameras) names.push_back(c.first);
+      std::cerr << fmt::format("sscs: error: {} has no camera named '{}'; its cameras: {}{}\n", args.vault, args.camera,
+                               names.empty() ? "none (add a cameras: mapping)" : fmt::format("{}", fmt::join(names, ", ")),
+                               did_you_mean(args.camera, names));
+      return kInputError;
+    }
+    named = CameraPath({it->second});  // compiled with the vault
+  }
+  RenderOptions ro;
+  ro.width = width;
+  ro.height = height;
+  ro.shadows = args.shadows;
+  Renderer renderer(*wc, geometry, ro);
+  Camera camera = named ? named->at(0, ScenePose::of(geometry), renderer.bounds(), double(width) / height)
+                        : framing_camera(renderer.bounds(), args.fov > 0 ? args.fov : 45, double(width) / height);
+  if (args.fov > 0) camera.fov = args.fov;
+  if (!args.target.empty()) camera.target = target;
+  if (!args.eye.empty()) camera.eye = eye;
+  if ((camera.eye - camera.target).norm() < 1e-9) {
+    std::cerr << "sscs: error: --eye and --target are the same point\n";
+    return kInputError;
+  }
+  if (std::string err = write_file_atomic(args.out, encode_png(renderer.render(camera))); !err.empty()) {
+    std::cerr << "sscs: error: " << err << "\n";
+    return kInputError;
+  }
+  if (!common.quiet)
+    std::cout << fmt::format("wrote {} ({}x{}, eye [{:.2f}, {:.2f}, {:.2f}], target [{:.2f}, {:.2f}, {:.2f}], fov {:g})\n",
+                             args.out, width, height, camera.eye.x(), camera.eye.y(), camera.eye.z(), camera.target.x(),
+                             camera.target.y(), camera.target.z(), camera.fov);
+  return kOk;
+}
+
+
+/// `sscs replay RUN --out DIR [--camera FILE] [--size WxH]`: the run's frames drawn again from
+/// its logs (at the run's frame times, or every 1/fps of its duration), with its own cameras or
+/// those of a camera file. Written to a hidden folder and renamed when complete.
+int run_replay(const Common& common, const ReplayArgs& args) {
+  namespace fs = std::filesystem;
+  const std::string scenario = (fs::path(args.run) / "resolved" / "scenario.yaml").string();
+  if (!fs::is_regular_file(scenario)) {
+    std::cerr << fmt::format("sscs: error: {}: not a run folder (expected {})\n", args.run, scenario);
+    return kInputError;
+  }
+  CompileOptions options;
+  if (!common.apply(options, {args.run})) return kInputError;
+  PreparedScenario ps;
+  if (!ps.prepare(scenario, options, args.camera)) {
+    std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
+    return kInputError;
+  }
+  report_diagnostics(ps.diag, ps.sources, common);  // warnings
+  const Workcell& wc = *ps.wc;
+  const Plan& plan = *ps.plan;
+  RenderOptions ro;
+  ro.width = plan.settings.width;
+  ro.height = plan.settings.height;
+  if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
+  ro.shadows = args.shadows;
+  auto recorded = RecordedRun::read(args.run, wc, ps.geometry);
+  if (!recorded) {
+    std::cerr << "sscs: error: " << recorded.error() << "\n";
+    return kInputError;
+  }
+  Expected<std::vector<double>> frame_times = recorded->frame_times(plan.settings.fps);
+  if (!frame_times) {
+    std::cerr << "sscs: error: " << frame_times.error() << "\n";
+    return kInputError;
+  }
+  const std::vector<double>& times = *frame_times;
+  StagedDir staging(args.out);
+  {
+    FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, staging.path() + "/frames");
+    for (size_t n = 0; n < times.size(); ++n) recorder.frame(static_cast<int>(n), times[n], recorded->at(times[n]));
+    recorder.finish(staging.path() + "/contact_sheet.png");
+  }
+  if (std::string err = staging.commit(); !err.empty()) {
+    std::cerr << "sscs: error: " << err << "\n";
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("replayed {} frames of {} into {}\n", times.size(), args.run, args.out);
+  return kOk;
+}
+
+
+}  // namespace sscs::cli

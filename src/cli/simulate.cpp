@@ -1,0 +1,90 @@
+#include <cmath>
+#include <filesystem>
+
+#include "cli/subcommands.h"
+#include "core/pose.h"
+#include "pipeline/run_scenario.h"
+#include "report/compare.h"
+
+namespace sscs::cli {
+
+int run_simulate(const Common& common, const SimulateArgs& args) {
+  RunRequest request;
+  request.out = args.out;
+  request.bundle = args.bundle;
+  request.frames = !args.no_frames;
+  request.video = args.video;
+  request.shadows = args.shadows;
+  CompileOptions options;
+  if (!common.apply(options, {args.scenario})) return kInputError;
+  std::string why = !args.video.empty() && args.no_frames ? "--video needs frames; it cannot go with --no-frames"
+                    : !args.video.empty() && std::filesystem::path(args.video).extension() != ".mp4"
+                        ? fmt::format("--video expects a .mp4 file, found '{}'", args.video)
+                    : !args.bundle.empty() && std::filesystem::path(args.bundle).extension() != ".zip"
+                        ? fmt::format("--bundle expects a .zip file, found '{}'", args.bundle)
+                        : "";
+  if (why.empty() && !args.wall_limit.empty()) {
+    char* end = nullptr;
+    request.wall_limit = std::strtod(args.wall_limit.c_str(), &end);
+    if (end != args.wall_limit.c_str() + args.wall_limit.size() || !std::isfinite(request.wall_limit) || !(request.wall_limit > 0))
+      why = fmt::format("--wall-limit expects a number of seconds above 0, found '{}'", printable(args.wall_limit));
+  }
+  if (!why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
+  PreparedScenario ps;
+  if (!ps.prepare(args.scenario, options)) {
+    std::cerr << ps.diag.format(ps.sources, common.color_for(stderr));
+    return kInputError;
+  }
+  report_diagnostics(ps.diag, ps.sources, common);  // warnings
+  if (request.out.empty() && request.bundle.empty()) request.out = "run-" + ps.spec->name;
+  if (why = run_request_refusal(ps, request); why.empty()) why = run_targets_refusal(request.out, request.bundle, args.force);
+  if (!why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
+  if (!common.quiet) request.progress = isatty(fileno(stderr)) ? RunOptions::Progress::Live : RunOptions::Progress::Lines;
+  request.progress_to = &std::cerr;
+  request.interrupted = &g_interrupted;
+  Expected<RunSummary> ran = [&] {
+    InterruptGuard interrupts;
+    return run_scenario(ps, request);
+  }();
+  if (!ran) {
+    std::cerr << "sscs: error: " << ran.error() << "\n";
+    return kInternalError;
+  }
+  const RunSummary& summary = *ran;
+  if (summary.interrupted) {
+    std::cerr << "sscs: interrupted; nothing written\n";
+    return 128 + SIGINT;
+  }
+  const std::string& out = request.out;
+  const std::string& bundle = request.bundle;
+  std::string where = out.empty() ? bundle : bundle.empty() ? out : fmt::format("{} and {}", out, bundle);
+  // A run that stopped says why and when, and has no cycle time.
+  std::string status = run_status_name(summary.status);
+  if (!summary.stopped_by.empty())
+    status += fmt::format(" ({} at {:g} s{}{}), no cycle time", summary.stopped_by, stable(summary.stopped_at),
+                          summary.stop_message.empty() ? "" : ": ", printable(within_window(summary.stop_message)));
+  else
+    status += fmt::format(", cycle time {:g} s", stable(summary.cycle_time));
+  std::cout << fmt::format("{}: {}, {} collisions, {} events; written to {}\n", ps.spec->name, status, summary.collisions,
+                           summary.events, where);
+  return summary.status == RunStatus::Ok ? kOk : kViolations;
+}
+
+int run_compare(const std::vector<std::string>& paths, const std::string& format) {
+  Expected<std::vector<RunRecord>> runs = read_runs(paths);
+  if (!runs) {
+    std::cerr << "sscs: error: " << runs.error() << "\n";
+    return kInputError;
+  }
+  std::cout << (format == "json" ? compare_json(*runs) : format == "csv" ? compare_csv(*runs) : compare_text(*runs));
+  return kOk;
+}
+
+
+}  // namespace sscs::cli
