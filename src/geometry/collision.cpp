@@ -682,8 +682,9 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
         if (!s->getAABB().overlap(theirs[k]->getAABB())) continue;
         const double limit = touches ? kTargetTouch : kTouchTolerance;
         const double enough = first ? limit : INFINITY;
-        double depth = remembered(impl_->memo, PairQuery::Penetration, s.get(), theirs[k].get(), enough,
-                                  [&] { return penetration(s.get(), theirs[k].get(), enough); });
+        const fcl::CollisionObjectd *mine = s.get(), *other_shape = theirs[k].get();  // (clang 15 captures no structured binding)
+        double depth = remembered(impl_->memo, PairQuery::Penetration, mine, other_shape, enough,
+                                  [&] { return penetration(mine, other_shape, enough); });
         if (depth > limit) {
           int other_part = objects[o].shapes[k].part;
           note({other, p, other_part, depth});
