@@ -42,7 +42,7 @@ int run_cli(int argc, char** argv) {
                           "text, json, junit or sarif (default: from --out's extension .json/.xml/.sarif, else text)")
         ->check(CLI::IsMember({"text", "json", "junit", "sarif"}));
     check_cmd->add_option("--out", check_args.out, "write the report to this file (atomically)");
-    check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too");
+    check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too, and input warnings are input errors");
     check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier report (--format json): new failure, fixed, still failing, "
                     "unchanged; exit 1 only for new failures");
     common.add_to(check_cmd);
@@ -91,6 +91,7 @@ int run_cli(int argc, char** argv) {
     replay_cmd->add_option("--camera", replay_args.camera, "camera file (sscs: 1, cameras: [...]); default: the run's cameras");
     replay_cmd->add_option("--size", replay_args.size, "WIDTHxHEIGHT (default: the run's frame size)");
     replay_cmd->add_flag("--shadows", replay_args.shadows, "frames with shadows of the key light");
+    replay_cmd->add_flag("--force", replay_args.force, "replace an earlier replay in --out (nothing else is ever replaced)");
     common.add_to(replay_cmd);
 
     std::vector<std::string> compare_runs;

@@ -102,7 +102,9 @@ int run_replay(const Common& common, const ReplayArgs& args) {
   ro.height = plan.settings.height;
   if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
   ro.shadows = args.shadows;
-  auto recorded = RecordedRun::read(args.run, wc, ps.geometry);
+  std::vector<int> driven;
+  for (const Track& track : plan.tracks) driven.push_back(track.object);
+  auto recorded = RecordedRun::read(args.run, wc, ps.geometry, driven);
   if (!recorded) {
     std::cerr << "sscs: error: " << recorded.error() << "\n";
     return kInputError;
@@ -113,6 +115,10 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     return kInputError;
   }
   const std::vector<double>& times = *frame_times;
+  if (std::string why = replay_target_refusal(args.out, args.force); !why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
   StagedDir staging(args.out);
   {
     FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, staging.path() + "/frames");

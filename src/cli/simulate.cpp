@@ -1,3 +1,4 @@
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 
@@ -23,11 +24,13 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
                     : !args.bundle.empty() && std::filesystem::path(args.bundle).extension() != ".zip"
                         ? fmt::format("--bundle expects a .zip file, found '{}'", args.bundle)
                         : "";
-  if (why.empty() && !args.wall_limit.empty()) {
-    char* end = nullptr;
-    request.wall_limit = std::strtod(args.wall_limit.c_str(), &end);
-    if (end != args.wall_limit.c_str() + args.wall_limit.size() || !std::isfinite(request.wall_limit) || !(request.wall_limit > 0))
-      why = fmt::format("--wall-limit expects a number of seconds above 0, found '{}'", printable(args.wall_limit));
+  if (why.empty() && args.wall_limit) {
+    // Decimal only (strtod read "0x10" as 16 s); an empty value is an error, not "no limit".
+    const std::string& text = *args.wall_limit;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), request.wall_limit, std::chars_format::general);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(request.wall_limit) ||
+        !(request.wall_limit > 0))
+      why = fmt::format("--wall-limit expects a number of seconds above 0, found '{}'", printable(text));
   }
   if (!why.empty()) {
     std::cerr << "sscs: error: " << why << "\n";

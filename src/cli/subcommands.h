@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -117,6 +118,7 @@ struct RenderArgs {
 struct ReplayArgs {
   std::string run, out, camera, size;
   bool shadows = false;
+  bool force = false;  // replace an earlier replay in --out
 };
 
 struct SimulateArgs {
@@ -127,7 +129,7 @@ struct SimulateArgs {
   std::string video;
   bool shadows = false;
   bool force = false;  // replace an existing run folder or bundle
-  std::string wall_limit;  // s of wall-clock time ("": none)
+  std::optional<std::string> wall_limit;  // s of wall-clock time (none when not given)
 };
 
 struct SweepArgs {

@@ -645,11 +645,13 @@ std::vector<Collision> CollisionWorld::self_collisions(int object) {
 std::optional<Collision> CollisionWorld::device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                                           const std::vector<int>& ignore, int target,
                                                           const std::vector<char>& tool_parts, const std::vector<int>& stands_on,
-                                                          bool first) {
+                                                          bool first, const std::vector<char>& only) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return std::nullopt;
   const std::vector<char> moved = stands_on.empty() ? std::vector<char>() : g.device->moved_parts();
   auto shapes = impl_->placed(*g.device, X_world_part);
+  if (!only.empty())
+    std::erase_if(shapes, [&](const auto& placed) { return !only[placed.first]; });
   std::optional<Collision> deepest;
   auto note = [&](const Collision& c) {
     if (!deepest || c.depth > deepest->depth) deepest = c;
@@ -801,6 +803,14 @@ std::optional<Collision> DeviceClearance::at(CollisionWorld& world, const Eigen:
   auto c = world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, first);
   if (!c) c = world.into_floors(device_, X, moved_, plane_, blocks_);
   return c;
+}
+
+std::optional<Collision> DeviceClearance::of_parts(CollisionWorld& world, const Eigen::VectorXd& q, int target,
+                                                   const std::vector<char>& parts) const {
+  const ObjectGeometry& g = geometry_.objects[device_];
+  std::vector<Eigen::Isometry3d> X = g.device->part_poses(q);
+  for (auto& x : X) x = g.X_world_object * x;
+  return world.device_collision(device_, X, containers_, target, tool_parts_, stands_on_, false, parts);
 }
 
 void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {

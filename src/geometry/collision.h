@@ -97,10 +97,11 @@ class CollisionWorld {
   /// (the pedestal it stands on); the parts a joint moves may not. `first`: a collision's depth
   /// need not be exact (a search rejecting a candidate): a closed mesh's depth search stops at
   /// the limit that makes it a collision, so its depth may be a lower bound.
+  /// `only` (when not empty): the parts considered, the others left out.
   std::optional<Collision> device_collision(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                             const std::vector<int>& ignore, int target = -1,
                                             const std::vector<char>& tool_parts = {}, const std::vector<int>& stands_on = {},
-                                            bool first = false);
+                                            bool first = false, const std::vector<char>& only = {});
 
   /// The deepest a device's parts marked in `parts`, placed at `X_world_part`, go into the floors
   /// the physics has: below the plane at `plane` (their lowest point), or into a block of
@@ -156,6 +157,11 @@ class DeviceClearance {
   /// `ignore`: further objects (a load the tool holds). `first`: see device_collision.
   std::optional<Collision> at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
                               const std::vector<int>& ignore = {}) const;
+  /// The same for the parts marked in `parts` alone (with each other and with other objects; not
+  /// the floors, which only moving parts are held to): a search that moves only the other parts
+  /// finds these where they are at `q` for every candidate.
+  std::optional<Collision> of_parts(CollisionWorld& world, const Eigen::VectorXd& q, int target,
+                                    const std::vector<char>& parts) const;
 
  private:
   const GeometryModel& geometry_;

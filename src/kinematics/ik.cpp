@@ -128,7 +128,10 @@ constexpr int kPolishSteps = 40;
 IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eigen::VectorXd& seed,
                   const IkOptions& opt, const std::function<bool(const Eigen::VectorXd&)>& accept) {
   using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(opt.time_limit));
+  // An infinite time limit is none (its duration would overflow the clock into the past).
+  const bool clocked = std::isfinite(opt.time_limit);
+  const auto deadline =
+      clocked ? Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(opt.time_limit)) : Clock::time_point::max();
   const int n = chain.size();
   const int rows = opt.orientation ? 6 : 3;
   auto clamp = [&](Eigen::VectorXd& q) {
@@ -175,7 +178,7 @@ IkResult solve_ik(const Chain& chain, const Eigen::Isometry3d& target, const Eig
   int extra_left = opt.extra_attempts;
 
   for (int attempt = 0; attempt < attempts; ++attempt) {
-    if (attempt > 0 && Clock::now() > deadline) {
+    if (attempt > 0 && clocked && Clock::now() > deadline) {
       result.timed_out = true;
       break;
     }

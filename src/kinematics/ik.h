@@ -60,7 +60,7 @@ struct IkOptions {
   double angle_tol = 1e-5;        ///< rad, per axis of the rotation error
   int iterations_per_attempt = 60;
   int max_attempts = 200;         ///< the seed, then restarts
-  double time_limit = 0.05;       ///< s; a backstop, the iteration budget normally ends a solve
+  double time_limit = 0.05;       ///< s; a backstop, the iteration budget normally ends a solve; INFINITY: none
   uint64_t random_seed = 1;       ///< restarts are deterministic for a given seed
   /// After the first solution, further attempts looking for one nearer the seed (0: stop at the first).
   int extra_attempts = 0;

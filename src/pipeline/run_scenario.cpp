@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/archive.h"
 #include "core/files.h"
 #include "pipeline/resolved.h"
 #include "render/frames.h"
@@ -18,12 +19,14 @@ std::string run_targets_refusal(const std::string& out, const std::string& bundl
     std::error_code ec;
     if (target.empty() || !fs::exists(fs::symlink_status(target, ec))) continue;
     const bool folder = fs::is_directory(fs::symlink_status(target, ec));
+    // A bundle is a run's when it is a zip holding summary.json (any .zip was replaced).
     const bool a_run = folder ? fs::exists(fs::path(target) / "summary.json", ec) || fs::is_empty(target, ec)
-                              : fs::path(target).extension() == ".zip" && target == bundle;
+                              : target == bundle && fs::path(target).extension() == ".zip" &&
+                                    read_zip_entry(target, "summary.json").has_value();
     const char* what = target == bundle ? "--bundle file" : "--out folder";
     if (!a_run)
-      return fmt::format("'{}' exists and is not a run of sscs simulate; it is never replaced, even with --force: choose another {}",
-                         target, what);
+      return fmt::format("'{}' exists and is not {} of sscs simulate; it is never replaced, even with --force: choose another {}",
+                         target, target == bundle ? "the bundle of a run" : "a run", what);
     if (!force) return fmt::format("'{}' exists (an earlier run?); pass --force to replace it, or choose another {}", target, what);
   }
   return "";

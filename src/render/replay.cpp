@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -48,7 +49,25 @@ std::tuple<size_t, size_t, double> bracket(const std::vector<double>& ts, double
 
 }  // namespace
 
-Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry) {
+std::string replay_target_refusal(const std::string& out, bool force) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(out, ec))) return "";
+  if (!fs::is_directory(fs::symlink_status(out, ec)))
+    return fmt::format("--out '{}' is a file; a replay writes a folder, and never replaces anything else: choose another --out", out);
+  if (fs::is_empty(out, ec)) return "";
+  bool replay = fs::exists(fs::path(out) / "frames" / "index.csv", ec);
+  for (const fs::directory_entry& e : fs::directory_iterator(out, ec))
+    replay = replay && (e.path().filename() == "frames" || e.path().filename() == "contact_sheet.png");
+  if (!replay)
+    return fmt::format("--out '{}' exists and is not an earlier replay; it is never replaced, even with --force: choose another "
+                       "--out", out);
+  if (!force) return fmt::format("--out '{}' holds an earlier replay; pass --force to replace it, or choose another --out", out);
+  return "";
+}
+
+Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry,
+                                        const std::vector<int>& driven) {
   RecordedRun run;
   run.geometry_ = &geometry;
   run.dir_ = dir;
@@ -57,10 +76,16 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
     if (!device) continue;
     std::string path = fmt::format("{}/trajectories/{}.csv", dir, wc.objects[o].name);
     std::ifstream in(path);
-    if (!in) continue;  // a device the scenario did not move
+    if (!in) {
+      if (std::find(driven.begin(), driven.end(), static_cast<int>(o)) == driven.end()) continue;  // not moved: no log
+      return Unexpected{fmt::format("{}: missing, though the run moved {} (is the run folder complete?)", path, wc.objects[o].name)};
+    }
     std::string line;
     std::getline(in, line);
     std::vector<std::string> head = split(line);
+    if (head.empty() || head[0] != "t" || head.size() != static_cast<size_t>(1 + device->dof() + 6))
+      return Unexpected{fmt::format("{}:1: the header is '{}', expected t, the {} joints of {} and the tool's x,y,z,roll,pitch,yaw",
+                                    path, line, device->dof(), wc.objects[o].name)};
     std::vector<int> column(device->dof(), -1);
     for (int j = 0; j < device->dof(); ++j)
       for (size_t c = 0; c < head.size(); ++c)
@@ -70,6 +95,9 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
     Series& s = run.devices_[static_cast<int>(o)];
     for (int row = 2; std::getline(in, line); ++row) {
       std::vector<std::string> cells = split(line);
+      if (cells.size() != head.size())
+        return Unexpected{fmt::format("{}:{}: a row of {} cells, expected {} as in the header (is the log corrupt?)", path, row,
+                                      cells.size(), head.size())};
       Eigen::VectorXd q(device->dof());
       for (int j = 0; j < device->dof(); ++j) {
         Expected<double> v = number_at(cells, column[j], path, row);
@@ -89,6 +117,8 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
   const std::string path = dir + "/objects.csv";
   std::string line;
   std::getline(in, line);
+  if (line != "t,object,x,y,z,roll,pitch,yaw")
+    return Unexpected{fmt::format("{}:1: the header is '{}', expected t,object,x,y,z,roll,pitch,yaw", path, line)};
   for (int row = 2; std::getline(in, line); ++row) {
     std::vector<std::string> c = split(line);
     if (c.size() != 8) return Unexpected{fmt::format("{}:{}: a row of {} cells, expected 8 (t,object,x,y,z,roll,pitch,yaw)", path, row, c.size())};
@@ -121,14 +151,24 @@ Expected<std::vector<double>> RecordedRun::frame_times(double fps) const {
     return times;
   }
   std::string line;
-  std::getline(index, line);  // frame,t,file
+  std::getline(index, line);
+  if (line != "frame,t,file") return Unexpected{fmt::format("{}:1: the header is '{}', expected frame,t,file", path, line)};
   for (int row = 2; std::getline(index, line); ++row) {
-    Expected<double> t = number_at(split(line), 1, path, row);
+    const std::vector<std::string> cells = split(line);
+    const int n = row - 2;
+    if (cells.size() != 3 || cells[0] != std::to_string(n) || cells[2] != fmt::format("frame_{:06d}.png", n))
+      return Unexpected{fmt::format("{}:{}: '{}', expected frame {} as '{},<t>,frame_{:06d}.png' (is the index corrupt?)", path, row,
+                                    line, n, n, n)};
+    Expected<double> t = number_at(cells, 1, path, row);
     if (!t) return Unexpected{t.error()};
     if (!times.empty() && *t < times.back())
       return Unexpected{fmt::format("{}:{}: time {} comes before {} (is the index corrupt?)", path, row, *t, times.back())};
+    if (*t < 0 || *t > duration_ + 1)  // (a frame may follow the last logged row by up to a log interval)
+      return Unexpected{fmt::format("{}:{}: time {} lies outside the run (0 to {} s; is the index corrupt?)", path, row, *t,
+                                    duration_)};
     times.push_back(*t);
   }
+  if (times.empty()) return Unexpected{fmt::format("{}: lists no frame (is the index corrupt?)", path)};
   return times;
 }
 

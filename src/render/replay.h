@@ -12,19 +12,27 @@
 
 namespace sscs {
 
+/// Why `out` may not receive a replay's frames, or "" when it may: a folder that does not exist,
+/// an empty one, or (with `force`) an earlier replay (frames/ and contact_sheet.png only).
+/// Anything else (a run, a folder of other files, a file) is never replaced.
+std::string replay_target_refusal(const std::string& out, bool force);
+
 class RecordedRun {
  public:
   /// Reads the logs in run folder `dir`, written for workcell `wc` (compiled from the run's
   /// resolved/ vault); why not when they are missing, do not match the workcell, or hold a cell
   /// that is not a finite number (file and line named), or times that go back.
-  static Expected<RecordedRun> read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry);
+  /// `driven`: the devices the run's plan moved, each of which must have its log.
+  static Expected<RecordedRun> read(const std::string& dir, const Workcell& wc, const GeometryModel& geometry,
+                                    const std::vector<int>& driven);
   /// Where everything was at time t: joint values and object poses interpolated between the
   /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
   ScenePose at(double t) const;
   double duration() const { return duration_; }
   /// The times to draw frames at: the run's own (its frames/index.csv, as FrameRecorder wrote
-  /// it) when it recorded frames, else every 1/fps of its duration. Why not when the index holds
-  /// a cell that is not a finite number, or times that go back (file and line named).
+  /// it) when it recorded frames, else every 1/fps of its duration. Why not (file and line
+  /// named) when the index is not as FrameRecorder writes it: its header, rows of frame number
+  /// (0, 1, 2, ...), time (finite, never going back, within the run) and file name; none at all.
   Expected<std::vector<double>> frame_times(double fps) const;
 
  private:

@@ -26,6 +26,7 @@ import shlex
 import subprocess
 import sys
 import tempfile
+import zipfile
 from concurrent.futures import ThreadPoolExecutor
 
 
@@ -307,12 +308,74 @@ def simulate(sscs, root):
         index_csv = os.path.join(out, "frames", "index.csv")
         good = open(index_csv).read()
         lines = good.splitlines(True)
-        for label, bad_row in [("text", "2,abc,frame_000002.png\n"), ("backwards", "2,0.0000,frame_000002.png\n")]:
+        # A row cut short, a frame number that is no number, a time beyond the run: the same.
+        for label, bad_row in [("text", "2,abc,frame_000002.png\n"), ("backwards", "2,0.0000,frame_000002.png\n"),
+                               ("cut", "2,0.1333,\n"), ("frame", "x,0.1333,frame_000002.png\n"),
+                               ("beyond", "2,99.0000,frame_000002.png\n")]:
             open(index_csv, "w").write("".join(lines[:3] + [bad_row] + lines[4:]))
             p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "index-" + label)])
             if p.returncode != 2 or "frames/index.csv:4:" not in p.stderr or os.path.exists(os.path.join(tmp, "index-" + label)):
                 fail(f"replay of a run whose frame index is corrupt ({label})", p)
+        # An index that lists nothing, or whose header is not the recorder's (replays of 0 frames
+        # passed, exit 0).
+        for label, text in [("empty", ""), ("header", "frame,t,file\n"), ("renamed", good.replace("frame,t,file", "frame,time,file", 1))]:
+            open(index_csv, "w").write(text)
+            p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "index-" + label)])
+            if p.returncode != 2 or "frames/index.csv" not in p.stderr or os.path.exists(os.path.join(tmp, "index-" + label)):
+                fail(f"replay of a run whose frame index is {label}", p)
         open(index_csv, "w").write(good)
+        # A missing log of a device the run moved (the arm stood still in every frame, exit 0),
+        # trajectory rows short of the header's cells, an objects.csv whose header is not ours.
+        shutil.move(robot_csv, robot_csv + ".away")
+        p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "no-robot-log")])
+        if p.returncode != 2 or "Robot.csv: missing, though the run moved Robot" not in p.stderr or \
+                os.path.exists(os.path.join(tmp, "no-robot-log")):
+            fail("replay of a run without the moved arm's log", p)
+        shutil.move(robot_csv + ".away", robot_csv)
+        robot_lines = open(robot_csv).read().splitlines(True)
+        open(robot_csv, "w").write("".join(robot_lines[:3] + [",".join(robot_lines[3].split(",")[:7]) + "\n"] + robot_lines[4:]))
+        p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "short-rows")])
+        if p.returncode != 2 or "Robot.csv:4: a row of 7 cells" not in p.stderr:
+            fail("replay of a trajectory row short of its cells", p)
+        open(robot_csv, "w").write("".join(robot_lines))
+        objects_csv = os.path.join(out, "objects.csv")
+        objects_good = open(objects_csv).read()
+        open(objects_csv, "w").write(objects_good.replace("t,object,x,y,z,roll,pitch,yaw", "t,object,x,y", 1))
+        p = run(sscs, root, ["replay", out, "--out", os.path.join(tmp, "objects-header")])
+        if p.returncode != 2 or "objects.csv:1: the header is 't,object,x,y'" not in p.stderr:
+            fail("replay of an objects.csv with another header", p)
+        open(objects_csv, "w").write(objects_good)
+        # --out: never a folder of other files, a file or the run itself (replay replaced them
+        # with its frames); an earlier replay only with --force.
+        keep = os.path.join(tmp, "keep")
+        os.makedirs(keep, exist_ok=True)
+        open(os.path.join(keep, "notes.txt"), "w").write("mine")
+        afile = os.path.join(tmp, "afile")
+        open(afile, "w").write("mine")
+        for target, says in [(keep, "exists and is not an earlier replay"), (afile, "is a file"), (out, "exists and is not an earlier replay"),
+                             (replay, "holds an earlier replay; pass --force")]:
+            p = run(sscs, root, ["replay", out, "--out", target])
+            if p.returncode != 2 or says not in p.stderr:
+                fail(f"replay --out {target}: refused", p)
+        if open(os.path.join(keep, "notes.txt")).read() != "mine" or open(afile).read() != "mine" or \
+                not os.path.exists(os.path.join(out, "summary.json")):
+            fail("a refused replay --out left its target as it was")
+        p = run(sscs, root, ["replay", out, "--out", replay, "--force", "--quiet"])
+        if p.returncode != 0 or not os.path.exists(os.path.join(replay, "frames", "index.csv")):
+            fail("replay --force over an earlier replay", p)
+        # simulate --bundle --force replaces a run's bundle, never another zip (any .zip was).
+        other_zip = os.path.join(tmp, "other.zip")
+        shutil.make_archive(other_zip[:-4], "zip", keep)
+        p = run(sscs, root, ["simulate", arm, "--bundle", other_zip, "--force", "--no-frames", "--quiet"])
+        if p.returncode != 2 or "is not the bundle of a run of sscs simulate" not in p.stderr or \
+                not zipfile.is_zipfile(other_zip) or zipfile.ZipFile(other_zip).namelist() != ["notes.txt"]:
+            fail("simulate --bundle --force over a zip that is no run's", p)
+        # --wall-limit: decimal seconds above 0, given (an empty value ran without a limit, 0x10 was 16 s).
+        for value in ("", "0x10"):
+            p = run(sscs, root, ["simulate", arm, "--out", os.path.join(tmp, "wall"), "--wall-limit", value, "--no-frames"])
+            if p.returncode != 2 or "--wall-limit expects a number of seconds above 0" not in p.stderr or \
+                    os.path.exists(os.path.join(tmp, "wall")):
+                fail(f"--wall-limit '{value}'", p)
         # --video pipes the raw frames to ffmpeg (a stand-in here that records what it got: the
         # real encoder is not installed on CI); without ffmpeg on PATH it is an input error.
         fake = os.path.join(root, "tests/data/fake-ffmpeg")
@@ -398,7 +461,6 @@ def simulate(sscs, root):
         if not (0.05 < mc["distance"] < 1.0) or mc["b"] != "Rack_A" or not mc["a"].startswith("Robot."):
             fail(f"min_clearance {mc}")
         # --bundle: the same tree in one zip, byte-identical across runs; compare reads it.
-        import zipfile
         bundles = [os.path.join(tmp, f"b{i}.zip") for i in (1, 2)]
         for b in bundles:
             p = run(sscs, root, ["simulate", arm, "--bundle", b, "--quiet", "--no-frames"])

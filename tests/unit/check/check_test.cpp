@@ -212,6 +212,38 @@ TEST_F(Check, NoReachSolutionGoesBelowTheFloorOrIntoItsTarget) {
   EXPECT_EQ(rep.results[1].status, Status::Fail);
 }
 
+TEST_F(Check, ADevicesUnmovedPartInCollisionFailsEveryTargetAtOnce) {
+  // The slide's base (no joint moves it) stands 0.1 m inside a block: every pose of the carriage
+  // has that collision. The search stops at once and names it (the full search named it too,
+  // after 100 attempts: seconds with meshes, and a 2 s clock then turned the same input into an
+  // `error` on a loaded machine; e2e.sweep_reuse under the sanitizers caught that). A target out
+  // of reach says so, as before.
+  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\n"
+                                                "parts:\n  - {name: base, geometry: [{box: {size: [0.4, 0.4, 0.2], xyz: [0, 0, 0.1]}}]}\n"
+                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
+                                                "tool: {part: c, xyz: [0, 0, 0.5]}\n"},
+                                    {"block", "sscs: 1\ntype: block\nframes:\n  top: {xyz: [0, 0, 0.4]}\n"
+                                              "geometry:\n  - box: {size: [0.4, 0.4, 0.4], xyz: [0, 0, 0.2]}\n"}})};
+  Workcell wc = must_compile(
+      "objects:\n  - {type: slider, name: S}\n  - {type: block, name: Wall, location: [0, 0.3, 0]}\n"
+      "  - {type: block, name: K, location: [2, 0, 0.1]}\n"
+      "constraints:\n  - {name: r, reach: {device: S, targets: [K.top, {xyz: [9, 0, 0.5]}]}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 2u);
+  EXPECT_EQ(rep.results[0].status, Status::Fail);
+  EXPECT_EQ(rep.results[0].message, "S reaches K.top only in collision: part base hits Wall by 0.1 m");
+  EXPECT_NEAR(*rep.results[0].margin, -0.1, 1e-9);
+  EXPECT_EQ(rep.results[1].status, Status::Fail);
+  EXPECT_EQ(rep.results[1].message, "S cannot reach [9, 0, 0.5] within its joint limits: best position error 5 m");
+  // Moved clear, the same target passes: the collision was the base's, not the search's.
+  wc = must_compile("objects:\n  - {type: slider, name: S}\n  - {type: block, name: Wall, location: [0, 0.8, 0]}\n"
+                    "  - {type: block, name: K, location: [2, 0, 0.1]}\n"
+                    "constraints:\n  - {name: r, reach: {device: S, targets: [K.top]}}\n");
+  rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 1u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+}
+
 TEST_F(Check, EveryFrameOfTheStandardTypesLiesOnOrOutsideItsSolid) {
   // So `reach` to any standard frame is not refused as buried: every named frame of every
   // standard type (and a device's tool), at its defaults, is on or outside the type's own solids.
