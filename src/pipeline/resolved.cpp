@@ -149,7 +149,8 @@ std::string edited(const Sources& sources, const std::string& path, const std::v
 }  // namespace
 
 RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std::pair<std::string, std::string>>& overrides,
-                             const Workcell& wc, const GeometryModel& geometry, const Sources& sources) {
+                             const Workcell& wc, const GeometryModel& geometry, const Sources& sources,
+                             const std::vector<uint32_t>* files) {
   RunInputs out;
   Resolver resolver(sources, out);
   for (const ObjectGeometry& g : geometry.objects)
@@ -258,7 +259,9 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
     const std::string rel = fs::path(f).is_absolute() ? inside(f, here) : "";
     return rel.empty() ? f : rel;
   };
-  for (uint32_t f = 1; f < sources.size(); ++f) out.files.push_back({named(sources.path(f)), sha256_hex(sources.text(f))});
+  for (uint32_t f = 1; f < sources.size(); ++f)
+    if (!files || std::find(files->begin(), files->end(), f) != files->end())
+      out.files.push_back({named(sources.path(f)), sha256_hex(sources.text(f))});
   for (const ObjectGeometry& g : geometry.objects)
     for (const auto* shapes : {&g.shapes, &g.visual_shapes})  // what the checks used, and what frames drew
       for (const Shape& s : *shapes)

@@ -17,7 +17,10 @@ namespace sscs {
 
 /// `overrides`: the parameter overrides in force, in order (the scenario's `set:`, then --set);
 /// a later one wins. Files named but unreadable now are an error (they were read moments ago).
+/// `files`: the files of `sources` this run read, when the registry holds others too (a sweep's
+/// other scenarios and vaults, the sweep file); null: all of them.
 RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std::pair<std::string, std::string>>& overrides,
-                             const Workcell& wc, const GeometryModel& geometry, const Sources& sources);
+                             const Workcell& wc, const GeometryModel& geometry, const Sources& sources,
+                             const std::vector<uint32_t>* files = nullptr);
 
 }  // namespace sscs

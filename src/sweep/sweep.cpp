@@ -60,6 +60,10 @@ struct Case {
   std::shared_ptr<const std::vector<ObjectType>> library;
   std::shared_ptr<PluginSet> plugins;
   Overrides overrides;
+  /// The files of the study's sources this case reads: its scenario, its vault, and the type
+  /// library (and URDFs, SRDFs) its first compile read (`library_files`, shared with the cases
+  /// that reuse that library). A run's summary lists these as its inputs, not the study's.
+  std::vector<uint32_t> files, library_files;
 };
 
 std::string first_line(const std::string& text) {
@@ -217,8 +221,18 @@ bool Study::prepare_case(Case& c) {
   }
   options.plugins = c.plugins;
   options.library = c.library;
+  const uint32_t read_before = sources_.size();
   auto wc = compile(*c.vault, options, sources_, diag_);
   if (!wc) return false;
+  if (same != cases_.end()) {
+    c.library_files = same->library_files;
+  } else {
+    for (uint32_t f = read_before; f < sources_.size(); ++f) c.library_files.push_back(f);
+  }
+  for (const std::string* path : {&c.scenario_path, &c.vault_path})
+    if (!path->empty())
+      if (uint32_t f = sources_.find(*path)) c.files.push_back(f);
+  c.files.insert(c.files.end(), c.library_files.begin(), c.library_files.end());
   if (!c.library) c.library = std::make_shared<const std::vector<ObjectType>>(wc->types);
   validate_axes(*wc, c);
   GeometryModel geometry = build_geometry(*wc, diag_, &meshes_);  // reads every mesh once, before the forks
@@ -361,7 +375,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
       row.message = "the scenario cannot run with these values: " + first_line(diag.format_errors(sources_));
       return row;
     }
-    RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_);
+    RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_, &c.files);
     RunOptions ro;
     ro.out_dir = dir + "/run";
     ro.scenario_name = c.scenario->name;

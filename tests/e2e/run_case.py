@@ -1458,6 +1458,16 @@ def sweep(sscs, root):
                 fail(f"variant {r['variant']}: {r} against its run's summary {summary['cycle_time']}")
         if not float(rows[1]["cycle_time"]) < float(rows[3]["cycle_time"]) or "run: violations" not in rows[0]["message"]:
             fail(f"the arm should be faster than the gantry, and a lift over 0.3 m a violation: {rows}")
+        # Each run lists its own inputs, as `simulate` of it alone does: not the study's other
+        # scenario and vault, nor the sweep file (40 entries, 23 unique, listed every variant).
+        for r, scenario in zip(rows, ["arm-loads-drum", "arm-loads-drum", "gantry-loads-drum", "gantry-loads-drum"]):
+            alone = os.path.join(tmp, f"alone-{r['variant']}")
+            p = run(sscs, root, ["simulate", f"scenarios/drum-transfer/{scenario}.yaml", "--set", f"max_lift={r['max_lift']} m",
+                                 "--out", alone, "--no-frames", "--quiet"])
+            mine = json.load(open(os.path.join(sim, r["folder"], "run", "summary.json")))["inputs"]
+            own = json.load(open(os.path.join(alone, "summary.json")))["inputs"]
+            if p.returncode not in (0, 1) or [(i["path"], i["sha256"]) for i in mine] != [(i["path"], i["sha256"]) for i in own]:
+                fail(f"variant {r['variant']}: its run's inputs {[i['path'] for i in mine]}, alone {[i['path'] for i in own]}", p)
         # Timed-out variants are errors, and the sweep goes on to the end.
         slow = os.path.join(tmp, "slow")
         p = run(sscs, root, ["sweep", "scenarios/sweeps/arm-vs-gantry.yaml", "--out", slow, "--variant-timeout", "0.01", "--quiet"])
