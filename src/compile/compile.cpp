@@ -32,10 +32,14 @@ int Workcell::find_object(std::string_view n) const {
   return it != by_name.end() && objects[*it].name == n ? *it : -1;
 }
 
-std::vector<std::string> Workcell::frame_names(int t) const {
+std::vector<std::string> Workcell::frame_names(int object) const {
   std::vector<std::string> names = {"origin", "top"};
-  const TypeTemplates& tt = types[t].templates;
-  for (const FrameTemplate& f : tt.frames) names.push_back(f.name);
+  const TypeTemplates& tt = types[objects[object].type].templates;
+  const double* attributes = &values[objects[object].first_slot + kFirstAttributeSlot];
+  for (const FrameTemplate& f : tt.frames) {
+    if (!f.repeat) names.push_back(f.name);
+    else f.repeat->each(attributes, [&](const double* at) { names.push_back(f.name_of(at)); });
+  }
   if (tt.device) {
     names.push_back("tool");
     for (const PartTemplate& p : tt.device->parts) names.push_back(p.name);
@@ -45,6 +49,24 @@ std::vector<std::string> Workcell::frame_names(int t) const {
   names.erase(std::remove_if(names.begin() + 2, names.end(), [](const std::string& n) { return n == "origin" || n == "top"; }),
               names.end());
   return names;
+}
+
+std::optional<Eigen::Isometry3d> Workcell::named_frame(int object, std::string_view name) const {
+  const TypeTemplates& tt = types[objects[object].type].templates;
+  const double* attributes = &values[objects[object].first_slot + kFirstAttributeSlot];
+  std::optional<Eigen::Isometry3d> found;
+  for (const FrameTemplate& f : tt.frames) {
+    if (!f.repeat) {
+      if (f.name == name) found = f.pose.eval(attributes);
+      continue;
+    }
+    // A copy's name is the pattern with numbers for its counters: compare before making them all.
+    if (name.substr(0, f.name.find('{')) != std::string_view(f.name).substr(0, f.name.find('{'))) continue;
+    f.each(attributes, [&](const std::string& copy, const Eigen::Isometry3d& X) {
+      if (copy == name) found = X;
+    });
+  }
+  return found;
 }
 
 int Workcell::find_type(std::string_view n) const {
@@ -653,6 +675,52 @@ void expand_objects(CompileState& st) {
     obj.first_slot = st.new_slots(kFirstAttributeSlot + st.wc.types[obj.type].attributes.size());
 }
 
+/// `at: OBJECT.FRAME`: the object's parent is OBJECT, and it stands at FRAME (checked once the
+/// parent's attributes, which place its frames, are known). An array instance's {i} {j} {k} are
+/// its indices.
+void place_at(CompileState& st, int i, std::vector<std::string>& names) {
+  Object& obj = st.wc.objects[i];
+  const ObjectSpec& o = *st.object_spec[i];
+  std::string text = o.at.text;
+  if (o.array)
+    for (auto [key, v] : {std::pair{"{i}", 0}, std::pair{"{j}", 1}, std::pair{"{k}", 2}})
+      for (size_t p; (p = text.find(key)) != std::string::npos;) text.replace(p, 3, std::to_string(st.array_index[i][v]));
+  const size_t dot = text.rfind('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) {
+    st.diag.error(o.at.mark, fmt::format("expected OBJECT.FRAME for 'at' (a named frame of the object it stands on, as "
+                                         "Rack_1.slot_2_1_1), found '{}'", o.at.text));
+    return;
+  }
+  const std::string target = text.substr(0, dot);
+  obj.parent = st.wc.find_object(target);
+  obj.at = text.substr(dot + 1);
+  if (obj.parent < 0 && !st.unbuilt.count(target)) {
+    if (names.empty()) names = st.object_names();
+    st.diag.error(o.at.mark, fmt::format("'at' names unknown object '{}'{}", target, did_you_mean(target, names)));
+  } else if (obj.parent == i) {
+    st.diag.error(o.at.mark, fmt::format("object '{}' cannot stand at a frame of its own", obj.name));
+    obj.parent = -1;
+  }
+}
+
+/// Pass: an object placed `at` a frame of its parent names a frame the parent has (its
+/// attributes decide which: a rack of 3 levels has no slot_4_1_1).
+void check_at_frames(CompileState& st) {
+  for (size_t i = 0; i < st.wc.objects.size() && !st.diag.full(); ++i) {
+    const Object& obj = st.wc.objects[i];
+    if (obj.at.empty() || obj.parent < 0) continue;
+    if (st.wc.named_frame(obj.parent, obj.at)) continue;
+    const ObjectSpec& o = *st.object_spec[i];
+    std::vector<std::string> frames;
+    for (const FrameTemplate& f : st.wc.types[st.wc.objects[obj.parent].type].templates.frames)
+      f.each(&st.wc.values[st.wc.objects[obj.parent].first_slot + kFirstAttributeSlot],
+             [&](const std::string& name, const Eigen::Isometry3d&) { frames.push_back(name); });
+    st.diag.error(o.at.mark, fmt::format("'{}' is no named frame of {} (type '{}'){}{}", obj.at, st.wc.objects[obj.parent].name,
+                                         st.wc.types[st.wc.objects[obj.parent].type].name,
+                                         frames.empty() ? "; it has none" : "; its frames: " + name_list(frames), did_you_mean(obj.at, frames)));
+  }
+}
+
 /// Pass: parents, geomodel and colour.
 void resolve_object_links(CompileState& st) {
   std::vector<std::string> names;
@@ -669,6 +737,7 @@ void resolve_object_links(CompileState& st) {
         obj.parent = -1;
       }
     }
+    if (o.at.present && !o.at.null) place_at(st, static_cast<int>(i), names);
     if (o.geomodel.present && !o.geomodel.null) {
       obj.geomodel = resolve_path(st.spec.path, o.geomodel.text);
       if (std::string why = not_a_readable_reference(obj.geomodel); !why.empty())
@@ -761,6 +830,38 @@ void check_length(CompileState& st, uint32_t slot, SourceMark mark, std::string_
   st.slot_failed[slot] = true;
 }
 
+/// The rules of an object's type (`requires:`), and the copies its repeated geometry and frames
+/// make: whole counts within the limit (an attribute's min and max usually see to it; an
+/// expression may not).
+void check_type_rules(CompileState& st, int o) {
+  const Object& obj = st.wc.objects[o];
+  const ObjectType& type = st.wc.types[obj.type];
+  for (size_t a = 0; a < type.attributes.size(); ++a)
+    if (st.slot_failed[obj.first_slot + kFirstAttributeSlot + a]) return;  // reported
+  const double* values = &st.wc.values[obj.first_slot + kFirstAttributeSlot];
+  auto check = [&](const RepeatTemplate* r, std::string_view what) {
+    if (!r) return;
+    if (std::string why = r->problem(values); !why.empty())
+      st.diag.error(obj.mark, fmt::format("{} of '{}' (type '{}'): {}", what, obj.name, type.name, why));
+  };
+  const TypeTemplates& tt = type.templates;
+  // The type's own rules first: a broken one explains what a count or a size then does.
+  for (const RuleTemplate& rule : tt.rules) {
+    const double held = rule.condition.eval(values, NAN);
+    if (std::isnan(held))
+      st.diag.error(obj.mark, fmt::format("'{}' (type '{}'): the rule '{}' of type '{}' cannot be evaluated for it", obj.name, type.name,
+                                          rule.condition.text, rule.type));
+    else if (held == 0)
+      st.diag.error(obj.mark, fmt::format("'{}' (type '{}'): {}; the rule '{}' of type '{}' does not hold", obj.name, type.name,
+                                          rule.message, rule.condition.text, rule.type));
+  }
+  for (const ShapeTemplate& s : tt.geometry) check(s.repeat.get(), "a repeated shape");
+  for (const FrameTemplate& f : tt.frames) check(f.repeat.get(), fmt::format("frame '{}'", f.name));
+  if (tt.device)
+    for (const PartTemplate& p : tt.device->parts)
+      for (const ShapeTemplate& s : p.shapes) check(s.repeat.get(), fmt::format("a repeated shape of part '{}'", p.name));
+}
+
 /// Pass: every value is a valid instance of its type (integers, min/max), and lengths and
 /// locations lie within kMaxLengthSi.
 void check_values(CompileState& st) {
@@ -803,11 +904,24 @@ void check_values(CompileState& st) {
         }
       }
       if (def.dim == Dim::Length) check_length(st, slot, mark, fmt::format("'{}'", def.name), obj.name);
-      const double lo = def.min_si.value_or(-INFINITY), hi = def.max_si.value_or(INFINITY);
+      const double* values = &st.wc.values[obj.first_slot + kFirstAttributeSlot];
+      const double lo = def.lower(values), hi = def.upper(values);
+      if (std::isnan(lo) || std::isnan(hi) || lo > hi) {  // limits written as expressions
+        st.diag.error(o.mark, fmt::format("joint '{}' of '{}' has the limits {} to {} (type '{}': min {}, max {}); the min must be a "
+                                          "number at most the max", def.name, obj.name, with_unit(lo, def.dim), with_unit(hi, def.dim),
+                                          type.name, def.min_expr.present ? def.min_expr.text : number_text(si_to_file(lo, def.dim)),
+                                          def.max_expr.present ? def.max_expr.text : number_text(si_to_file(hi, def.dim))));
+        continue;
+      }
       if (auto in = within_bounds(v, lo, hi)) st.wc.values[slot] = *in;  // a bound copied from `sscs types` is the bound
-      else st.diag.error(mark, fmt::format("'{}' of '{}' is {}, {} {} of type '{}'", def.name, obj.name, with_unit(v, def.dim),
-                                           v < lo ? "below the min" : "above the max", with_unit(v < lo ? lo : hi, def.dim), type.name));
+      else {
+        const ValueRef& bound = v < lo ? def.min_expr : def.max_expr;  // a limit written as an expression: say which
+        st.diag.error(mark, fmt::format("'{}' of '{}' is {}, {} {} of type '{}'{}", def.name, obj.name, with_unit(v, def.dim),
+                                        v < lo ? "below the min" : "above the max", with_unit(v < lo ? lo : hi, def.dim), type.name,
+                                        bound.present ? fmt::format(" ({} for this object)", bound.text) : ""));
+      }
     }
+    check_type_rules(st, static_cast<int>(i));
   }
 }
 
@@ -872,6 +986,7 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   resolve_object_links(st);
   compile_values(st);
   check_values(st);
+  check_at_frames(st);
   if (!diag.full()) compile_constraints(st);
   for (const auto& [name, key] : spec.cameras)  // the vault's named views
     for (const CameraKey& k : compile_camera_keys({key}, st.wc, diag)) st.wc.cameras.emplace_back(name, k);

@@ -384,11 +384,11 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   auto add = [&](const std::vector<int>& objects, const std::string& frame, SourceMark where) {
     for (int o : objects) {
       if (o == rc.device) continue;  // "*" selects the device too
-      auto names = st.wc.frame_names(st.wc.objects[o].type);
+      auto names = st.wc.frame_names(o);
       if (std::find(names.begin(), names.end(), frame) == names.end()) {
         st.diag.error(where, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
                                               st.wc.objects[o].name, st.wc.types[st.wc.objects[o].type].name,
-                                              fmt::join(names, ", "), did_you_mean(frame, names)));
+                                              name_list(names), did_you_mean(frame, names)));
         return;
       }
       rc.targets.push_back({o, frame, Eigen::Isometry3d::Identity(),

@@ -25,27 +25,67 @@ namespace sscs {
 /// attributes. A subtype lists its base's attributes first and in the same order, so a base's
 /// template reads an object of the subtype too.
 struct ValueRef {
+  /// An entry of `attributes` at or above this is a repeat counter (kCounter + its index).
+  static constexpr int kCounter = 1 << 24;
   bool present = false;
   double constant = NAN;                   ///< SI, when it is no expression
-  std::shared_ptr<const Expression> expr;  ///< over attributes
+  std::shared_ptr<const Expression> expr;  ///< over attributes (and the counters of a repeat)
   std::vector<int> attributes;             ///< the attribute index of each of expr->names()
   std::string text;                        ///< as written, for messages
   SourceMark mark;
   /// Its value for an object whose attribute values (SI) start at `attributes_si`; `fallback`
-  /// when the type file does not give it.
-  double eval(const double* attributes_si, double fallback) const;
+  /// when the type file does not give it; `counters`, a repeated entry's copy (its counters' values).
+  double eval(const double* attributes_si, double fallback, const double* counters = nullptr) const;
 };
 
 /// Three values (a size, a scale, an axis).
 struct VectorRef {
   std::array<ValueRef, 3> v;
-  Eigen::Vector3d eval(const double* attributes_si, double fallback) const;
+  Eigen::Vector3d eval(const double* attributes_si, double fallback, const double* counters = nullptr) const;
 };
 
 /// `xyz`/`rpy`: a placement in the frame of what it belongs to.
 struct PoseRef {
   VectorRef xyz, rpy;
-  Eigen::Isometry3d eval(const double* attributes_si) const;
+  Eigen::Isometry3d eval(const double* attributes_si, const double* counters = nullptr) const;
+};
+
+/// `repeat:` of a geometry entry or frame: a copy for each combination of its counters, the
+/// first outermost, each running from 1 to its count (over the object's attributes).
+struct RepeatTemplate {
+  /// The most copies one entry makes for one object (a rack of 20 levels x 50 bays is 1000).
+  static constexpr double kMaxCopies = 100000;
+  struct Counter {
+    std::string name;
+    ValueRef count;
+    VectorRef pitch;  ///< copy k moves by (k - 1) pitches; absent: 0
+  };
+  std::vector<Counter> counters;
+  SourceMark mark;
+
+  /// What is wrong with the counts for an object ("" when nothing): each a whole number from 0,
+  /// all of them together at most kMaxCopies copies.
+  std::string problem(const double* attributes_si) const;
+  /// Calls `f(counters)` for each copy, `counters` holding each counter's value; nothing when
+  /// problem() is not empty.
+  template <class F>
+  void each(const double* attributes_si, F&& f) const {
+    if (!problem(attributes_si).empty()) return;
+    std::vector<double> count(counters.size()), at(counters.size(), 1);
+    for (size_t k = 0; k < counters.size(); ++k) {
+      count[k] = counters[k].count.eval(attributes_si, 0);
+      if (count[k] < 1) return;
+    }
+    while (true) {
+      f(static_cast<const double*>(at.data()));
+      size_t k = counters.size();
+      while (k > 0 && at[k - 1] >= count[k - 1]) at[--k] = 1;
+      if (k == 0) return;
+      at[k - 1] += 1;
+    }
+  }
+  /// How far copy `at` moves from the first: the sum of its counters' pitches.
+  Eigen::Vector3d offset(const double* attributes_si, const double* at) const;
 };
 
 struct ShapeTemplate {
@@ -58,11 +98,25 @@ struct ShapeTemplate {
   std::string mesh_text;    ///< mesh: as written
   SourceMark mesh_mark;
   std::string color;        ///< "#rrggbb" of this shape alone (a URDF visual's material), or ""
+  std::shared_ptr<const RepeatTemplate> repeat;  ///< copies of it, or null
 };
 
 struct FrameTemplate {
-  std::string name;
+  std::string name;  ///< with `{counter}` for each counter of a repeated frame
   PoseRef pose;
+  std::shared_ptr<const RepeatTemplate> repeat;  ///< copies of it, or null
+  /// The frame's name and pose (in the object's frame) for each copy.
+  template <class F>
+  void each(const double* attributes_si, F&& f) const {
+    if (!repeat) return f(name, pose.eval(attributes_si));
+    repeat->each(attributes_si, [&](const double* at) {
+      Eigen::Isometry3d X = pose.eval(attributes_si, at);
+      X.translation() += repeat->offset(attributes_si, at);
+      f(name_of(at), X);
+    });
+  }
+  /// The name of copy `at`: each `{counter}` replaced by its value.
+  std::string name_of(const double* at) const;
 };
 
 struct JointTemplate {
@@ -107,8 +161,16 @@ struct DeviceTemplate {
 };
 
 /// What later stages build an object of a type from, inheritance flattened.
+/// A rule every instance keeps (`requires:`): a condition over the attributes, true when not 0.
+struct RuleTemplate {
+  ValueRef condition;
+  std::string message;
+  std::string type;  ///< the type that states it
+};
+
 struct TypeTemplates {
   std::vector<ShapeTemplate> geometry;           ///< its own, else the nearest base's that has some
+  std::vector<RuleTemplate> rules;               ///< bases' first, then its own
   std::vector<FrameTemplate> frames;             ///< bases' first; one of the same name replaces its base's
   ValueRef mass;                                 ///< declared: its own, else the nearest base's
   std::string mass_type;                         ///< the type that declares it

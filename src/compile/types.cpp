@@ -67,6 +67,25 @@ AttributeDef make_attribute(const AttributeDecl& decl, Diagnostics& diag) {
   return a;
 }
 
+ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag,
+                       const std::vector<std::string>& counters = {});
+
+/// A joint limit: a number with its unit, or an expression over the type's attributes that are
+/// no joints (evaluated for each object).
+void joint_limit(const Scalar& v, const AttributeDef& a, const ObjectType& type, std::optional<double>& si, ValueRef& expr,
+                 std::string_view what, Diagnostics& diag) {
+  if (!v.present) return;
+  Diagnostics quiet;
+  if (parse_value(v, a.dim, what, quiet).kind != ParsedValue::Kind::Expression) {
+    si = literal_si(v, a.dim, what, diag);
+    return;
+  }
+  expr = compile_value(v, a.dim, type, what, diag);
+  for (int k : expr.attributes)
+    if (k >= 0 && k < static_cast<int>(type.attributes.size()) && type.attributes[k].joint)
+      diag.error(v.mark, fmt::format("{} uses joint '{}'; a limit may use the type's attributes, not its joints", what, type.attributes[k].name));
+}
+
 /// Joint values are attributes of a device instance, limited by the joint's limits.
 void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& diag) {
   const DeviceSpec& device = *spec.device;
@@ -80,8 +99,8 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
     a.mark = j.mark;
     a.joint = true;
     a.description = fmt::format("{} joint of part '{}'", j.type == JointType::Revolute ? "revolute" : "prismatic", part.name);
-    if (j.min.present) a.min_si = literal_si(j.min, a.dim, fmt::format("the min of joint '{}'", j.name), diag);
-    if (j.max.present) a.max_si = literal_si(j.max, a.dim, fmt::format("the max of joint '{}'", j.name), diag);
+    joint_limit(j.min, a, type, a.min_si, a.min_expr, fmt::format("the min of joint '{}'", j.name), diag);
+    joint_limit(j.max, a, type, a.max_si, a.max_expr, fmt::format("the max of joint '{}'", j.name), diag);
     if (is_object_key(a.name)) {
       diag.error(j.mark, fmt::format("joint '{}' has the name of a key of every object (an object could not set it){}", j.name,
                                      spec.device->urdf.present ? fmt::format("; rename it in '{}'", spec.device->urdf.text) : ""));
@@ -127,7 +146,8 @@ void add_joint_attributes(const TypeSpec& spec, ObjectType& type, Diagnostics& d
 /// Compiles a value of a type's geometry, frames or parts: a number, a unit literal, or an
 /// expression over the type's own attributes. What it cannot read is an error (the type's
 /// problem) and a NaN constant.
-ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag,
+                       const std::vector<std::string>& counters) {
   ValueRef out;
   if (!v.present) return out;
   out.present = true;
@@ -142,9 +162,13 @@ ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::st
     diag.error(mark_at(v, err.position), fmt::format("cannot read '{}' as a value or expression for {}: {}", v.text, what, err.message));
     return out;
   }
-  std::vector<std::string> names;
+  std::vector<std::string> names = counters;
   for (const AttributeDef& a : type.attributes) names.push_back(a.name);
   for (const std::string& n : expr->names()) {
+    if (auto c = std::find(counters.begin(), counters.end(), n); c != counters.end()) {
+      out.attributes.push_back(ValueRef::kCounter + static_cast<int>(c - counters.begin()));
+      continue;
+    }
     int a = type.find_attribute(n);
     if (a < 0) {
       diag.error(mark_at(v, v.text.find(n)), fmt::format("{} uses '{}', which is not an attribute of type '{}'{}", what, n,
@@ -158,15 +182,43 @@ ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::st
   return out;
 }
 
-VectorRef compile_vector(const std::array<Scalar, 3>& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag) {
+VectorRef compile_vector(const std::array<Scalar, 3>& v, Dim dim, const ObjectType& type, std::string_view what, Diagnostics& diag,
+                         const std::vector<std::string>& counters = {}) {
   VectorRef out;
-  for (int k = 0; k < 3; ++k) out.v[k] = compile_value(v[k], dim, type, what, diag);
+  for (int k = 0; k < 3; ++k) out.v[k] = compile_value(v[k], dim, type, what, diag, counters);
   return out;
 }
 
-PoseRef compile_pose(const PoseSpec& pose, const ObjectType& type, std::string_view what, Diagnostics& diag) {
-  return {compile_vector(pose.xyz, Dim::Length, type, fmt::format("{} xyz", what), diag),
-          compile_vector(pose.rpy, Dim::Angle, type, fmt::format("{} rpy", what), diag)};
+PoseRef compile_pose(const PoseSpec& pose, const ObjectType& type, std::string_view what, Diagnostics& diag,
+                     const std::vector<std::string>& counters = {}) {
+  return {compile_vector(pose.xyz, Dim::Length, type, fmt::format("{} xyz", what), diag, counters),
+          compile_vector(pose.rpy, Dim::Angle, type, fmt::format("{} rpy", what), diag, counters)};
+}
+
+/// The names a repeated entry's values may use besides the type's attributes.
+std::vector<std::string> counter_names(const std::optional<RepeatSpec>& repeat) {
+  std::vector<std::string> out;
+  if (repeat)
+    for (const RepeatSpec::Counter& c : repeat->counters) out.push_back(c.name);
+  return out;
+}
+
+/// A repeat's counts and pitches, over the type's attributes; a counter named as an attribute
+/// would hide it.
+std::shared_ptr<const RepeatTemplate> compile_repeat(const std::optional<RepeatSpec>& repeat, const ObjectType& type,
+                                                     Diagnostics& diag) {
+  if (!repeat) return nullptr;
+  auto out = std::make_shared<RepeatTemplate>();
+  out->mark = repeat->mark;
+  for (const RepeatSpec::Counter& c : repeat->counters) {
+    if (type.find_attribute(c.name) >= 0)
+      diag.error(c.mark, fmt::format("repeat counter '{}' has the name of an attribute of '{}' (a counter would hide it)", c.name, type.name));
+    RepeatTemplate::Counter& t = out->counters.emplace_back();
+    t.name = c.name;
+    t.count = compile_value(c.count, Dim::None, type, fmt::format("the count of repeat counter '{}'", c.name), diag);
+    t.pitch = compile_vector(c.pitch, Dim::Length, type, fmt::format("the pitch of repeat counter '{}'", c.name), diag);
+  }
+  return out;
 }
 
 /// Compiles geometry entries; a mesh file that cannot be read goes to `deferred` (the type's
@@ -176,22 +228,23 @@ std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geo
   std::vector<ShapeTemplate> out;
   for (const GeometrySpec& g : geometry) {
     ShapeTemplate t;
+    const std::vector<std::string> counters = counter_names(g.repeat);
     std::visit(
         [&](const auto& shape) {
           using T = std::decay_t<decltype(shape)>;
           if constexpr (std::is_same_v<T, BoxSpec>) {
             t.kind = ShapeTemplate::Kind::Box;
-            t.size = compile_vector(shape.size, Dim::Length, type, "box size", diag);
+            t.size = compile_vector(shape.size, Dim::Length, type, "box size", diag, counters);
           } else if constexpr (std::is_same_v<T, CylinderSpec>) {
             t.kind = ShapeTemplate::Kind::Cylinder;
-            t.radius = compile_value(shape.radius, Dim::Length, type, "cylinder radius", diag);
-            t.length = compile_value(shape.length, Dim::Length, type, "cylinder length", diag);
+            t.radius = compile_value(shape.radius, Dim::Length, type, "cylinder radius", diag, counters);
+            t.length = compile_value(shape.length, Dim::Length, type, "cylinder length", diag, counters);
           } else if constexpr (std::is_same_v<T, SphereSpec>) {
             t.kind = ShapeTemplate::Kind::Sphere;
-            t.radius = compile_value(shape.radius, Dim::Length, type, "sphere radius", diag);
+            t.radius = compile_value(shape.radius, Dim::Length, type, "sphere radius", diag, counters);
           } else {
             t.kind = ShapeTemplate::Kind::Mesh;
-            t.scale = compile_vector(shape.scale, Dim::None, type, "mesh scale", diag);
+            t.scale = compile_vector(shape.scale, Dim::None, type, "mesh scale", diag, counters);
             t.mesh_text = shape.file.text;
             t.mesh_mark = shape.file.mark;
             t.mesh_file = resolve_mesh_path(type_file, shape.file.text);
@@ -201,7 +254,8 @@ std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geo
           }
         },
         g.shape);
-    t.pose = compile_pose(g.pose, type, "geometry", diag);
+    t.pose = compile_pose(g.pose, type, "geometry", diag, counters);
+    t.repeat = compile_repeat(g.repeat, type, diag);
     t.color = g.color;
     out.push_back(std::move(t));
   }
@@ -516,12 +570,15 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     // their expressions use are checked now, so a typo fails at load, with its line.
     TypeTemplates& tt = t.templates;
     if (spec.has_geometry || t.base < 0) tt.geometry = compile_geometry(spec.geometry, t, spec.path, d, t.problems);
+    for (const RuleSpec& rule : spec.rules)
+      tt.rules.push_back({compile_value(rule.condition, Dim::None, t, "a rule's condition", d), rule.message, spec.name});
     if (spec.mass.present) {
       tt.mass = compile_value(spec.mass, Dim::Mass, t, "mass", d);
       tt.mass_type = spec.name;
     }
     for (const FrameSpec& f : spec.frames) {
-      FrameTemplate frame{f.name, compile_pose(f.pose, t, fmt::format("frame '{}'", f.name), d)};
+      FrameTemplate frame{f.name, compile_pose(f.pose, t, fmt::format("frame '{}'", f.name), d, counter_names(f.repeat)),
+                          compile_repeat(f.repeat, t, d)};
       auto same = std::find_if(tt.frames.begin(), tt.frames.end(), [&](const FrameTemplate& e) { return e.name == f.name; });
       if (same != tt.frames.end()) *same = std::move(frame);  // a subtype's frame replaces its base's
       else tt.frames.push_back(std::move(frame));

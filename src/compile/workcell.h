@@ -32,6 +32,16 @@ struct AttributeDef {
   AttrType type = AttrType::Number;
   Dim dim = Dim::None;
   std::optional<double> min_si, max_si;
+  /// A joint's limits written as expressions over the type's other attributes (a crane's travel
+  /// up to `runway_length - 2`): its bounds for each object, where min_si/max_si are unset.
+  ValueRef min_expr, max_expr;
+  /// Its bounds for an object whose attribute values (SI) start at `attributes_si`.
+  double lower(const double* attributes_si) const {
+    return min_si ? *min_si : min_expr.present ? min_expr.eval(attributes_si, NAN) : -INFINITY;
+  }
+  double upper(const double* attributes_si) const {
+    return max_si ? *max_si : max_expr.present ? max_expr.eval(attributes_si, NAN) : INFINITY;
+  }
   std::vector<std::string> values;  ///< enum values
   std::string description;
   Scalar default_value;             ///< as written in the type file (may be an expression)
@@ -85,6 +95,9 @@ struct Object {
   SourceMark mark;
   std::string geomodel;  ///< mesh file replacing the type's geometry, resolved path
   std::string color;
+  /// `at:` the named frame of its parent it stands at ("" for the parent's origin); its location
+  /// and orientation are in that frame.
+  std::string at;
 };
 
 /// What a constraint operand reads.
@@ -199,9 +212,12 @@ struct Workcell {
 
   /// Index of the object named `name`, or -1. O(log n).
   int find_object(std::string_view name) const;
-  /// The frames an object of type `t` offers as a target: `origin`, `top`, then sorted, its
-  /// type's named frames (its bases' too) and, for devices, their parts and `tool`.
-  std::vector<std::string> frame_names(int t) const;
+  /// The frames object `object` offers as a target: `origin`, `top`, then sorted, its type's
+  /// named frames (its bases' too; each copy of a repeated one) and, for devices, their parts and `tool`.
+  std::vector<std::string> frame_names(int object) const;
+  /// The pose of object `object`'s named frame `name` (its type's `frames:`, a copy of a repeated
+  /// one) in the object's own frame; nullopt when it has none so named.
+  std::optional<Eigen::Isometry3d> named_frame(int object, std::string_view name) const;
   /// Index of the type named `name`, or -1.
   int find_type(std::string_view name) const;
   /// The objects a selector item names, in index order: `*`, `type:T` (T and the types extending

@@ -7,6 +7,13 @@ namespace sscs {
 static bool is_letter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 static bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
+std::string name_list(const std::vector<std::string>& names, size_t most) {
+  std::string out;
+  for (size_t k = 0; k < names.size() && k < most; ++k) out += (k ? ", " : "") + names[k];
+  if (names.size() > most) out += ", ... (" + std::to_string(names.size()) + " in all)";
+  return out;
+}
+
 bool is_valid_name(std::string_view name) {
   if (name.empty() || !is_letter(name[0])) return false;
   return std::all_of(name.begin(), name.end(),

@@ -26,6 +26,10 @@ std::string closest_name(std::string_view name, const std::vector<std::string>& 
 /// " (did you mean 'X'?)" or "" when nothing is close.
 std::string did_you_mean(std::string_view name, const std::vector<std::string>& candidates);
 
+/// Names joined with ", ", the first `most` of them and how many there are in all beyond that
+/// (a rack's 600 slot frames in a message would hide what it says).
+std::string name_list(const std::vector<std::string>& names, size_t most = 24);
+
 /// Glob match with `*` and `?` over a whole name.
 bool glob_match(std::string_view pattern, std::string_view name);
 

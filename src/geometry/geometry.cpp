@@ -170,32 +170,34 @@ class Builder {
         diag_.error(r.mark.valid() ? r.mark : o.mark, fmt::format("{} of '{}' is {}, expected a positive length", what, o.name, v));
       return v;
     };
-    for (const ShapeTemplate& t : templates) {
+    // One shape of template t, for copy `at` of a repeated one.
+    auto add = [&](const ShapeTemplate& t, const double* at) {
       Shape s;
-      s.X_object_shape = t.pose.eval(a);
+      s.X_object_shape = t.pose.eval(a, at);
+      if (at) s.X_object_shape.translation() += t.repeat->offset(a, at);
       switch (t.kind) {
         case ShapeTemplate::Kind::Box:
           s.kind = Shape::Kind::Box;
-          s.box_size = t.size.eval(a, 0);
+          s.box_size = t.size.eval(a, 0, at);
           for (int k = 0; k < 3; ++k) check_positive(s.box_size[k], t.size.v[k], "box size");
           break;
         case ShapeTemplate::Kind::Cylinder:
           s.kind = Shape::Kind::Cylinder;
-          s.radius = check_positive(t.radius.eval(a, 0), t.radius, "cylinder radius");
-          s.length = check_positive(t.length.eval(a, 0), t.length, "cylinder length");
+          s.radius = check_positive(t.radius.eval(a, 0, at), t.radius, "cylinder radius");
+          s.length = check_positive(t.length.eval(a, 0, at), t.length, "cylinder length");
           break;
         case ShapeTemplate::Kind::Sphere:
           s.kind = Shape::Kind::Sphere;
-          s.radius = check_positive(t.radius.eval(a, 0), t.radius, "sphere radius");
+          s.radius = check_positive(t.radius.eval(a, 0, at), t.radius, "sphere radius");
           break;
         case ShapeTemplate::Kind::Mesh:
           s.kind = Shape::Kind::Mesh;
-          s.scale = t.scale.eval(a, 1);
+          s.scale = t.scale.eval(a, 1, at);
           s.mesh = meshes_.load(t.mesh_file, t.mesh_mark, diag_);
           break;
       }
       s.color = t.color;
-      if (s.kind == Shape::Kind::Mesh && !s.mesh) continue;
+      if (s.kind == Shape::Kind::Mesh && !s.mesh) return;
       // What is drawn: a mesh whose file colours its materials (a vendor's DAE) becomes a shape
       // per colour, in that colour (the file's colours win over a URDF material's).
       if (split_colours && s.kind == Shape::Kind::Mesh && !s.mesh->triangle_rgb.empty()) {
@@ -205,9 +207,13 @@ class Builder {
           if (rgb) p.color = fmt::format("#{:06x}", rgb & 0xffffffu);
           out.push_back(std::move(p));
         }
-        continue;
+        return;
       }
       out.push_back(std::move(s));
+    };
+    for (const ShapeTemplate& t : templates) {
+      if (!t.repeat) add(t, nullptr);
+      else t.repeat->each(a, [&](const double* at) { add(t, at); });
     }
     return out;
   }
@@ -287,8 +293,8 @@ class Builder {
           // Its limits are its attribute's, as the object's type has them (a subtype may narrow them).
           j.attribute = type.find_attribute(jt.name);
           const AttributeDef& attr = type.attributes[j.attribute];
-          j.lower = attr.min_si.value_or(-INFINITY);
-          j.upper = attr.max_si.value_or(INFINITY);
+          j.lower = attr.lower(a);
+          j.upper = attr.upper(a);
           j.velocity = jt.velocity.eval(a, 0);
           j.acceleration = jt.acceleration.eval(a, 0);
           j.effort = jt.effort.eval(a, 0);
@@ -347,6 +353,12 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
     local[i].setIdentity();
     local[i].linear() = rpy_to_rotation(v[kOrientationSlot], v[kOrientationSlot + 1], v[kOrientationSlot + 2]);
     local[i].translation() = Eigen::Vector3d(v[kLocationSlot], v[kLocationSlot + 1], v[kLocationSlot + 2]);
+    // Placed `at` a frame of its parent: its location and orientation are in that frame.
+    if (!o.at.empty() && o.parent >= 0)
+      if (auto X = wc.named_frame(o.parent, o.at)) {
+        model.objects[i].X_parent_at = *X;
+        local[i] = *X * local[i];
+      }
   }
   std::vector<char> done(wc.objects.size(), 0);
   for (size_t i = 0; i < wc.objects.size(); ++i) {
@@ -414,7 +426,8 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       diag.error(o.mark, fmt::format("'{}' reaches {} m from the origin (its parents' locations added), beyond the "
                                      "{:g} m (1000 km) sscs places things within", o.name, number_text(far.maxCoeff()), kMaxLengthSi));
     // Frames: the base types' first, a subtype's frame of the same name replacing its base's.
-    for (const FrameTemplate& f : tt.frames) g.frames_world.emplace_back(f.name, g.X_world_object * f.pose.eval(build.attributes(obj)));
+    for (const FrameTemplate& f : tt.frames)
+      f.each(build.attributes(obj), [&](std::string name, const Eigen::Isometry3d& X) { g.frames_world.emplace_back(std::move(name), g.X_world_object * X); });
     // A device's parts and tool are frames too, unless the type names a frame so itself.
     for (auto& f : device_frames)
       if (!g.frame(f.first)) g.frames_world.push_back(std::move(f));

@@ -27,6 +27,9 @@ struct ObjectGeometry {
   /// Named frames of the type (and its base types) in the world, in declaration order.
   /// A device's parts and its `tool` are frames too, at the instance's joint values.
   std::vector<std::pair<std::string, Eigen::Isometry3d>> frames_world;
+  /// The frame of its parent it stands `at`, in the parent's frame (identity: the parent's
+  /// origin): its location and orientation are in this frame.
+  Eigen::Isometry3d X_parent_at = Eigen::Isometry3d::Identity();
   /// The kinematic model, for devices, and its parts' poses at the instance's joint values.
   std::shared_ptr<const Device> device;
   std::vector<Eigen::Isometry3d> X_object_part;

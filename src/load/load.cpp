@@ -174,6 +174,35 @@ PoseSpec pose(MapReader& reader, Diagnostics& diag) {
   return p;
 }
 
+std::optional<RepeatSpec> repeat(MapReader& reader, Diagnostics& diag) {
+  yaml::Node node = reader.take("repeat");
+  if (!node.valid()) return std::nullopt;
+  RepeatSpec out;
+  out.mark = node.mark();
+  if (!node.is_map() || node.size() == 0) {
+    expected(diag, node, "a map of counters {name: count} or {name: {count, pitch}}", "repeat");
+    return out;
+  }
+  for (size_t i = 0; i < node.size(); ++i) {
+    RepeatSpec::Counter c;
+    c.name = name(node.key(i), "a repeat counter", diag);
+    c.mark = node.key(i).mark();
+    yaml::Node value = node.value(i);
+    if (value.is_map()) {
+      MapReader r(value, fmt::format("repeat counter '{}'", c.name), diag);
+      c.count = scalar(r.require("count"), "a repeat count", diag);
+      c.pitch = vec3(r.take("pitch"), "a repeat pitch", diag);
+      r.finish();
+    } else {
+      c.count = scalar(value, "a repeat count", diag);
+    }
+    for (const RepeatSpec::Counter& other : out.counters)
+      if (other.name == c.name) diag.error(c.mark, fmt::format("repeat counter '{}' is named twice", c.name));
+    out.counters.push_back(std::move(c));
+  }
+  return out;
+}
+
 std::vector<Scalar> scalar_list(yaml::Node node, std::string_view what, Diagnostics& diag) {
   std::vector<Scalar> out;
   if (!node.valid()) return out;
@@ -221,6 +250,7 @@ std::vector<GeometrySpec> geometry_list(yaml::Node node, Diagnostics& diag) {
       continue;
     }
     g.pose = pose(r, diag);
+    g.repeat = repeat(r, diag);
     r.finish();
     out.push_back(std::move(g));
   }

@@ -58,6 +58,8 @@ std::array<Scalar, 3> vec3(yaml::Node node, std::string_view what, Diagnostics& 
 CameraKeySpec read_camera(yaml::Node node, Diagnostics& diag, bool keyframe);
 /// `{xyz: [..], rpy: [..]}` read from `reader` (the keys live beside others).
 PoseSpec pose(MapReader& reader, Diagnostics& diag);
+/// `repeat:` read from `reader`, if it is there.
+std::optional<RepeatSpec> repeat(MapReader& reader, Diagnostics& diag);
 /// A scalar or a sequence of scalars.
 std::vector<Scalar> scalar_list(yaml::Node node, std::string_view what, Diagnostics& diag);
 /// Geometry list of a type or part.

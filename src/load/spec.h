@@ -53,17 +53,33 @@ struct MeshSpec {
   Scalar file;  ///< path relative to the file that names it
   std::array<Scalar, 3> scale;
 };
+/// `repeat: {level: levels, bay: {count: bays, pitch: [bay_width, 0, 0]}}` of a geometry entry
+/// or frame: a copy for each combination of its counters (the first outermost). Each counter runs
+/// from 1 to its count, is a name the entry's values may use, and moves copy k by (k - 1) pitches.
+struct RepeatSpec {
+  struct Counter {
+    std::string name;
+    SourceMark mark;
+    Scalar count;
+    std::array<Scalar, 3> pitch;  ///< absent: no offset
+  };
+  std::vector<Counter> counters;
+  SourceMark mark;
+};
+
 struct GeometrySpec {
   std::variant<BoxSpec, CylinderSpec, SphereSpec, MeshSpec> shape;
   PoseSpec pose;
+  std::optional<RepeatSpec> repeat;
   SourceMark mark;
   std::string color;  ///< "#rrggbb" of this shape alone (a URDF <visual>'s material), "" for none
 };
 
 struct FrameSpec {
-  std::string name;
+  std::string name;  ///< with `{counter}` in it when repeated (`slot_{level}_{bay}`)
   SourceMark mark;
   PoseSpec pose;
+  std::optional<RepeatSpec> repeat;
 };
 
 
@@ -127,6 +143,14 @@ struct DeviceSpec {
   std::vector<Diagnostic> import_problems;
 };
 
+/// `requires:` a rule every instance of the type keeps: a condition over its attributes and what
+/// it means when it does not hold ("the openings run past the wall's end").
+struct RuleSpec {
+  Scalar condition;
+  std::string message;
+  SourceMark mark;
+};
+
 struct TypeSpec {
   std::string name;
   SourceMark mark;
@@ -138,6 +162,7 @@ struct TypeSpec {
   std::vector<AttributeDecl> attributes;
   std::vector<FrameSpec> frames;
   std::vector<GeometrySpec> geometry;
+  std::vector<RuleSpec> rules;
   bool has_geometry = false;
   Scalar color;
   /// The mass of an instance (kg) for the physics: a number or an expression over the type's
@@ -184,8 +209,8 @@ struct AttrValue {
 
 /// The keys of an object in a vault that are not attributes: no attribute or joint may be named so
 /// (an object could not set it).
-inline constexpr std::array<const char*, 8> kObjectKeys = {"type", "name", "array", "location", "orientation", "parent",
-                                                           "geomodel", "color"};
+inline constexpr std::array<const char*, 9> kObjectKeys = {"type", "name", "array", "location", "orientation", "parent",
+                                                           "at", "geomodel", "color"};
 inline bool is_object_key(std::string_view name) {
   for (const char* k : kObjectKeys)
     if (name == k) return true;
@@ -198,6 +223,9 @@ struct ObjectSpec {
   SourceMark type_mark;
   Scalar name;
   Scalar parent;
+  /// `at: Rack_1.slot_2_1_3`: the object stands at a named frame of another, its parent; its
+  /// location and orientation are then in that frame. Array placeholders {i} {j} {k} allowed.
+  Scalar at;
   std::array<Scalar, 3> location;
   std::array<Scalar, 3> orientation;
   Scalar geomodel;

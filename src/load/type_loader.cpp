@@ -1,5 +1,8 @@
 // Type-library files: `sscs: 1`, `type: NAME`, attributes, frames, geometry, devices.
+#include <algorithm>
+
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/names.h"
 #include "core/yaml_tree.h"
@@ -48,6 +51,49 @@ AttributeDecl read_attribute(yaml::Node key, yaml::Node value, Diagnostics& diag
   }
   r.finish();
   return a;
+}
+
+/// A repeated frame's name holds each of its counters once, in braces (`slot_{level}_{bay}`),
+/// and reads as a name with numbers in their places; a frame that is not repeated has none.
+void check_frame_name(const FrameSpec& f, Diagnostics& diag) {
+  if (f.name.empty()) return;
+  std::string filled;
+  std::vector<std::string> used;
+  for (size_t i = 0; i < f.name.size(); ++i) {
+    if (f.name[i] == '}') {
+      diag.error(f.mark, fmt::format("frame name '{}' has a '}}' without its '{{'", f.name));
+      return;
+    }
+    if (f.name[i] != '{') {
+      filled += f.name[i];
+      continue;
+    }
+    size_t end = f.name.find('}', i);
+    if (end == std::string::npos) {
+      diag.error(f.mark, fmt::format("frame name '{}' has a '{{' without its '}}'", f.name));
+      return;
+    }
+    used.push_back(f.name.substr(i + 1, end - i - 1));
+    filled += "1";
+    i = end;
+  }
+  if (!is_valid_name(filled)) {
+    diag.error(f.mark, fmt::format("expected a name for a frame (a letter, then letters, digits, '_' or '-', with {{counter}} "
+                                   "standing for a number in a repeated frame), found '{}'", f.name));
+    return;
+  }
+  std::vector<std::string> counters;
+  if (f.repeat)
+    for (const RepeatSpec::Counter& c : f.repeat->counters) counters.push_back(c.name);
+  for (const std::string& u : used)
+    if (std::find(counters.begin(), counters.end(), u) == counters.end())
+      diag.error(f.mark, counters.empty() ? fmt::format("frame name '{}' names '{{{}}}', but the frame has no 'repeat'", f.name, u)
+                                          : fmt::format("frame name '{}' names '{{{}}}', which is not a counter of its repeat ({}){}",
+                                                        f.name, u, fmt::join(counters, ", "), did_you_mean(u, counters)));
+  for (const std::string& c : counters)
+    if (std::count(used.begin(), used.end(), c) != 1)
+      diag.error(f.mark, fmt::format("frame name '{}' must name counter '{}' once, as {{{}}}, so that each copy has a name of its own",
+                                     f.name, c, c));
 }
 
 JointSpec read_joint(yaml::Node node, Diagnostics& diag) {
@@ -186,11 +232,14 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   MapReader frames(root.take("frames"), "frames", diag);
   for (auto& [k, v] : frames.rest()) {
     FrameSpec f;
-    f.name = load::name(k, "a frame", diag);
+    const bool pattern = k.is_scalar() && k.text().find_first_of("{}") != std::string_view::npos;
+    f.name = pattern ? std::string(k.text()) : load::name(k, "a frame", diag);
     f.mark = k.mark();
     MapReader fr(v, fmt::format("frame '{}'", f.name), diag);
     f.pose = load::pose(fr, diag);
+    f.repeat = load::repeat(fr, diag);
     fr.finish();
+    check_frame_name(f, diag);
     t.frames.push_back(std::move(f));
   }
   yaml::Node geometry = root.take("geometry");
@@ -198,6 +247,19 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   t.geometry = load::geometry_list(geometry, diag);
   t.color = load::scalar(root.take("color"), "color", diag);
   t.container = load::boolean(root.take("container"), "container", diag);
+  yaml::Node rules = root.take("requires");
+  if (rules.valid() && !rules.is_sequence()) load::expected(diag, rules, "a sequence of {condition, message}", "requires");
+  else if (rules.valid())
+    for (size_t i = 0; i < rules.size(); ++i) {
+      MapReader r(rules.item(i), "a rule of requires", diag);
+      if (!r.ok()) continue;
+      RuleSpec rule;
+      rule.mark = r.mark();
+      rule.condition = load::scalar(r.require("condition"), "a rule's condition", diag);
+      rule.message = load::text(r.require("message"), "a rule's message", diag);
+      r.finish();
+      t.rules.push_back(std::move(rule));
+    }
   if (t.container && device) diag.error(t.mark, "a device is no container: 'container' is for objects that hold others");
   if (yaml::Node mass = root.take("mass"); mass.valid()) {
     if (device) diag.error(mass.mark(), "a device's mass is its parts' masses; 'mass' is for objects that are not devices");

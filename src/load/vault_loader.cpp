@@ -89,6 +89,9 @@ ObjectSpec read_object(yaml::Node node, Diagnostics& diag) {
   o.location = load::vec3(r.take("location"), "location", diag);
   o.orientation = load::vec3(r.take("orientation"), "orientation", diag);
   o.parent = load::scalar(r.take("parent"), "parent", diag);
+  o.at = load::scalar(r.take("at"), "at", diag);
+  if (o.at.present && o.parent.present)
+    diag.error(o.at.mark, "an object is placed by 'parent' or by 'at' (a frame of its parent), not both");
   o.geomodel = load::scalar(r.take("geomodel"), "geomodel", diag);
   o.color = load::scalar(r.take("color"), "color", diag);
   for (auto& [k, v] : r.rest()) {

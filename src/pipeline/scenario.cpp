@@ -208,10 +208,10 @@ class ScenarioCompiler {
     }
     int o = object(obj, "move_to target");
     if (o < 0) return;
-    std::vector<std::string> names = wc_.frame_names(wc_.objects[o].type);
+    std::vector<std::string> names = wc_.frame_names(o);
     if (std::find(names.begin(), names.end(), frame) == names.end()) {
       diag_.error(mark_at(t.ref, dot + 1), fmt::format("'{}' is not a frame of {}; its frames: {}{}", frame, obj.text,
-                                                      fmt::join(names, ", "), did_you_mean(frame, names)));
+                                                      name_list(names), did_you_mean(frame, names)));
       return;
     }
     c.target = o;

@@ -45,12 +45,12 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   out.bounds = g.bbox_world;  // the instance stands at the origin: world is the type's frame
   // `top` (what a reach or move_to targets by default), then the frames the type files name.
   out.frames.emplace_back("top", g.frame_pose("top"));
-  std::vector<std::string> named;
-  for (const FrameTemplate& f : wc->types[wc->objects[0].type].templates.frames) named.push_back(f.name);
-  std::sort(named.begin(), named.end());
-  named.erase(std::unique(named.begin(), named.end()), named.end());
-  for (const std::string& name : named)
-    if (const Eigen::Isometry3d* X = g.frame(name); X && name != "top") out.frames.emplace_back(name, *X);
+  // In the type files' order (a subtype's frame in its base's place), each copy of a repeated one.
+  const double* attributes = &wc->values[wc->objects[0].first_slot + kFirstAttributeSlot];
+  for (const FrameTemplate& f : wc->types[wc->objects[0].type].templates.frames)
+    f.each(attributes, [&](const std::string& name, const Eigen::Isometry3d&) {
+      if (const Eigen::Isometry3d* X = g.frame(name); X && name != "top") out.frames.emplace_back(name, *X);
+    });
   const std::filesystem::path folder = std::filesystem::absolute(type.path).parent_path();
   auto add_mesh = [&](const Shape& s) {
     if (s.kind != Shape::Kind::Mesh || !s.mesh) return;
@@ -113,8 +113,11 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
     aj["type"] = attr_type_name(a.type);
     aj["unit"] = file_unit(a.dim);
     aj["default"] = a.default_value.present ? nlohmann::ordered_json(a.default_value.text) : nullptr;
-    aj["min"] = a.min_si ? nlohmann::ordered_json(stable(si_to_file(*a.min_si, a.dim))) : nullptr;
-    aj["max"] = a.max_si ? nlohmann::ordered_json(stable(si_to_file(*a.max_si, a.dim))) : nullptr;
+    // A joint limit written as an expression over the type's attributes: its text.
+    aj["min"] = a.min_si ? nlohmann::ordered_json(stable(si_to_file(*a.min_si, a.dim)))
+                : a.min_expr.present ? nlohmann::ordered_json(a.min_expr.text) : nullptr;
+    aj["max"] = a.max_si ? nlohmann::ordered_json(stable(si_to_file(*a.max_si, a.dim)))
+                : a.max_expr.present ? nlohmann::ordered_json(a.max_expr.text) : nullptr;
     if (a.type == AttrType::Enum) aj["values"] = a.values;
     aj["joint"] = a.joint;
     aj["description"] = a.description;
@@ -209,9 +212,9 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
     for (const AttributeDef& a : t.attributes) {
       const char* unit = file_unit(a.dim);
       std::string range;
-      if (a.min_si || a.max_si)
-        range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : "",
-                            a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : "");
+      if (a.min_si || a.max_si || a.min_expr.present || a.max_expr.present)
+        range = fmt::format("  [{}, {}]", a.min_si ? number_text(si_to_file(*a.min_si, a.dim)) : a.min_expr.text,
+                            a.max_si ? number_text(si_to_file(*a.max_si, a.dim)) : a.max_expr.text);
       std::string values = a.type == AttrType::Enum ? fmt::format("  {{{}}}", fmt::join(a.values, ", ")) : "";
       // A joint's default is its home, in the unit of the column (the type may write it in rad).
       std::string def = a.joint ? fmt::format("  default {}", number_text(si_to_file(a.home_si, a.dim)))

@@ -663,7 +663,9 @@ class Run {
       clearances_.move(static_cast<int>(o), X);
       repose(live_.objects[o], X);
       const Object& obj = wc_.objects[o];
-      Eigen::Isometry3d local = (obj.parent >= 0 ? live_.objects[obj.parent].X_world_object.inverse() : Eigen::Isometry3d::Identity()) * X;
+      const Eigen::Isometry3d X_world_parent =
+          obj.parent >= 0 ? live_.objects[obj.parent].X_world_object * live_.objects[o].X_parent_at : Eigen::Isometry3d::Identity();
+      Eigen::Isometry3d local = X_world_parent.inverse() * X;
       Eigen::Vector3d rpy = rotation_to_rpy(local.linear());
       for (int k = 0; k < 3; ++k) {
         live_values_[obj.first_slot + kLocationSlot + k] = local.translation()[k];

@@ -189,7 +189,7 @@ TEST_F(Geometry, MeshFormatsLoadAlike) {
   ASSERT_TRUE(obj);
   Workcell wc;
   wc.name = "T";
-  wc.objects.push_back(Object{"Tet", 0, -1, 0, {}, "", ""});
+  wc.objects.push_back(Object{"Tet", 0, -1, 0, {}, "", "", ""});
   GeometryModel g;
   g.objects.resize(1);
   Shape s;
@@ -291,6 +291,127 @@ TEST_F(Geometry, NamedFramesFollowAttributesAndInheritance) {
   ASSERT_TRUE(slot);
   EXPECT_NEAR(slot->translation().z(), 0.15 + 2, 1e-12);
   EXPECT_FALSE(g.objects[2].frame("slot_9"));
+}
+
+// `repeat:` copies a geometry entry or frame over its counters, each from 1 to its count: the
+// counters name values in the entry, the pitch moves copy k by (k - 1) pitches.
+constexpr const char* kGrid =
+    "sscs: 1\ntype: grid\nattributes:\n"
+    "  rows: {type: integer, default: 2, min: 0}\n"
+    "  cols: {type: integer, default: 3, min: 0}\n"
+    "  pitch: {type: length, default: 1}\n"
+    "  scale: {type: number, default: 1}\n"
+    "frames:\n"
+    "  cell_{row}_{col}: {xyz: [\"col * pitch\", 0, \"row\"], repeat: {row: rows, col: cols}}\n"
+    "geometry:\n"
+    "  - box: {size: [0.5, 0.5, \"0.1 * row\"], xyz: [0, 0, \"row * 10\"], repeat: {row: rows, col: {count: \"cols * scale\", pitch: [pitch, 0, 0]}}}\n"
+    "  - sphere: {radius: 0.2, xyz: [0, 5, 0]}\n";
+
+TEST_F(Geometry, RepeatedShapesAndFramesFollowTheirCounters) {
+  options.library_dirs.push_back(type_dir({{"grid", kGrid}}));
+  Workcell wc = must_compile("objects:\n  - {type: grid, name: G, location: [100, 0, 0]}\n  - {type: grid, name: H, rows: 3, cols: 1, pitch: 2}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  ASSERT_EQ(g.objects[0].shapes.size(), 2u * 3u + 1u);
+  // Row outermost: row 1's three columns, then row 2's; the sphere after them.
+  for (int row = 1; row <= 2; ++row)
+    for (int col = 1; col <= 3; ++col) {
+      const Shape& s = g.objects[0].shapes[(row - 1) * 3 + (col - 1)];
+      EXPECT_EQ(s.kind, Shape::Kind::Box);
+      EXPECT_NEAR(s.box_size.z(), 0.1 * row, 1e-12);
+      EXPECT_TRUE(s.X_object_shape.translation().isApprox(Eigen::Vector3d(col - 1, 0, row * 10), 1e-12))
+          << row << " " << col << ": " << s.X_object_shape.translation().transpose();
+    }
+  EXPECT_EQ(g.objects[0].shapes.back().kind, Shape::Kind::Sphere);
+  ASSERT_EQ(g.objects[1].shapes.size(), 3u + 1u);
+  for (int row = 1; row <= 2; ++row)
+    for (int col = 1; col <= 3; ++col) {
+      const Eigen::Isometry3d* X = g.objects[0].frame(fmt::format("cell_{}_{}", row, col));
+      ASSERT_TRUE(X) << row << " " << col;
+      EXPECT_TRUE(X->translation().isApprox(Eigen::Vector3d(100 + col, 0, row), 1e-12)) << X->translation().transpose();
+    }
+  EXPECT_FALSE(g.objects[0].frame("cell_3_1"));
+  EXPECT_FALSE(g.objects[0].frame("cell_{row}_{col}"));
+  ASSERT_TRUE(g.objects[1].frame("cell_3_1"));
+  EXPECT_NEAR(g.objects[1].frame("cell_3_1")->translation().x(), 2, 1e-12);
+  std::vector<std::string> names = wc.frame_names(1);
+  EXPECT_THAT(names, ::testing::ElementsAre("origin", "top", "cell_1_1", "cell_2_1", "cell_3_1"));
+  // No copies at a count of 0.
+  Workcell none = must_compile("objects:\n  - {type: grid, name: G, rows: 0}\n");
+  EXPECT_EQ(build_geometry(none, diag).objects[0].shapes.size(), 1u);
+}
+
+TEST_F(Geometry, ARepeatCountThatIsNoWholeNumberIsAnErrorOfTheObject) {
+  options.library_dirs.push_back(type_dir({{"grid", kGrid}}));
+  EXPECT_THAT(first_error("objects:\n  - {type: grid, name: G, scale: 0.5}\n"),
+              ::testing::HasSubstr("a repeated shape of 'G' (type 'grid'): the count of repeat counter 'col' (cols * scale) is 1.5, "
+                                   "expected a whole number from 0 to 100000"));
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("parameters:\n  big: {value: 1e6}\nobjects:\n  - {type: grid, name: G, scale: big}\n"),
+              ::testing::HasSubstr("is 3000000, expected a whole number from 0 to 100000"));
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("objects:\n  - {type: grid, name: G, cols: 1000, rows: 1000}\n"),
+              ::testing::HasSubstr("a repeated shape of 'G' (type 'grid'): its repeat makes 1e+06 copies, more than the 100000"));
+  EXPECT_THAT(diag.format(sources), ::testing::HasSubstr("frame 'cell_{row}_{col}' of 'G' (type 'grid'): its repeat makes 1e+06 copies"));
+}
+
+TEST_F(Geometry, RepeatedFrameNamesNameEachCounterOnce) {
+  auto error_of = [&](const std::string& frames) {
+    diag = Diagnostics{};
+    options.library_dirs = {type_dir({{"t", "sscs: 1\ntype: t\nattributes:\n  n: {type: integer, default: 2}\nframes:\n" + frames +
+                                                "geometry:\n  - box: {size: [1, 1, 1]}\n"}})};
+    return first_error("objects:\n  - {type: t, name: A}\n");
+  };
+  EXPECT_THAT(error_of("  s_{k}: {xyz: [k, 0, 0]}\n"), ::testing::HasSubstr("frame name 's_{k}' names '{k}', but the frame has no 'repeat'"));
+  EXPECT_THAT(error_of("  s_{i}: {xyz: [i, 0, 0], repeat: {k: n}}\n"),
+              ::testing::HasSubstr("frame name 's_{i}' names '{i}', which is not a counter of its repeat (k)"));
+  EXPECT_THAT(error_of("  s: {xyz: [k, 0, 0], repeat: {k: n}}\n"),
+              ::testing::HasSubstr("frame name 's' must name counter 'k' once, as {k}, so that each copy has a name of its own"));
+  EXPECT_THAT(error_of("  \"{k}s\": {repeat: {k: n}}\n"), ::testing::HasSubstr("expected a name for a frame"));
+  EXPECT_THAT(error_of("  s_{k: {repeat: {k: n}}\n"), ::testing::HasSubstr("frame name 's_{k' has a '{' without its '}'"));
+  EXPECT_THAT(error_of("  s_{k}: {repeat: {n: 2}}\n"), ::testing::HasSubstr("names '{k}', which is not a counter"));
+  EXPECT_THAT(error_of("  s_{n}: {repeat: {n: 2}}\n"), ::testing::HasSubstr("repeat counter 'n' has the name of an attribute of 't'"));
+  EXPECT_THAT(error_of("  s_{k}: {xyz: [j, 0, 0], repeat: {k: n}}\n"), ::testing::HasSubstr("uses 'j', which is not an attribute of type 't'"));
+  EXPECT_THAT(error_of("  s_{k}: {repeat: {k: {count: n, pich: [1, 0, 0]}}}\n"), ::testing::HasSubstr("did you mean 'pitch'"));
+  EXPECT_THAT(error_of("  s_{k}: {repeat: [k, n]}\n"), ::testing::HasSubstr("expected a map of counters"));
+}
+
+TEST_F(Geometry, AnObjectAtAFrameOfAnotherStandsThereAndMovesWithIt) {
+  // `at: OBJECT.FRAME` makes OBJECT the parent and places the object in that frame: its location
+  // and orientation are offsets in it. Array instances name their frame with {i} {j} {k}.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 20, width: 10, height: 6, location: [5, 0, 0], orientation: [0, 0, 90]}\n"
+      "  - {type: drum_rack, name: K, parent: R, location: [2, 1, 0], bays: 2, levels: 2, level_height: 1.5}\n"
+      "  - type: drum\n    array: {count: [3, 2, 2], name: \"D_{k}_{j}_{i}\"}\n    at: \"K.slot_{k}_{j}_{i}\"\n"
+      "  - {type: drum, name: Up, at: K.slot_2_2_3, location: [0, 0, 0.5], orientation: [0, 0, 30]}\n");
+  GeometryModel g = build_geometry(wc, diag);
+  const int k = wc.find_object("K");
+  for (int level = 1; level <= 2; ++level)
+    for (int bay = 1; bay <= 2; ++bay)
+      for (int position = 1; position <= 3; ++position) {
+        const std::string slot = fmt::format("slot_{}_{}_{}", level, bay, position);
+        const int d = wc.find_object(fmt::format("D_{}_{}_{}", level, bay, position));
+        ASSERT_GE(d, 0) << slot;
+        EXPECT_EQ(wc.objects[d].parent, k);
+        EXPECT_TRUE(g.objects[d].X_world_object.isApprox(*g.objects[k].frame(slot), 1e-12)) << slot;
+      }
+  const int up = wc.find_object("Up");
+  const Eigen::Isometry3d expected = *g.objects[k].frame("slot_2_2_3") * Eigen::Translation3d(0, 0, 0.5) *
+                                     Eigen::AngleAxisd(30 * kPi / 180, Eigen::Vector3d::UnitZ());
+  EXPECT_TRUE(g.objects[up].X_world_object.isApprox(expected, 1e-12));
+  EXPECT_TRUE(g.objects[up].X_parent_at.isApprox(*wc.named_frame(k, "slot_2_2_3"), 1e-12));
+  // The rack's levels decide which frames there are: level 3 of a two-level rack is none.
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K, levels: 2}\n  - {type: drum, name: D, at: K.slot_3_1_1}\n"),
+              ::testing::HasSubstr("'slot_3_1_1' is no named frame of K (type 'drum_rack'); its frames: top, slot_1_1_1,"));
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K}\n  - {type: drum, name: D, at: Kk.slot_1_1_1}\n"),
+              ::testing::HasSubstr("'at' names unknown object 'Kk' (did you mean 'K'?)"));
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K}\n  - {type: drum, name: D, at: K}\n"),
+              ::testing::HasSubstr("expected OBJECT.FRAME for 'at'"));
+  diag = Diagnostics{};
+  EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K}\n  - {type: drum, name: D, parent: K, at: K.slot_1_1_1}\n"),
+              ::testing::HasSubstr("an object is placed by 'parent' or by 'at'"));
 }
 
 }  // namespace

@@ -123,11 +123,11 @@ TEST_F(DeviceProperty, InverseKinematicsReachesEveryRandomPoseOfEveryDevice) {
 }
 
 TEST_F(DeviceProperty, APrismaticStrokeLongerThanATurnIsNeverWrapped) {
-  // The bridge crane's travel is 18 m: a target at 12 m seeded at 0 must end at 12 m, not 12 - 2π.
+  // The bridge crane's travel is 17 m at its defaults: a target at 12 m seeded at 0 must end at 12 m, not 12 - 2π.
   const Device* d = device("bridge_crane");
   ASSERT_TRUE(d);
   Chain chain(*d);
-  for (double x : {12.0, 2 * kPi + 0.01, 17.9, 0.2}) {
+  for (double x : {12.0, 2 * kPi + 0.01, 16.9, 0.2}) {
     Eigen::VectorXd q = Eigen::VectorXd::Zero(chain.size());
     q[0] = x;
     q[2] = 3.0;

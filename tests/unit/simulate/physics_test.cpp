@@ -118,6 +118,44 @@ TEST_F(Physics, ADrumStandsOnADrumOnOneAxis) {
   EXPECT_TRUE(w->at_rest(d));
 }
 
+TEST_F(Physics, LoadsDroppedOntoEveryPositionOfEveryLevelOfARackRestThere) {
+  // Each rack of the library at its defaults and at other sizes: a load let go 2 cm above every
+  // slot frame lands on that level (beams or deck) and rests there, upright, where it was let go.
+  struct Case {
+    std::string rack, load;
+    bool turned;  // a pallet's 1.2 m side across the frame depth: yawed 90 deg, its origin is a corner
+  };
+  for (const Case& c : {Case{"{type: drum_rack, name: K}", "drum", false},
+                        Case{"{type: drum_rack, name: K, bays: 2, levels: 4, level_height: 1.1, first_beam_height: 0.3}", "drum_hooped", false},
+                        Case{"{type: drum_rack, name: K, bays: 1, levels: 2, positions: 1, depth: 0.7, beam_width: 0.12}", "drum", false},
+                        Case{"{type: pallet_rack, name: K, bays: 2}", "pallet", true},
+                        Case{"{type: rack, name: K, levels: 4, level_pitch: 1.1}", "drum", false}}) {
+    wc = must_compile("objects:\n  - " + c.rack + "\n");
+    GeometryModel rack = build_geometry(wc, diag);
+    std::vector<std::pair<std::string, Eigen::Vector3d>> slots;
+    for (const auto& [name, X] : rack.objects[0].frames_world)
+      if (name.starts_with("slot_")) slots.emplace_back(name, X.translation());
+    ASSERT_GE(slots.size(), 2u) << c.rack;
+    std::string objects = "  - " + c.rack + "\n";
+    for (const auto& [name, at] : slots) {
+      const Eigen::Vector3d origin = c.turned ? Eigen::Vector3d(at.x() + 0.4, at.y() - 0.6, at.z()) : at;
+      objects += fmt::format("  - {{type: {}, name: L_{}, location: [{}, {}, {}], orientation: [0, 0, {}]}}\n", c.load, name, origin.x(),
+                             origin.y(), origin.z() + 0.02, c.turned ? 90 : 0);
+    }
+    auto world = world_of(objects, "L_" + slots[0].first);
+    for (const auto& [name, at] : slots) world->make_dynamic(wc.find_object("L_" + name));
+    while (world->time() < 3.0) world->step();
+    for (const auto& [name, at] : slots) {
+      const int o = wc.find_object("L_" + name);
+      const Eigen::Isometry3d X = world->pose(o);
+      const Eigen::Vector3d expected = c.turned ? Eigen::Vector3d(at.x() + 0.4, at.y() - 0.6, at.z()) : at;
+      EXPECT_LT((X.translation() - expected).norm(), 3e-3) << c.rack << " " << name << ": " << X.translation().transpose();
+      EXPECT_GT(X.linear().col(2).z(), std::cos(2e-3)) << c.rack << " " << name;
+      EXPECT_TRUE(world->at_rest(o)) << c.rack << " " << name;
+    }
+  }
+}
+
 TEST_F(Physics, AnOdeFailureIsAnExceptionNotAnAbort) {
   // Its errors and internal assertions aborted the process (exit 134, a staging folder left).
   auto w = world_of("  - {type: drum, name: D}\n", "D");
