@@ -461,7 +461,9 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   for (size_t target = 0; target < rc.targets.size(); ++target) {
     const ReachCheck::Target& t = rc.targets[target];
     Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
-    if (rc.match_orientation) X_world_target = X_world_target * rc.offset;
+    // The offset places the target in the frame named (with `free`, its position: an offset
+    // written there was silently dropped).
+    X_world_target = X_world_target * rc.offset;
     // The tool may touch its target, but a point inside the target's solid is reached only by a
     // tool buried in it (it was a pass: the tool's parts may touch the target). Containers (a
     // room, a shipping container: objects that hold others) are spaces, not solids.
@@ -476,7 +478,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         r.lhs = depth;
         r.rhs = rc.position_tol_si;
         r.margin = -depth;
-        const bool offset = rc.match_orientation && !rc.offset.isApprox(Eigen::Isometry3d::Identity());
+        const bool offset = !rc.offset.isApprox(Eigen::Isometry3d::Identity());
         r.message = fmt::format("{}{} lies {:g} m inside the solid of {}: a tool reaches it only buried in the object "
                                 "(aim at a frame on its surface, such as top{})",
                                 t.text, offset ? " with the offset" : "", stable(depth), wc.objects[t.object].name,

@@ -9,6 +9,7 @@
 #include "core/timer.h"
 #include "geometry/export.h"
 #include "pipeline/prepare.h"
+#include "pipeline/catalogue.h"
 #include "pipeline/type_listing.h"
 #include "plugin/plugins.h"
 #include "report/report.h"
@@ -120,7 +121,16 @@ int run_check(const Common& common, const CheckArgs& args) {
   return violated ? kViolations : kOk;
 }
 
-int run_types(const Common& common, const std::string& format) {
+int run_types(const Common& common, const std::string& format, const std::string& out) {
+  if ((format == "md") != !out.empty()) {
+    std::cerr << (out.empty() ? "sscs: error: --format md writes a catalogue and its thumbnails: give --out FILE.md\n"
+                              : "sscs: error: --out is for --format md (the catalogue); text and json print to stdout\n");
+    return kInputError;
+  }
+  if (!out.empty() && std::filesystem::path(out).extension() != ".md") {
+    std::cerr << fmt::format("sscs: error: --out expects a .md file, found '{}'\n", out);
+    return kInputError;
+  }
   Sources sources;
   Diagnostics diag;
   std::vector<std::pair<std::string, SourceMark>> dirs = {{standard_library_dir(), {}}};
@@ -140,6 +150,16 @@ int run_types(const Common& common, const std::string& format) {
   }
   CompileOptions instance_options;
   instance_options.package_paths = common.package_paths;
+  if (format == "md") {
+    std::string err = write_type_catalogue(out, std::move(types), instance_options, sources, diag);
+    if (report_diagnostics(diag, sources, common)) return kInputError;
+    if (!err.empty()) {
+      std::cerr << "sscs: error: " << err << "\n";
+      return kInputError;
+    }
+    if (!common.quiet) std::cout << fmt::format("wrote {} and its thumbnails in {}\n", out, (std::filesystem::path(out).parent_path() / "img" / "library").string());
+    return kOk;
+  }
   // The listing instances every type: what that finds in the library's files (a mesh that
   // cannot be read, an SRDF naming no link) fails the command, before anything is printed.
   std::ostringstream listing;

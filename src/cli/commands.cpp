@@ -47,9 +47,11 @@ int run_cli(int argc, char** argv) {
                     "unchanged; exit 1 only for new failures");
     common.add_to(check_cmd);
 
-    std::string types_format = "text";
-    CLI::App* types_cmd = command("types", "list the object types, devices and constraint kinds", [&] { return run_types(common, types_format); });
-    types_cmd->add_option("--format", types_format, "text or json")->check(CLI::IsMember({"text", "json"}));
+    std::string types_format = "text", types_out;
+    CLI::App* types_cmd = command("types", "list the object types, devices and constraint kinds", [&] { return run_types(common, types_format, types_out); });
+    types_cmd->add_option("--format", types_format, "text, json, or md: the catalogue (with thumbnails; needs --out)")
+        ->check(CLI::IsMember({"text", "json", "md"}));
+    types_cmd->add_option("--out", types_out, "with --format md: the catalogue's file (thumbnails go to img/library/ beside it)");
     common.add_to(types_cmd, /*with_set=*/false);  // types reads no vault: --set would do nothing
 
     std::string export_vault, export_out;

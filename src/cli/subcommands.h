@@ -171,7 +171,7 @@ class InterruptGuard {
 
 // The subcommands (check.cpp, render.cpp, simulate.cpp, sweep.cpp): each returns its exit status.
 int run_check(const Common& common, const CheckArgs& args);
-int run_types(const Common& common, const std::string& format);
+int run_types(const Common& common, const std::string& format, const std::string& out);
 int run_export(const Common& common, const std::string& vault, const std::string& out);
 int run_render(const Common& common, const RenderArgs& args);
 int run_replay(const Common& common, const ReplayArgs& args);

@@ -44,7 +44,7 @@ std::vector<std::string> Workcell::frame_names(int object) const {
     names.push_back("tool");
     for (const PartTemplate& p : tt.device->parts) names.push_back(p.name);
   }
-  std::sort(names.begin() + 2, names.end());
+  std::sort(names.begin() + 2, names.end(), [](const std::string& a, const std::string& b) { return natural_less(a, b); });
   names.erase(std::unique(names.begin() + 2, names.end()), names.end());
   names.erase(std::remove_if(names.begin() + 2, names.end(), [](const std::string& n) { return n == "origin" || n == "top"; }),
               names.end());

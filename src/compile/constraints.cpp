@@ -385,6 +385,21 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
     for (int o : objects) {
       if (o == rc.device) continue;  // "*" selects the device too
       auto names = st.wc.frame_names(o);
+      // A glob over frames (`Row_*.slot_3_*`): every frame of the object it matches, at least one.
+      if (frame.find_first_of("*?") != std::string::npos) {
+        size_t matched = 0;
+        for (const std::string& name : names)
+          if (glob_match(frame, name)) {
+            rc.targets.push_back({o, name, Eigen::Isometry3d::Identity(), st.wc.objects[o].name + "." + name});
+            ++matched;
+          }
+        if (matched == 0) {
+          st.diag.error(where, fmt::format("'{}' matches no frame of {} ({}); its frames: {}", frame, st.wc.objects[o].name,
+                                           st.wc.types[st.wc.objects[o].type].name, name_list(names)));
+          return;
+        }
+        continue;
+      }
       if (std::find(names.begin(), names.end(), frame) == names.end()) {
         st.diag.error(where, fmt::format("'{}' is not a frame of {} ({}); its frames: {}{}", frame,
                                               st.wc.objects[o].name, st.wc.types[st.wc.objects[o].type].name,

@@ -514,6 +514,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     t.plugin = spec.plugin;
     t.device = spec.device.has_value();
     t.container = spec.container;
+    t.zone = spec.zone;
     if (auto p = file_problems.find(spec.name); p != file_problems.end()) {
       t.problems = p->second;
       if (std::any_of(p->second.begin(), p->second.end(), [](const Diagnostic& x) { return !x.warning; })) {
@@ -542,6 +543,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       t.templates = types[base->second].templates;  // flattened: its own replace them below
       t.device = t.device || types[base->second].device;
       t.container = t.container || types[base->second].container;
+      t.zone = t.zone || types[base->second].zone;
     }
     // A container's geometry is all space: a column drawn into a room would stop nothing.
     if (t.container && spec.geometry.size() > 1)

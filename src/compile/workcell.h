@@ -61,6 +61,9 @@ struct ObjectType {
   bool device = false;
   /// A space that holds objects (its type file, or one it extends, says `container: true`).
   bool container = false;
+  /// A keep-out volume (`zone: true`, or a type it extends): a solid to checks and reach, no body
+  /// to the physics, where a device's part or its load entering it is a `keep_out` event.
+  bool zone = false;
   std::vector<AttributeDef> attributes;
   std::string path;    ///< its type file
   std::string plugin;  ///< the shared object that declared it (a plugin type), else ""

@@ -26,6 +26,9 @@ std::string closest_name(std::string_view name, const std::vector<std::string>& 
 /// " (did you mean 'X'?)" or "" when nothing is close.
 std::string did_you_mean(std::string_view name, const std::vector<std::string>& candidates);
 
+/// Whether `a` sorts before `b` with runs of digits compared as numbers (slot_2 before slot_10).
+bool natural_less(std::string_view a, std::string_view b);
+
 /// Names joined with ", ", the first `most` of them and how many there are in all beyond that
 /// (a rack's 600 slot frames in a message would hide what it says).
 std::string name_list(const std::vector<std::string>& names, size_t most = 24);

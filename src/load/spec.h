@@ -173,6 +173,9 @@ struct TypeSpec {
   /// its geometry is its outline, and the physics and `reach` treat its inside as empty.
   /// Inherited by the types that extend it.
   bool container = false;
+  /// `zone: true`: the type is a keep-out volume (a guard zone): checks and reach treat it as a
+  /// solid, the physics as nothing but a device (or what it carries) entering it is an event.
+  bool zone = false;
   std::optional<DeviceSpec> device;
 };
 

@@ -247,6 +247,9 @@ std::optional<TypeSpec> load_type(uint32_t file, const std::string& path, Source
   t.geometry = load::geometry_list(geometry, diag);
   t.color = load::scalar(root.take("color"), "color", diag);
   t.container = load::boolean(root.take("container"), "container", diag);
+  t.zone = load::boolean(root.take("zone"), "zone", diag);
+  if (t.zone && (device || t.container))
+    diag.error(t.mark, fmt::format("a zone is a keep-out volume: '{}' cannot also be a {}", t.name, device ? "device" : "container"));
   yaml::Node rules = root.take("requires");
   if (rules.valid() && !rules.is_sequence()) load::expected(diag, rules, "a sequence of {condition, message}", "requires");
   else if (rules.valid())

@@ -41,6 +41,7 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
     out.unbuilt = diag.errors().empty() ? "it cannot be instanced" : diag.errors()[0].message;
     return out;
   }
+  out.workcell = std::make_shared<const Workcell>(*wc);
   const ObjectGeometry& g = geometry.objects[0];
   out.bounds = g.bbox_world;  // the instance stands at the origin: world is the type's frame
   // `top` (what a reach or move_to targets by default), then the frames the type files name.
@@ -70,8 +71,6 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   return out;
 }
 
-namespace {
-
 const char* joint_type_name(JointType t) {
   switch (t) {
     case JointType::Revolute: return "revolute";
@@ -81,21 +80,23 @@ const char* joint_type_name(JointType t) {
   return "fixed";
 }
 
-/// "[1.2, 0, 0.851]" (6 significant digits; inf where unbounded).
 std::string vec_text(const Eigen::Vector3d& v) {
   return fmt::format("[{:.6g}, {:.6g}, {:.6g}]", stable(v.x()), stable(v.y()), stable(v.z()));
 }
-nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
-  auto j = nlohmann::ordered_json::array();
-  for (int k = 0; k < 3; ++k) j.push_back(std::isfinite(v[k]) ? nlohmann::ordered_json(stable(v[k])) : nlohmann::ordered_json(nullptr));
-  return j;
-}
-/// A frame's orientation in degrees, or nothing when it is the type's own.
+
 std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X) {
   Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * (180 / std::numbers::pi);
   for (int k = 0; k < 3; ++k) rpy[k] = std::abs(rpy[k]) < 1e-9 ? 0.0 : rpy[k];
   if (rpy.isZero(1e-9)) return std::nullopt;
   return rpy;
+}
+
+namespace {
+
+nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
+  auto j = nlohmann::ordered_json::array();
+  for (int k = 0; k < 3; ++k) j.push_back(std::isfinite(v[k]) ? nlohmann::ordered_json(stable(v[k])) : nlohmann::ordered_json(nullptr));
+  return j;
 }
 
 nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectType>& types, const DeviceTemplate* device,

@@ -25,7 +25,14 @@ struct TypeInstance {
   };
   std::vector<Mesh> meshes;
   std::optional<Eigen::AlignedBox3d> reach;  ///< devices: the tool's envelope over the joint ranges
+  std::shared_ptr<const Workcell> workcell;  ///< the instance (for a picture of it), unless unbuilt
 };
+
+const char* joint_type_name(JointType t);
+/// "[1.2, 0, 0.851]" (6 significant digits; inf where unbounded).
+std::string vec_text(const Eigen::Vector3d& v);
+/// A frame's orientation in degrees, or nothing when it is the type's own.
+std::optional<Eigen::Vector3d> frame_rpy_deg(const Eigen::Isometry3d& X);
 
 /// Compiles one instance of `type` at its defaults (with the library already loaded into
 /// `sources`) and reads its geometry. A type that cannot be instanced says why in `unbuilt`;
@@ -41,5 +48,6 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
 /// classes. Text, or JSON (`json`). The instances' problems in the library go to `problems`.
 void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const PluginSet& plugins, const CompileOptions& instance_options,
                         bool json, Sources& sources, Diagnostics& problems);
+
 
 }  // namespace sscs

@@ -406,12 +406,17 @@ struct Renderer::Impl {
       gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
       gl.UniformMatrix3fv(u_normal, 1, GL_FALSE, normal.data());
       gl.Uniform3f(u_albedo, it.albedo.x(), it.albedo.y(), it.albedo.z());
-      // A container is seen from the inside: its faces towards the eye are not drawn.
+      // A container is seen from the inside: its faces towards the eye are not drawn, and its
+      // far faces lie a little behind a solid's face in the same plane (a wall built against
+      // the room's inside flickered in stripes with it).
       if (it.inside) {
         gl.Enable(GL_CULL_FACE);
         gl.CullFace(GL_FRONT);
+        gl.Enable(GL_POLYGON_OFFSET_FILL);
+        gl.PolygonOffset(2, 8);
       } else {
         gl.Disable(GL_CULL_FACE);
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
       }
       gl.BindVertexArray(meshes[it.mesh].vao);
       gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);

@@ -409,6 +409,12 @@ class Planner {
       st.held = o;  // as if held: its release is no second error
       return;
     }
+    if (wc_.types[wc_.objects[o].type].zone) {
+      diag_.error(where.object_mark, fmt::format("grasp: {} is a keep-out zone (a volume devices must not enter): nothing lifts it",
+                                          where.object_text));
+      st.held = o;
+      return;
+    }
     // A body the physics cannot integrate (ODE aborts, or loses every digit) is no run.
     if (const double m = object_mass(wc_, geometry_, o); !simulable_mass(m)) {
       diag_.error(where.object_mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",

@@ -497,6 +497,8 @@ class Run {
     }
   }
 
+  bool is_zone(int o) const { return o >= 0 && wc_.types[wc_.objects[o].type].zone; }
+
   bool held_anywhere(int o) const {
     for (const DeviceRun& dr : devices_)
       if (world_.held(dr.object) == o) return true;
@@ -506,6 +508,19 @@ class Run {
   void after_step(double t) {
     // Contacts: a pair is one event until it has been apart for kApart (contacts flicker).
     for (const PhysicsContact& c : world_.contacts()) {
+      // A device's part or its load inside a keep-out zone (the physics reports no other contact
+      // of a zone, and lets nothing push on it): an event per episode, a violation of the run.
+      if (const int zone = is_zone(c.a) ? c.a : is_zone(c.b) ? c.b : -1; zone >= 0) {
+        auto key = std::make_tuple(c.a, c.part_a, c.b, c.part_b);
+        auto last = last_contact_.find(key);
+        const bool ongoing = last != last_contact_.end() && t - last->second <= kApart;
+        last_contact_[key] = t;
+        if (!ongoing)
+          events_.add(t, EventKind::KeepOut, {{"zone", wc_.objects[zone].name},
+                                              {"by", zone == c.a ? part_name(c.b, c.part_b) : part_name(c.a, c.part_a)},
+                                              {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)}});
+        continue;
+      }
       // An excused contact (a tool touching its target by less than 1 mm, a load lifting off)
       // does not open an episode: the same pair going deeper later is a collision (it was taken
       // for the ongoing touch, and a tool 4 cm inside its target ran `ok`).
@@ -785,7 +800,8 @@ class Run {
     s.collisions = events_.count(EventKind::Collision);
     bool violations = s.collisions > 0 || events_.count(EventKind::JointLimit) || events_.count(EventKind::TrackingError) ||
                       events_.count(EventKind::LoadShifted) || events_.count(EventKind::NotAtRest) ||
-                      events_.count(EventKind::Displaced) || events_.count(EventKind::Propped) || rechecks_.failures() > 0;
+                      events_.count(EventKind::Displaced) || events_.count(EventKind::Propped) || events_.count(EventKind::KeepOut) ||
+                      rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
     return s;

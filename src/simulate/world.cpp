@@ -278,6 +278,13 @@ struct PhysicsWorld::Impl {
     std::vector<char> tool_parts;  // the tool's part and the parts it carries
   };
   std::map<int, Grip> grips;  // by device
+  std::vector<char> zone;     // per object: a keep-out volume (no solid: only entering it is recorded)
+
+  bool held_by_a_device(int object) const {
+    for (const auto& [device, grip] : grips)
+      if (grip.object == object) return true;
+    return false;
+  }
 
   /// Whether a contact between these is the grip itself (the gripper on what it holds).
   bool gripping(const GeomTag& a, const GeomTag& b) const {
@@ -347,6 +354,13 @@ struct PhysicsWorld::Impl {
     if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;  // joined parts
     if (gripping(t1, t2)) return;
     int o1 = t1.object, o2 = t2.object;
+    // A keep-out zone meets only a device's parts and what a device holds (a drum falling through
+    // one is no event), and pushes nothing: the contact is recorded, no joint made.
+    const bool in_zone = (o1 >= 0 && zone[o1]) || (o2 >= 0 && zone[o2]);
+    if (in_zone) {
+      const GeomTag& other = o1 >= 0 && zone[o1] ? t2 : t1;
+      if (other.object < 0 || (other.part < 0 && !held_by_a_device(other.object))) return;
+    }
     thread_local std::array<dContactGeom, kGatherContacts> found;
     int all = coaxial_cylinders(g1, g2, found.data());
     if (all < 0) all = dCollide(g1, g2, kGatherContacts, found.data(), sizeof(dContactGeom));
@@ -358,7 +372,7 @@ struct PhysicsWorld::Impl {
         deepest = found[i].depth;
         deepest_at = {found[i].pos[0], found[i].pos[1], found[i].pos[2]};
       }
-    const int n = spread_contacts(found.data(), all, kMaxContacts);
+    const int n = in_zone ? 0 : spread_contacts(found.data(), all, kMaxContacts);
     // A device's part against a free body (not one it holds: that is no contact).
     int pushed = -1, pusher = -1;
     if (t1.part >= 0 && t2.part < 0 && b2) pushed = o2, pusher = o1;
@@ -429,6 +443,8 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   // Containers (rooms: `container: true` types) are spaces, not solids: they are not collision
   // geometry. The floor is the plane at the bottom of the lowest of them (or z = 0).
   const std::vector<char> container = containers(wc);
+  w.zone.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) w.zone[i] = wc.types[wc.objects[i].type].zone;
   const double floor = sscs::floor_z(wc, geometry);
   w.floor = floor;
   dGeomID plane = dCreatePlane(w.space, 0, 0, 1, floor);

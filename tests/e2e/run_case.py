@@ -949,6 +949,111 @@ def compare_image(path, golden_path, threshold=2.0):
         fail(f"{path} differs from {golden_path}: mean absolute difference {mad:.2f} >= {threshold} (diff: {diff})")
 
 
+def catalogue(sscs, root):
+    """docs/library.md and docs/img/library/ are what `sscs types --format md` makes of the
+    standard library now: the text byte for byte, the same thumbnails (each within the render
+    tolerance), none missing and none left over. --format md needs --out, a .md one."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "library.md")
+        p = run(sscs, root, ["types", "--format", "md", "--out", out], env={"DISPLAY": ""})
+        if p.returncode != 0:
+            fail("sscs types --format md", p)
+        committed = os.path.join(root, "docs/library.md")
+        if open(out).read() != open(committed).read():
+            import difflib
+            diff = "".join(list(difflib.unified_diff(open(committed).readlines(), open(out).readlines(), "docs/library.md", "fresh"))[:40])
+            fail(f"docs/library.md is not what sscs makes of the library now; run `sscs types --format md --out docs/library.md`:\n{diff}")
+        fresh = sorted(os.listdir(os.path.join(tmp, "img", "library")))
+        kept = sorted(os.listdir(os.path.join(root, "docs/img/library")))
+        if fresh != kept:
+            fail(f"docs/img/library holds {sorted(set(kept) - set(fresh))} that the catalogue no longer draws and lacks {sorted(set(fresh) - set(kept))}")
+        for name in fresh:
+            compare_image(os.path.join(tmp, "img", "library", name), os.path.join(root, "docs/img/library", name), threshold=1.0)
+        for args, says in ((["types", "--format", "md"], "give --out FILE.md"), (["types", "--out", out], "--out is for --format md"),
+                           (["types", "--format", "md", "--out", os.path.join(tmp, "x.txt")], "--out expects a .md file")):
+            p = run(sscs, root, args)
+            if p.returncode != 2 or says not in p.stderr:
+                fail(f"sscs {' '.join(args)} should exit 2 saying '{says}'", p)
+    print("catalogue: docs/library.md and its thumbnails are current")
+
+
+def drum_store(sscs, root):
+    """The reference store (scenarios/drum-store), built only from the standard library: every
+    rule holds (the crane over all 48 top positions and onto every top-level drum); the crane's
+    run stores the inbound drum on Row_2's free top position, where it lands and rests; the
+    capacity sweep passes exactly the layouts that keep the rules, and counts the drums."""
+    import csv, json, tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        report = os.path.join(tmp, "store.json")
+        p = run(sscs, root, ["check", "scenarios/drum-store/store.yaml", "--format", "json", "--out", report])
+        if p.returncode != 0:
+            fail("the reference store should pass every rule", p)
+        results = json.load(open(report))["results"]
+        if len(results) != 11 or any(r["status"] != "pass" for r in results):
+            fail(f"the reference store's 11 rules: {[(r['constraint'], r['status']) for r in results]}")
+        for r in results:
+            if r["constraint"].startswith("the crane") and "reach" in r["message"] and "all 48 targets" not in r["message"]:
+                fail(f"{r['constraint']} should reach all 48 top-level positions: {r['message']}")
+        # Five levels put the top drums above what the hook clears: the crane rule fails.
+        p = run(sscs, root, ["check", "scenarios/drum-store/store.yaml", "--set", "levels=5"])
+        if p.returncode != 1 or "the crane reaches every rack position from above" not in p.stdout:
+            fail("a five-level store should fail the crane's rule", p)
+        out = os.path.join(tmp, "run")
+        p = run(sscs, root, ["simulate", "scenarios/drum-store/store-drum.yaml", "--out", out, "--no-frames", "--quiet"])
+        summary = json.load(open(os.path.join(out, "summary.json"))) if os.path.exists(os.path.join(out, "summary.json")) else {}
+        if p.returncode != 0 or summary.get("status") != "ok" or summary.get("events", {}).get("collision", 0) != 0:
+            fail(f"the crane's run should be ok without collisions: {summary}", p)
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        landed = [e for e in events if e["kind"] == "landed" and e["object"] == "Inbound"]
+        rest = [e for e in events if e["kind"] == "at_rest" and e["object"] == "Inbound"]
+        if not landed or landed[-1]["on"] != "Row_2" or not rest:
+            fail(f"Inbound should land on Row_2 and rest: {landed} {rest}")
+        # Row_2.top_5: Row_2 faces +x with its front at x = 10 + 2*0.61 + 0.15, 0.61 deep; its run
+        # starts at y = 1.55, position 5 is the 2nd of bay 2 (3 to a 2.134 m bay, 0.076 m uprights);
+        # the top (3rd) level's beams are at 0.15 + 2*1.27 m.
+        want = [10 + 2 * 0.61 + 0.15 - 0.305, 1.55 + 0.076 + (2.134 + 0.076) + 1.5 * 2.134 / 3, 0.15 + 2 * 1.27]
+        got = rest[-1]["position"]
+        if max(abs(a - b) for a, b in zip(got, want)) > 0.003:
+            fail(f"Inbound rests at {got}, not on Row_2.top_5 at {want}")
+        sweep = os.path.join(tmp, "sweep")
+        p = run(sscs, root, ["sweep", "scenarios/drum-store/capacity.yaml", "--out", sweep, "--jobs", "2", "--quiet"])
+        rows = list(csv.DictReader(open(os.path.join(sweep, "results.csv"))))
+        if len(rows) != 36:
+            fail(f"the capacity sweep should have 36 variants, found {len(rows)}", p)
+        for r in rows:
+            aisle, n, levels = float(r["aisle"]), int(r["rows"]), int(r["levels"])
+            keeps = aisle >= 3.2 and n <= 6 and levels <= 4
+            if (r["status"] == "pass") != keeps:
+                fail(f"variant {r['folder']} is {r['status']}; the rules say it should {'pass' if keeps else 'fail'}: {r}")
+            if int(r["drums"]) != n * 4 * 3 * levels:  # rows x bays x positions x levels, one free, Inbound
+                fail(f"variant {r['folder']} counts {r['drums']} drums, not {n * 4 * 3 * levels}")
+    print("drum_store: the reference store keeps its rules, the crane stores a drum on the top level, the sweep counts")
+
+
+def zones(sscs, root):
+    """A keep-out zone (tests/data/zones): reach into it fails naming it, over it passes; a run
+    carrying a drum through it reports keep_out events (the load and the parts that entered) and
+    ends in violations; the drum set down beyond it lands on the floor."""
+    import json, tempfile
+    p = run(sscs, root, ["check", "tests/data/zones/cell.yaml"])
+    if p.returncode != 1 or "1 passed, 1 failed" not in p.stdout or "part gripper hits Walkway" not in p.stdout:
+        fail("reach into the walkway should fail naming it, over it pass", p)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "run")
+        p = run(sscs, root, ["simulate", "tests/data/zones/through.yaml", "--out", out, "--no-frames", "--quiet"])
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        if p.returncode != 1 or summary["status"] != "violations":
+            fail(f"a run through a keep-out zone should end in violations: {summary.get('status')}", p)
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        by = {e["by"] for e in events if e["kind"] == "keep_out" and e["zone"] == "Walkway"}
+        if "Drum_1" not in by or "Gantry.gripper" not in by:
+            fail(f"keep_out events should name the carried drum and the gripper: {by}")
+        if not any(e["kind"] == "landed" and e["object"] == "Drum_1" and e["on"] == "floor" for e in events):
+            fail("the drum set down beyond the walkway should land on the floor")
+    print("zones: reach and runs keep out of guard zones")
+
+
 def render(sscs, root):
     """sscs render: a still of the demo vault against its golden image, with no display; the
     same still twice; a missing OSMesa is exit 3 with nothing written."""
@@ -1964,7 +2069,7 @@ def sweep_reuse(sscs, root):
     print("ok sweep_reuse")
 
 
-MODES = {"simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+MODES = {"catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 

@@ -62,3 +62,18 @@ TEST(Printable, ControlCharactersAndLongTextNeverReachATerminalWhole) {
 
 }  // namespace
 }  // namespace sscs::testing
+
+namespace sscs {
+namespace {
+
+TEST(Names, NaturalOrderComparesRunsOfDigitsAsNumbers) {
+  std::vector<std::string> names = {"slot_10_1", "slot_2_1", "slot_1_10", "slot_1_2", "slot_1_1", "top", "slot_01_3", "slot"};
+  std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) { return natural_less(a, b); });
+  EXPECT_EQ(names, (std::vector<std::string>{"slot", "slot_1_1", "slot_1_2", "slot_01_3", "slot_1_10", "slot_2_1", "slot_10_1", "top"}));
+  EXPECT_FALSE(natural_less("a1", "a1"));
+  EXPECT_TRUE(natural_less("a9", "a10"));
+  EXPECT_FALSE(natural_less("a10", "a9"));
+}
+
+}  // namespace
+}  // namespace sscs

@@ -414,5 +414,30 @@ TEST_F(Geometry, AnObjectAtAFrameOfAnotherStandsThereAndMovesWithIt) {
               ::testing::HasSubstr("an object is placed by 'parent' or by 'at'"));
 }
 
+TEST_F(Geometry, ARacksPositionsNumberedAlongTheRunAreItsSlots) {
+  // position_{level}_{n} and top_{n} are slot_{level}_{bay}_{position} numbered along the run.
+  for (const char* rack : {"{type: drum_rack, name: K, bays: 3, positions: 4, levels: 2}", "{type: pallet_rack, name: K, bays: 5}"}) {
+    Workcell wc = must_compile(std::string("objects:\n  - ") + rack + "\n");
+    GeometryModel g = build_geometry(wc, diag);
+    const ObjectGeometry& k = g.objects[0];
+    const int bays = static_cast<int>(value(wc, "K.bays")), positions = static_cast<int>(value(wc, "K.positions"));
+    const int levels = static_cast<int>(value(wc, "K.levels"));
+    for (int level = 1; level <= levels; ++level)
+      for (int bay = 1; bay <= bays; ++bay)
+        for (int q = 1; q <= positions; ++q) {
+          const int n = (bay - 1) * positions + q;
+          const Eigen::Isometry3d* slot = k.frame(fmt::format("slot_{}_{}_{}", level, bay, q));
+          const Eigen::Isometry3d* along = k.frame(fmt::format("position_{}_{}", level, n));
+          ASSERT_TRUE(slot && along) << rack << " " << level << " " << n;
+          EXPECT_TRUE(slot->isApprox(*along, 1e-12)) << rack << " " << level << " " << n;
+          if (level == levels) {
+            ASSERT_TRUE(k.frame(fmt::format("top_{}", n)));
+            EXPECT_TRUE(k.frame(fmt::format("top_{}", n))->isApprox(*slot, 1e-12));
+          }
+        }
+    EXPECT_FALSE(k.frame(fmt::format("position_1_{}", bays * positions + 1)));
+  }
+}
+
 }  // namespace
 }  // namespace sscs::testing

@@ -156,6 +156,20 @@ TEST_F(Physics, LoadsDroppedOntoEveryPositionOfEveryLevelOfARackRestThere) {
   }
 }
 
+TEST_F(Physics, AKeepOutZoneIsNoSolidToAFallingDrum) {
+  // A guard zone pushes nothing and meets no free body: a drum let go above one falls through it
+  // to the floor, and no contact with the zone is reported.
+  auto w = world_of("  - {type: keepout_zone, name: Z, length: 2, width: 2, height: 1}\n  - {type: drum, name: D, location: [1, 1, 1.5]}\n", "D");
+  bool touched_zone = false;
+  while (w->time() < 2.0) {
+    w->step();
+    for (const PhysicsContact& c : w->contacts()) touched_zone = touched_zone || c.a == wc.find_object("Z") || c.b == wc.find_object("Z");
+  }
+  EXPECT_FALSE(touched_zone);
+  EXPECT_NEAR(w->pose(d).translation().z(), 0, 2e-3);
+  EXPECT_TRUE(w->at_rest(d));
+}
+
 TEST_F(Physics, AnOdeFailureIsAnExceptionNotAnAbort) {
   // Its errors and internal assertions aborted the process (exit 134, a staging folder left).
   auto w = world_of("  - {type: drum, name: D}\n", "D");
