@@ -270,7 +270,7 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
           if (a == b || !seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
           // Selectors on either side: like a set, an object is not checked against its own
           // room (an ancestor or descendant); a pair named one by one is checked as asked.
-          if (sc.objects.size() * sc.others.size() > 1 && wc.related(a, b)) continue;
+          if (sc.objects.size() * sc.others.size() > 1 && wc.nested(a, b)) continue;
           auto d = world.distance(a, b);
           if (!d) {
             result({a, b}, Status::Error, {}, {}, {}, fmt::format("{}: one of them has no geometry", pair_text(wc, a, b)));
@@ -290,7 +290,7 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
       bool overlap = sc.kind == SpatialCheck::Kind::NoOverlap;
       double min = overlap ? 0.0 : sc.min_si;
       for (auto [a, b] : world.candidate_pairs(sc.objects, overlap ? kTouch : sc.min_si)) {
-        if (wc.related(a, b)) continue;  // a rack stands inside its room
+        if (wc.nested(a, b)) continue;  // a rack stands inside its room
         auto d = world.distance(a, b);
         if (!d) continue;
         double margin = at_limit(*d - min, overlap ? std::max(kTouch, eps) : eps);

@@ -55,6 +55,7 @@ std::optional<Eigen::Isometry3d> Workcell::named_frame(int object, std::string_v
   const TypeTemplates& tt = types[objects[object].type].templates;
   const double* attributes = &values[objects[object].first_slot + kFirstAttributeSlot];
   std::optional<Eigen::Isometry3d> found;
+  if (name == "origin") found = Eigen::Isometry3d::Identity();
   for (const FrameTemplate& f : tt.frames) {
     if (!f.repeat) {
       if (f.name == name) found = f.pose.eval(attributes);
@@ -102,6 +103,20 @@ std::vector<int> Workcell::lineage(int t) const {
 bool Workcell::is_a(int t, int ancestor) const {
   const std::vector<int> line = lineage(t);
   return std::find(line.begin(), line.end(), ancestor) != line.end();
+}
+
+bool Workcell::nested(int a, int b) const {
+  // Up from one to the other: exempt once a `parent` link is crossed; `at` links alone (a drum on
+  // a rack's slot, a door in a wall's opening) rest on what they name, and are compared with it.
+  auto up = [&](int from, int to) {
+    bool through_parent = false;
+    for (int p = from; p >= 0; p = objects[p].parent) {
+      if (p == to) return through_parent;
+      through_parent = through_parent || objects[p].at.empty();
+    }
+    return false;
+  };
+  return a == b || up(a, b) || up(b, a);
 }
 
 bool Workcell::related(int a, int b) const {
@@ -586,6 +601,15 @@ void expand_objects(CompileState& st) {
       auto p = st.number_now(a.pitch[d], Dim::Length, "an array pitch", /*parameters_only=*/true);
       if (!p) ok = false;
       else pitch[d] = *p;
+      // Step d of the pitch moves the array's d-th index: with fewer counts it moves nothing
+      // (two rows at one place, and 28 drums in each other's drums, said nothing).
+      if (p && *p != 0 && d >= a.count.size()) {
+        st.diag.error(a.pitch[d].mark, fmt::format("the array's pitch steps along {} by {}, but the array has {} count{}: a step along {} "
+                                                   "moves index {{{}}}, so give count: [{}] (name with {{{}}})",
+                                                   "xyz"[d], a.pitch[d].text, a.count.size(), a.count.size() == 1 ? "" : "s", "xyz"[d],
+                                                   "ijk"[d], d == 1 ? "1, n" : "1, 1, n", "ijk"[d]));
+        ok = false;
+      }
     }
     const std::string& pattern = a.name_pattern.text;
     for (size_t d = a.count.size(); d < 3; ++d)
@@ -706,18 +730,36 @@ void place_at(CompileState& st, int i, std::vector<std::string>& names) {
 /// Pass: an object placed `at` a frame of its parent names a frame the parent has (its
 /// attributes decide which: a rack of 3 levels has no slot_4_1_1).
 void check_at_frames(CompileState& st) {
+  const ObjectSpec* reported = nullptr;  // an array's instances share their `at`: one error for them
   for (size_t i = 0; i < st.wc.objects.size() && !st.diag.full(); ++i) {
     const Object& obj = st.wc.objects[i];
     if (obj.at.empty() || obj.parent < 0) continue;
     if (st.wc.named_frame(obj.parent, obj.at)) continue;
     const ObjectSpec& o = *st.object_spec[i];
-    std::vector<std::string> frames;
-    for (const FrameTemplate& f : st.wc.types[st.wc.objects[obj.parent].type].templates.frames)
-      f.each(&st.wc.values[st.wc.objects[obj.parent].first_slot + kFirstAttributeSlot],
-             [&](const std::string& name, const Eigen::Isometry3d&) { frames.push_back(name); });
-    st.diag.error(o.at.mark, fmt::format("'{}' is no named frame of {} (type '{}'){}{}", obj.at, st.wc.objects[obj.parent].name,
-                                         st.wc.types[st.wc.objects[obj.parent].type].name,
-                                         frames.empty() ? "; it has none" : "; its frames: " + name_list(frames), did_you_mean(obj.at, frames)));
+    if (reported == &o) continue;
+    reported = &o;
+    const Object& parent = st.wc.objects[obj.parent];
+    const double* values = &st.wc.values[parent.first_slot + kFirstAttributeSlot];
+    // What it has, as the type names them: a repeated frame as its pattern and ranges.
+    std::vector<std::string> frames, names;
+    for (const FrameTemplate& f : st.wc.types[parent.type].templates.frames) {
+      f.each(values, [&](const std::string& name, const Eigen::Isometry3d&) { names.push_back(name); });
+      if (!f.repeat) {
+        frames.push_back(f.name);
+        continue;
+      }
+      std::vector<std::string> ranges;
+      for (const RepeatTemplate::Counter& c : f.repeat->counters)
+        ranges.push_back(fmt::format("{} 1 to {}", c.name, number_text(c.count.eval(values, NAN))));
+      frames.push_back(fmt::format("{} ({})", f.name, fmt::join(ranges, ", ")));
+    }
+    st.diag.error(o.at.mark, fmt::format("'{}' is no named frame of {} (type '{}'){}; 'at' takes a frame the type names (or origin){}{}",
+                                         obj.at, parent.name, st.wc.types[parent.type].name,
+                                         frames.empty() ? ", which names none" : "; its frames: " + name_list(frames),
+                                         obj.at == "top"    ? " (a top the type does not name is computed from its bounds, for reach; not for at)"
+                                         : obj.at == "tool" ? " (a device's tool moves with its joints)"
+                                                            : "",
+                                         did_you_mean(obj.at, names)));
   }
 }
 
@@ -751,15 +793,20 @@ void resolve_object_links(CompileState& st) {
       else st.diag.error(own ? o.color.mark : tt.color_mark, fmt::format("expected a colour \"#RRGGBB\", found '{}'", color));
     }
   }
-  // Parent cycles: walk up at most n steps.
+  // Parent cycles: walk up at most n steps; a cycle is reported once, at its first member.
+  std::vector<char> in_reported_cycle(st.wc.objects.size(), 0);
   for (size_t i = 0; i < st.wc.objects.size(); ++i) {
+    if (in_reported_cycle[i]) continue;
     std::vector<int> chain = {static_cast<int>(i)};
     for (int p = st.wc.objects[i].parent; p >= 0; p = st.wc.objects[p].parent) {
       if (p == static_cast<int>(i)) {
         std::vector<std::string> path;
         for (int c : chain) path.push_back(st.wc.objects[c].name);
         path.push_back(st.wc.objects[i].name);
-        st.diag.error(st.object_spec[i]->parent.mark, fmt::format("parent chain forms a cycle: {}", fmt::join(path, " -> ")));
+        const ObjectSpec& o = *st.object_spec[i];  // `at` names the parent too
+        for (int c : chain) in_reported_cycle[c] = 1;
+        st.diag.error(o.parent.present ? o.parent.mark : o.at.mark,
+                      fmt::format("parent chain ('parent' and 'at') forms a cycle: {}", fmt::join(path, " -> ")));
         break;
       }
       if (chain.size() > st.wc.objects.size()) break;  // a cycle further up, reported from its own members
@@ -855,11 +902,26 @@ void check_type_rules(CompileState& st, int o) {
       st.diag.error(obj.mark, fmt::format("'{}' (type '{}'): {}; the rule '{}' of type '{}' does not hold", obj.name, type.name,
                                           rule.message, rule.condition.text, rule.type));
   }
+  const size_t before = st.diag.count();
   for (const ShapeTemplate& s : tt.geometry) check(s.repeat.get(), "a repeated shape");
   for (const FrameTemplate& f : tt.frames) check(f.repeat.get(), fmt::format("frame '{}'", f.name));
   if (tt.device)
     for (const PartTemplate& p : tt.device->parts)
       for (const ShapeTemplate& s : p.shapes) check(s.repeat.get(), fmt::format("a repeated shape of part '{}'", p.name));
+  if (st.diag.count() != before) return;
+  // Two frames of one name (`s{a}{b}` makes s111 twice; `slot_2` beside `slot_{k}`): `at` and
+  // reach would take one and the listing show the other.
+  std::map<std::string, std::string> seen;  // name -> the frame (pattern) that made it
+  for (const FrameTemplate& f : tt.frames) {
+    bool reported = false;
+    f.each(values, [&](const std::string& name, const Eigen::Isometry3d&) {
+      auto [it, fresh] = seen.emplace(name, f.name);
+      if (fresh || reported) return;
+      reported = true;
+      st.diag.error(obj.mark, fmt::format("'{}' (type '{}') has two frames named '{}' (from '{}' and '{}'): frame names must differ", obj.name,
+                                          type.name, name, it->second, f.name));
+    });
+  }
 }
 
 /// Pass: every value is a valid instance of its type (integers, min/max), and lengths and
@@ -869,6 +931,7 @@ void check_values(CompileState& st) {
     const Object& obj = st.wc.objects[i];
     const ObjectType& type = st.wc.types[obj.type];
     const ObjectSpec& o = *st.object_spec[i];
+    const size_t errors_before = st.diag.count();
     for (int d = 0; d < 3; ++d) {
       check_length(st, obj.first_slot + kLocationSlot + d, o.location[d].present ? o.location[d].mark : o.mark, kPoseSlotNames[kLocationSlot + d], obj.name);
       // An angle of 1e300 degrees is a rotation no double can reduce to a turn: a limit, like lengths.
@@ -921,7 +984,7 @@ void check_values(CompileState& st) {
                                         bound.present ? fmt::format(" ({} for this object)", bound.text) : ""));
       }
     }
-    check_type_rules(st, static_cast<int>(i));
+    if (st.diag.count() == errors_before) check_type_rules(st, static_cast<int>(i));  // else the rules repeat what was said
   }
 }
 

@@ -53,8 +53,9 @@ struct PoseRef {
 /// `repeat:` of a geometry entry or frame: a copy for each combination of its counters, the
 /// first outermost, each running from 1 to its count (over the object's attributes).
 struct RepeatTemplate {
-  /// The most copies one entry makes for one object (a rack of 20 levels x 50 bays is 1000).
-  static constexpr double kMaxCopies = 100000;
+  /// The most copies one entry makes for one object (a rack of 15 levels x 60 bays is 900; 10,000
+  /// small boxes in each of two objects already take a minute to compare in full).
+  static constexpr double kMaxCopies = 10000;
   struct Counter {
     std::string name;
     ValueRef count;

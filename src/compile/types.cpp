@@ -572,8 +572,13 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     // their expressions use are checked now, so a typo fails at load, with its line.
     TypeTemplates& tt = t.templates;
     if (spec.has_geometry || t.base < 0) tt.geometry = compile_geometry(spec.geometry, t, spec.path, d, t.problems);
-    for (const RuleSpec& rule : spec.rules)
+    for (const RuleSpec& rule : spec.rules) {
+      // A condition compares (`length - 1` for `length >= 1` held everywhere but at 1).
+      if (rule.condition.present && rule.condition.text.find_first_of("<>=!&|") == std::string::npos)
+        d.error(rule.condition.mark, fmt::format("a rule's condition compares or combines comparisons (==, !=, <, <=, >, >=, &&, ||, !), "
+                                                 "found '{}': it would hold wherever it is not 0", rule.condition.text));
       tt.rules.push_back({compile_value(rule.condition, Dim::None, t, "a rule's condition", d), rule.message, spec.name});
+    }
     if (spec.mass.present) {
       tt.mass = compile_value(spec.mass, Dim::Mass, t, "mass", d);
       tt.mass_type = spec.name;

@@ -234,6 +234,10 @@ struct Workcell {
   bool is_a(int t, int ancestor) const;
   /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.
   bool related(int a, int b) const;
+  /// Whether `no_overlap` and set-wise `clearance` leave the pair alone: one holds the other
+  /// through a `parent` link (a rack in its room). An object `at` another's frame stands on it
+  /// and is compared with it (a drum run through by the beam above it is an overlap).
+  bool nested(int a, int b) const;
 };
 
 }  // namespace sscs

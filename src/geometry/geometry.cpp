@@ -383,6 +383,11 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
       if (s.mesh) g.shapes.push_back(std::move(s));
     } else {
       g.shapes = build.shapes(tt.geometry, obj);
+      // A type with geometry whose repeats all come out empty here (a wall that is all opening):
+      // nothing to check, and bounds of nothing read as NaN.
+      if (g.shapes.empty() && !tt.geometry.empty() && !tt.device)
+        diag.error(o.mark, fmt::format("'{}' (type '{}') has no geometry at these attributes: every shape of its type is repeated "
+                                       "0 times", o.name, wc.types[o.type].name));
     }
     std::vector<std::pair<std::string, Eigen::Isometry3d>> device_frames;
     if (tt.device) {

@@ -67,9 +67,9 @@ std::string cell(std::string s) {
 std::string number(double si, Dim dim) { return number_text(stable(si_to_file(si, dim))); }
 
 /// A frame row: name, position (m) and orientation (deg) in the type's frame.
-std::string frame_row(const std::string& name, const Eigen::Isometry3d& X) {
+std::string frame_row(const std::string& name, const Eigen::Isometry3d& X, const std::string& note = "") {
   auto rpy = frame_rpy_deg(X);
-  return fmt::format("| `{}` | {} | {} |\n", name, vec_text(X.translation()), rpy ? vec_text(*rpy) : "");
+  return fmt::format("| `{}`{} | {} | {} |\n", name, note, vec_text(X.translation()), rpy ? vec_text(*rpy) : "");
 }
 
 /// The thumbnail of an instance at its defaults, framed from the front left above.
@@ -125,14 +125,20 @@ void write_type(std::ostream& md, const ObjectType& t, const std::map<std::strin
       continue;
     }
     std::vector<std::string> counts;
-    for (const RepeatTemplate::Counter& c : f.repeat->counters)
-      counts.push_back(fmt::format("{} 1 to `{}` = {}", c.name, c.count.text, number_text(c.count.eval(attributes, NAN))));
+    for (const RepeatTemplate::Counter& c : f.repeat->counters) {
+      std::vector<std::string> pitch;
+      for (const ValueRef& v : c.pitch.v) pitch.push_back(v.present ? v.text : "0");
+      counts.push_back(fmt::format("{} 1 to `{}` = {}{}", c.name, c.count.text, number_text(c.count.eval(attributes, NAN)),
+                                   c.pitch.v[0].present || c.pitch.v[1].present || c.pitch.v[2].present
+                                       ? fmt::format(", each `[{}]` further", fmt::join(pitch, ", "))
+                                       : ""));
+    }
     std::vector<std::string> xyz;
     for (const ValueRef& v : f.pose.xyz.v) xyz.push_back(v.present ? v.text : "0");
     md << fmt::format("| `{}` | {} copies ({}) at `[{}]` | |\n", f.name, copies.size(), fmt::join(counts, ", "), fmt::join(xyz, ", "));
     for (size_t k = 0; k < copies.size() && k < kCopiesShown; ++k) md << frame_row(copies[k].first, copies[k].second);
     if (copies.size() > kCopiesShown)
-      md << frame_row(copies.back().first + fmt::format(" (the last; {} more between)", copies.size() - kCopiesShown - 1), copies.back().second);
+      md << frame_row(copies.back().first, copies.back().second, fmt::format(" (the last; {} more between)", copies.size() - kCopiesShown - 1));
     for (const auto& c : copies) listed.insert(c.first);
   }
   for (const auto& [name, X] : in.frames)

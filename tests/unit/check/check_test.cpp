@@ -1,4 +1,5 @@
 #include <cmath>
+#include <set>
 #include <filesystem>
 #include <fstream>
 
@@ -266,6 +267,38 @@ TEST_F(Check, EveryFrameOfTheStandardTypesLiesOnOrOutsideItsSolid) {
     }
   }
   EXPECT_GT(frames, 10u);
+}
+
+TEST_F(Check, AnObjectAtAFrameIsComparedWithWhatItStandsOn) {
+  // `at` rests an object on its parent: no_overlap compares them (a drum run through by the
+  // beams of a level 0.4 m above passed: parent and child were never compared), while a rack in
+  // its room (a `parent` link) and the drum in that room stay exempt.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: Hall, length: 10, width: 10, height: 5}\n"
+      "  - {type: drum_rack, name: R, parent: Hall, location: [1, 1, 0], level_height: 0.4 m}\n"
+      "  - {type: drum, name: Low, at: R.slot_1_1_2}\n"
+      "  - {type: wall, name: W, parent: Hall, location: [1, 5, 0], length: 6, openings: 1, opening_width: 1, opening_height: 2.2}\n"
+      "  - {type: rollup_door, name: Big, at: W.opening_1}\n"
+      "constraints:\n  - {name: nothing overlaps, no_overlap: {objects: \"*\"}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  std::set<std::pair<std::string, std::string>> pairs;
+  for (const CheckResult& r : rep.results)
+    if (r.status == Status::Fail && r.subjects.size() == 2) pairs.insert({wc.objects[r.subjects[0]].name, wc.objects[r.subjects[1]].name});
+  EXPECT_TRUE(pairs.count({"R", "Low"}) || pairs.count({"Low", "R"})) << rep.results.size();
+  EXPECT_TRUE(pairs.count({"W", "Big"}) || pairs.count({"Big", "W"})) << rep.results.size();
+  for (const auto& [a, b] : pairs) EXPECT_TRUE(a != "Hall" && b != "Hall") << a << " " << b;
+  // At a level 1.27 m up and a door the opening's size, they only touch: a pass.
+  wc = must_compile(
+      "objects:\n  - {type: room, name: Hall, length: 10, width: 10, height: 5}\n"
+      "  - {type: drum_rack, name: R, parent: Hall, location: [1, 1, 0]}\n"
+      "  - {type: drum, name: Low, at: R.slot_1_1_2}\n  - {type: drum, name: Up, at: R.slot_2_1_2}\n"
+      "  - {type: wall, name: W, parent: Hall, location: [1, 5, 0], length: 6, openings: 1, opening_width: Fit.width, opening_height: Fit.height,"
+      " height: 5}\n"
+      "  - {type: rollup_door, name: Fit, at: W.opening_1}\n"
+      "constraints:\n  - {name: nothing overlaps, no_overlap: {objects: \"*\"}}\n");
+  rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 1u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
 }
 
 TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {

@@ -344,13 +344,13 @@ TEST_F(Geometry, ARepeatCountThatIsNoWholeNumberIsAnErrorOfTheObject) {
   options.library_dirs.push_back(type_dir({{"grid", kGrid}}));
   EXPECT_THAT(first_error("objects:\n  - {type: grid, name: G, scale: 0.5}\n"),
               ::testing::HasSubstr("a repeated shape of 'G' (type 'grid'): the count of repeat counter 'col' (cols * scale) is 1.5, "
-                                   "expected a whole number from 0 to 100000"));
+                                   "expected a whole number from 0 to 10000"));
   diag = Diagnostics{};
   EXPECT_THAT(first_error("parameters:\n  big: {value: 1e6}\nobjects:\n  - {type: grid, name: G, scale: big}\n"),
-              ::testing::HasSubstr("is 3000000, expected a whole number from 0 to 100000"));
+              ::testing::HasSubstr("is 3000000, expected a whole number from 0 to 10000"));
   diag = Diagnostics{};
   EXPECT_THAT(first_error("objects:\n  - {type: grid, name: G, cols: 1000, rows: 1000}\n"),
-              ::testing::HasSubstr("a repeated shape of 'G' (type 'grid'): its repeat makes 1e+06 copies, more than the 100000"));
+              ::testing::HasSubstr("a repeated shape of 'G' (type 'grid'): its repeat makes 1e+06 copies, more than the 10000"));
   EXPECT_THAT(diag.format(sources), ::testing::HasSubstr("frame 'cell_{row}_{col}' of 'G' (type 'grid'): its repeat makes 1e+06 copies"));
 }
 
@@ -402,7 +402,7 @@ TEST_F(Geometry, AnObjectAtAFrameOfAnotherStandsThereAndMovesWithIt) {
   // The rack's levels decide which frames there are: level 3 of a two-level rack is none.
   diag = Diagnostics{};
   EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K, levels: 2}\n  - {type: drum, name: D, at: K.slot_3_1_1}\n"),
-              ::testing::HasSubstr("'slot_3_1_1' is no named frame of K (type 'drum_rack'); its frames: top, slot_1_1_1,"));
+              ::testing::HasSubstr("'slot_3_1_1' is no named frame of K (type 'drum_rack'); its frames: top, slot_{level}_{bay}_{position} (level 1 to 2, bay 1 to 3, position 1 to 3),"));
   diag = Diagnostics{};
   EXPECT_THAT(first_error("objects:\n  - {type: drum_rack, name: K}\n  - {type: drum, name: D, at: Kk.slot_1_1_1}\n"),
               ::testing::HasSubstr("'at' names unknown object 'Kk' (did you mean 'K'?)"));
