@@ -995,6 +995,10 @@ def drum_store(sscs, root):
         for r in results:
             if r["constraint"].startswith("the crane") and "reach" in r["message"] and "all 48 targets" not in r["message"]:
                 fail(f"{r['constraint']} should reach all 48 top-level positions: {r['message']}")
+        # A door larger than its opening meets the wall even rolled up (its guides stand in the opening).
+        p = run(sscs, root, ["check", "tests/data/doors/open-door-too-big.yaml"])
+        if p.returncode != 1 or "W and Big overlap" not in p.stdout:
+            fail("a rolled-up door larger than its opening should overlap the wall", p)
         # Five levels put the top drums above what the hook clears: the crane rule fails.
         p = run(sscs, root, ["check", "scenarios/drum-store/store.yaml", "--set", "levels=5"])
         if p.returncode != 1 or "the crane reaches every rack position from above" not in p.stdout:
