@@ -106,17 +106,17 @@ bool Workcell::is_a(int t, int ancestor) const {
 }
 
 bool Workcell::nested(int a, int b) const {
-  // Up from one to the other: exempt once a `parent` link is crossed; `at` links alone (a drum on
-  // a rack's slot, a door in a wall's opening) rest on what they name, and are compared with it.
-  auto up = [&](int from, int to) {
-    bool through_parent = false;
-    for (int p = from; p >= 0; p = objects[p].parent) {
-      if (p == to) return through_parent;
-      through_parent = through_parent || objects[p].at.empty();
-    }
+  // Only a container's box is a space its descendants stand in (a rack in its room). Any other
+  // ancestor is a solid its descendants rest on: a pallet on a rack, a drum on a cart, a drum
+  // `at` a rack's slot; run through by its beam is an overlap (it passed: the spec's wording
+  // exempted every `parent` link, so a drum parented to its rack passed inside the beams).
+  auto holds = [&](int outer, int inner) {
+    if (!types[objects[outer].type].container) return false;
+    for (int p = objects[inner].parent; p >= 0; p = objects[p].parent)
+      if (p == outer) return true;
     return false;
   };
-  return a == b || up(a, b) || up(b, a);
+  return a == b || holds(a, b) || holds(b, a);
 }
 
 bool Workcell::related(int a, int b) const {

@@ -234,9 +234,10 @@ struct Workcell {
   bool is_a(int t, int ancestor) const;
   /// Whether object `a` is `b` or one of its ancestors or descendants in the parent chain.
   bool related(int a, int b) const;
-  /// Whether `no_overlap` and set-wise `clearance` leave the pair alone: one holds the other
-  /// through a `parent` link (a rack in its room). An object `at` another's frame stands on it
-  /// and is compared with it (a drum run through by the beam above it is an overlap).
+  /// Whether `no_overlap` and set-wise `clearance` leave the pair alone: one is a container (its
+  /// type says `container: true`) and the other descends from it, through `parent` or `at` (a rack
+  /// in its room). Any other ancestor is a solid its descendants rest on and is compared with
+  /// them (a pallet on a rack, a drum run through by the beam above it).
   bool nested(int a, int b) const;
 };
 

@@ -301,6 +301,40 @@ TEST_F(Check, AnObjectAtAFrameIsComparedWithWhatItStandsOn) {
   EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
 }
 
+TEST_F(Check, OnlyAContainerLeavesItsDescendantsAlone) {
+  // A `parent` link to a solid is not a room: a drum parented to a rack, placed through its
+  // beams, and a cart parented to a fence it stands in, overlap (both passed: the spec's "not
+  // compared along the parent chain" exempted every parent). A pallet resting on the rack's
+  // beams touches it (a pass), and everything stays exempt from the room it is parented to.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: Hall, length: 10, width: 10, height: 5}\n"
+      "  - {type: drum_rack, name: R, parent: Hall, location: [1, 1, 0]}\n"
+      "  - {type: drum, name: Through, parent: R, location: [0.4, 0.5, 1.0]}\n"
+      "  - {type: fence, name: F, parent: Hall, location: [1, 8, 0], length: 4}\n"
+      "  - {type: drum, name: InFence, parent: F, location: [1, 0, 0]}\n"
+      "constraints:\n  - {name: nothing overlaps, no_overlap: {objects: \"*\"}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  std::set<std::set<std::string>> pairs;
+  for (const CheckResult& r : rep.results)
+    if (r.status == Status::Fail && r.subjects.size() == 2) pairs.insert({wc.objects[r.subjects[0]].name, wc.objects[r.subjects[1]].name});
+  EXPECT_TRUE(pairs.count({"R", "Through"})) << rep.results.size();
+  EXPECT_TRUE(pairs.count({"F", "InFence"})) << rep.results.size();
+  for (const auto& pair : pairs) EXPECT_FALSE(pair.count("Hall")) << *pair.begin() << " " << *pair.rbegin();
+  // The drum on the rack's first level (its slot frame's height, beams below it): a pass.
+  std::optional<Eigen::Isometry3d> slot = wc.named_frame(wc.find_object("R"), "slot_1_1_1");
+  ASSERT_TRUE(slot);
+  const Eigen::Vector3d at = slot->translation();
+  wc = must_compile(fmt::format(
+      "objects:\n  - {{type: room, name: Hall, length: 10, width: 10, height: 5}}\n"
+      "  - {{type: drum_rack, name: R, parent: Hall, location: [1, 1, 0]}}\n"
+      "  - {{type: drum, name: On, parent: R, location: [{}, {}, {}]}}\n"
+      "constraints:\n  - {{name: nothing overlaps, no_overlap: {{objects: \"*\"}}}}\n",
+      at.x(), at.y(), at.z()));
+  rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 1u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+}
+
 TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {
   // A drum on a pallet in a rotated room: bbox values are world-frame.
   Workcell wc = must_compile(
