@@ -11,6 +11,8 @@ packages=(
   libbenchmark-dev liburdfdom-dev libtinyxml-dev  # tinyxml: SRDF files (urdfdom uses it too)
   liborocos-kdl-dev  # the IK benchmark's peer solver only; sscs does not link it
   clang libclang-rt-14-dev  # the sanitizer and libFuzzer build of tools/test.sh (stage 2)
+  libjs-three  # three.js r111, built into the HTML reports
+  nodejs chromium-headless-shell  # test-only: the glTF validator, the reports in a real browser (tests/web)
 )
 
 missing=()
@@ -19,6 +21,9 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
+
+# npm comes with NodeSource's nodejs where that is installed; Debian packages it apart.
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 
 if ((${#missing[@]} == 0)); then
   exit 0

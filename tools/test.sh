@@ -17,6 +17,12 @@ case ${1:-} in
   *) echo "usage: tools/test.sh [--fast | --sanitize]" >&2; exit 2 ;;
 esac
 "$root/tools/setup.sh"
+# The web tests' tools from the npm registry (test-only: the glTF validator, puppeteer-core), as
+# package-lock.json pins them; again only when the lock changed.
+web=$root/tests/web
+if ! cmp -s "$web/package-lock.json" "$web/node_modules/.sscs-lock" 2>/dev/null; then
+  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.sscs-lock)
+fi
 
 if [[ $mode != sanitize ]]; then
   "$root/tools/build.sh"
@@ -48,7 +54,7 @@ export LSAN_OPTIONS=suppressions=$root/tests/sanitize/lsan.supp:print_suppressio
 # the shader cache there is no cache thread either.
 export LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true
 # Tests the sanitizers cannot run: RLIMIT_AS (--variant-memory) does not bound an ASan process.
-skip='^e2e\.(variant_memory|soak)$'
+skip='^e2e\.(variant_memory|soak)$|^web\.'
 if [[ $mode == all ]]; then
   # CI's subset (about 3 minutes): the unit tests, every bad input and golden report, the command
   # line, and the fuzzers. The slow runs stay in stage 1 only: end-to-end simulate, agreement, sweep, render,

@@ -7,7 +7,7 @@
 #include "cli/subcommands.h"
 #include "core/files.h"
 #include "core/timer.h"
-#include "geometry/export.h"
+#include "pipeline/html_report.h"
 #include "pipeline/prepare.h"
 #include "pipeline/catalogue.h"
 #include "pipeline/type_listing.h"
@@ -47,7 +47,8 @@ int run_check(const Common& common, const CheckArgs& args) {
   for (const std::string& path : args.vaults) {
     common.confine_to(path);  // each vault reads within its own project, not another's
     const size_t warned = diag.warnings().size();
-    PreparedVault vault = prepare_vault(path, options, sources, diag);
+    // The HTML report draws devices as they look (their visual meshes).
+    PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = !args.html.empty(), .contacts = nullptr});
     if (vault.wc) {
       geometry.push_back(std::move(vault.geometry));
       cells.push_back(std::move(*vault.wc));
@@ -76,6 +77,26 @@ int run_check(const Common& common, const CheckArgs& args) {
     if (baseline) reports.back().baseline = compare_with_baseline(cells[i], reports.back().report, *baseline);
   }
   timer.lap("check");
+  // The HTML page is made before anything is written: a failure leaves no output.
+  std::string html;
+  if (!args.html.empty()) {
+    std::vector<const GeometryModel*> models;
+    for (const GeometryModel& g : geometry) models.push_back(&g);
+    html = check_html(reports, sources, models);
+    timer.lap("html");
+  }
+  // A report written over a file it was made from (`--out vault.yaml`) would destroy the input.
+  for (const auto& [option, path] : {std::pair{"--out", &args.out}, std::pair{"--html", &args.html}}) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path target = fs::weakly_canonical(*path, ec);
+    for (uint32_t f = 1; !path->empty() && f < sources.size(); ++f)
+      if (fs::exists(sources.path(f), ec) && fs::weakly_canonical(sources.path(f), ec) == target) {
+        std::cerr << fmt::format("sscs: error: {} '{}' is an input of this check ({}); write the report elsewhere\n", option, *path,
+                                 sources.path(f));
+        return kInputError;
+      }
+  }
   // JSON, JUnit and SARIF are streamed as they are made (to stdout, or to a temporary file renamed
   // into place when complete): a report of 100,000 results is never held whole in memory.
   auto write_report = [&](std::ostream& out) {
@@ -96,16 +117,6 @@ int run_check(const Common& common, const CheckArgs& args) {
     std::cout << std::flush;
     timer.lap("report");
   } else {
-    // A report written over a file it was made from (`--out vault.yaml`) would destroy the input.
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path target = fs::weakly_canonical(args.out, ec);
-    for (uint32_t f = 1; f < sources.size(); ++f)
-      if (fs::exists(sources.path(f), ec) && fs::weakly_canonical(sources.path(f), ec) == target) {
-        std::cerr << fmt::format("sscs: error: --out '{}' is an input of this check ({}); write the report elsewhere\n", args.out,
-                                 sources.path(f));
-        return kInputError;
-      }
     std::string err = write_file_atomic(args.out, write_report);
     timer.lap("report");
     if (!err.empty()) {
@@ -116,6 +127,13 @@ int run_check(const Common& common, const CheckArgs& args) {
       // Keep the summary lines on the terminal when the report goes to a file.
       std::cout << format_text(reports, sources, {common.color_for(stdout), true, args.strict});
     }
+  }
+  if (!args.html.empty()) {
+    if (std::string err = write_file_atomic(args.html, html); !err.empty()) {
+      std::cerr << "sscs: error: " << err << "\n";
+      return kInputError;
+    }
+    if (!common.quiet) std::cout << fmt::format("HTML report: {}\n", args.html);
   }
   bool violated = std::any_of(reports.begin(), reports.end(), [&](const VaultReport& r) { return r.violated(args.strict); });
   return violated ? kViolations : kOk;
@@ -169,20 +187,6 @@ int run_types(const Common& common, const std::string& format, const std::string
   return kOk;
 }
 
-int run_export(const Common& common, const std::string& vault, const std::string& out) {
-  CompileOptions options;
-  if (!common.apply(options, {vault})) return kInputError;
-  Sources sources;
-  Diagnostics diag;
-  auto [wc, geometry] = prepare_vault(vault, options, sources, diag, {.visuals = true, .contacts = nullptr});  // drawn: what devices look like
-  if (report_diagnostics(diag, sources, common)) return kInputError;
-  if (std::string err = export_workcell(*wc, geometry, out); !err.empty()) {
-    std::cerr << "sscs: error: " << err << "\n";
-    return kInputError;
-  }
-  if (!common.quiet) std::cout << fmt::format("wrote {} ({} objects)\n", out, wc->objects.size());
-  return kOk;
-}
 
 
 }  // namespace sscs::cli

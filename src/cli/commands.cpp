@@ -45,6 +45,7 @@ int run_cli(int argc, char** argv) {
     check_cmd->add_flag("--strict", check_args.strict, "failed warnings fail the gate too, and input warnings are input errors");
     check_cmd->add_option("--baseline", check_args.baseline, "classify results against an earlier report (--format json): new failure, fixed, still failing, "
                     "unchanged; exit 1 only for new failures");
+    check_cmd->add_option("--html", check_args.html, "also write the self-contained HTML report (table and 3D view) to this file");
     common.add_to(check_cmd);
 
     std::string types_format = "text", types_out;
@@ -55,10 +56,10 @@ int run_cli(int argc, char** argv) {
     common.add_to(types_cmd, /*with_set=*/false);  // types reads no vault: --set would do nothing
 
     std::string export_vault, export_out;
-    CLI::App* export_cmd = command("export", "the composed workcell as one 3D file (glb, gltf, obj, stl)",
+    CLI::App* export_cmd = command("export", "the composed workcell, or a run with its motion, as one 3D file (glb, gltf, obj, stl)",
                                    [&] { return run_export(common, export_vault, export_out); });
-    export_cmd->add_option("VAULT", export_vault, "vault file")->required();
-    export_cmd->add_option("--out", export_out, "output file: .glb, .gltf, .obj or .stl")->required();
+    export_cmd->add_option("VAULT", export_vault, "vault file, or a run folder or bundle (.zip): its motion as a glTF animation")->required();
+    export_cmd->add_option("--out", export_out, "output file: .glb, .gltf (with cameras and a run's animation), .obj or .stl")->required();
     common.add_to(export_cmd);
 
     SimulateArgs sim_args;
@@ -72,6 +73,7 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_flag("--force", sim_args.force, "replace an existing run folder or bundle (never replaced without it)");
     sim_cmd->add_option("--wall-limit", sim_args.wall_limit, "seconds of wall-clock time the run may take; past it the run "
                         "stops as failed with a wall_limit event (default: no limit; sim.limit bounds simulated time)");
+    sim_cmd->add_option("--html", sim_args.html, "also write the run's self-contained HTML report (animated 3D, events, plots) to this file");
     common.add_to(sim_cmd);
 
     RenderArgs render_args;
@@ -95,6 +97,13 @@ int run_cli(int argc, char** argv) {
     replay_cmd->add_flag("--shadows", replay_args.shadows, "frames with shadows of the key light");
     replay_cmd->add_flag("--force", replay_args.force, "replace an earlier replay in --out (nothing else is ever replaced)");
     common.add_to(replay_cmd);
+
+    std::string report_input, report_html;
+    CLI::App* report_cmd = command("report", "the self-contained HTML report of an existing run, sweep or check report",
+                                   [&] { return run_report(common, report_input, report_html); });
+    report_cmd->add_option("INPUT", report_input, "a run folder or bundle (.zip), a sweep folder, or a check's JSON report")->required();
+    report_cmd->add_option("--html", report_html, "the HTML file to write")->required();
+    common.add_to(report_cmd);
 
     std::vector<std::string> compare_runs;
     std::string compare_format = "text";
@@ -122,6 +131,7 @@ int run_cli(int argc, char** argv) {
     sweep_cmd->add_flag("--force", sweep_args.force, "redo every variant (clears --out)");
     sweep_cmd->add_option("--variant-timeout", sweep_args.variant_timeout, "seconds a variant may take before it is stopped and recorded as error (default: no limit)");
     sweep_cmd->add_option("--variant-memory", sweep_args.variant_memory, "GB of memory a variant may take before it is recorded as error (default: the machine's memory shared by the jobs, at least 1)");
+    sweep_cmd->add_option("--html", sweep_args.html, "also write the results' self-contained HTML report (table, plots) to this file");
     common.add_to(sweep_cmd);
     merge_cmd = sweep_cmd->add_subcommand("merge", "join shard folders into one table, as one run would have written it");
     merge_cmd->add_option("DIR", sweep_args.merge_dirs, "shard folders (--out of each sscs sweep --shard K/N)")->required();

@@ -7,12 +7,83 @@
 #include "core/names.h"
 #include "pipeline/prepare.h"
 #include "render/camera_path.h"
+#include "render/gltf.h"
+#include "pipeline/html_report.h"
 #include "render/frames.h"
 #include "render/image.h"
 #include "render/renderer.h"
 #include "render/replay.h"
 
 namespace sscs::cli {
+
+namespace {
+
+/// `sscs export RUN|BUNDLE --out FILE.glb`: the run's vault with its motion as an animation.
+int export_run(const Common& common, const std::string& path, const std::string& out) {
+  const std::string ext = std::filesystem::path(out).extension().string();
+  if (ext != ".glb" && ext != ".gltf") {
+    std::cerr << fmt::format("sscs: error: cannot export a run to '{}': only glTF (.glb, .gltf) holds its motion\n", out);
+    return kInputError;
+  }
+  Expected<std::shared_ptr<OpenedRun>> run = OpenedRun::open(path);
+  // Its files are read within the run's folder (a bundle's: where it was unpacked).
+  CompileOptions options;
+  if (run && !common.apply(options, {(*run)->dir()})) return kInputError;
+  std::string warnings;
+  Expected<std::string> bytes = run ? run_gltf(**run, options, ext == ".glb", &warnings) : Unexpected{run.error()};
+  if (!warnings.empty() && !common.quiet) std::cerr << warnings;
+  std::string err = bytes ? write_file_atomic(out, *bytes) : bytes.error();
+  if (!err.empty()) {
+    std::cerr << (err.ends_with('\n') ? err : "sscs: error: " + err + "\n");
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("wrote {} (the run {} with its motion)\n", out, path);
+  return kOk;
+}
+
+}  // namespace
+
+int run_export(const Common& common, const std::string& input, const std::string& out) {
+  namespace fs = std::filesystem;
+  // A run folder or bundle (a .zip): the run with its motion.
+  if (fs::is_directory(input) || fs::path(input).extension() == ".zip") return export_run(common, input, out);
+  CompileOptions options;
+  if (!common.apply(options, {input})) return kInputError;
+  Sources sources;
+  Diagnostics diag;
+  auto [wc, geometry] = prepare_vault(input, options, sources, diag, {.visuals = true, .contacts = nullptr});  // drawn: what devices look like
+  if (report_diagnostics(diag, sources, common)) return kInputError;
+  if (std::string err = write_export(*wc, geometry, {vault_cameras(*wc, geometry), nullptr}, out); !err.empty()) {
+    std::cerr << "sscs: error: " << err << "\n";
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("wrote {} ({} objects)\n", out, wc->objects.size());
+  return kOk;
+}
+
+int run_report(const Common& common, const std::string& input, const std::string& html) {
+  namespace fs = std::filesystem;
+  CompileOptions options;
+  std::error_code ec;
+  Expected<std::string> page = Unexpected{fmt::format("{}: expected a run folder or bundle, a sweep folder or a check's JSON report", input)};
+  if (fs::is_directory(input, ec) && fs::exists(fs::path(input) / "results.json", ec)) {
+    page = sweep_html(input, html);
+  } else if (fs::is_directory(input, ec) || fs::path(input).extension() == ".zip") {
+    Expected<std::shared_ptr<OpenedRun>> run = OpenedRun::open(input);
+    if (run && !common.apply(options, {(*run)->dir()})) return kInputError;  // read within the run's folder
+    page = run ? run_html(**run, options) : Unexpected{run.error()};
+  } else if (fs::path(input).extension() == ".json") {
+    if (!common.apply(options, {input})) return kInputError;
+    page = report_json_html(input, options, [&](const std::string& vault) { common.confine_to(vault); });
+  }
+  std::string err = page ? write_file_atomic(html, *page) : page.error();
+  if (!err.empty()) {
+    std::cerr << (err.ends_with('\n') ? err : "sscs: error: " + err + "\n");
+    return kInputError;
+  }
+  if (!common.quiet) std::cout << fmt::format("HTML report: {}\n", html);
+  return kOk;
+}
 
 int run_render(const Common& common, const RenderArgs& args) {
   int width = 0, height = 0;

@@ -4,6 +4,7 @@
 
 #include "cli/subcommands.h"
 #include "core/pose.h"
+#include "pipeline/html_report.h"
 #include "pipeline/run_scenario.h"
 #include "report/compare.h"
 
@@ -76,6 +77,21 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
     status += fmt::format(", cycle time {:g} s", stable(summary.cycle_time));
   std::cout << fmt::format("{}: {}, {} collisions, {} events; written to {}\n", ps.spec->name, status, summary.collisions,
                            summary.events, where);
+  if (!args.html.empty()) {
+    // The page is made from what the run wrote, as `sscs report RUN --html` makes it.
+    // The run's files are read as `sscs report` reads them: confined to the run's own folder.
+    Expected<std::shared_ptr<OpenedRun>> written = OpenedRun::open(out.empty() ? bundle : out);
+    CompileOptions run_options;
+    Expected<std::string> html = !written ? Unexpected{written.error()}
+                                 : !common.apply(run_options, {(*written)->dir()}) ? Unexpected{"the options do not apply to the run"}
+                                                                                    : run_html(**written, run_options);
+    std::string err = html ? write_file_atomic(args.html, *html) : html.error();
+    if (!err.empty()) {
+      std::cerr << "sscs: error: the HTML report: " << err << "\n";
+      return kInputError;
+    }
+    if (!common.quiet) std::cout << fmt::format("HTML report: {}\n", args.html);
+  }
   return summary.status == RunStatus::Ok ? kOk : kViolations;
 }
 

@@ -107,6 +107,7 @@ struct CheckArgs {
   std::string out;
   bool strict = false;
   std::string baseline;
+  std::string html;  ///< --html FILE: the self-contained HTML report too
 };
 
 struct RenderArgs {
@@ -130,6 +131,7 @@ struct SimulateArgs {
   bool shadows = false;
   bool force = false;  // replace an existing run folder or bundle
   std::optional<std::string> wall_limit;  // s of wall-clock time (none when not given)
+  std::string html;  // --html FILE: the run's HTML report
 };
 
 struct SweepArgs {
@@ -142,6 +144,7 @@ struct SweepArgs {
   double variant_timeout = 0;
   double variant_memory = 0;
   std::vector<std::string> merge_dirs;
+  std::string html;  // --html FILE: the results' HTML report
 };
 
 
@@ -175,6 +178,8 @@ int run_types(const Common& common, const std::string& format, const std::string
 int run_export(const Common& common, const std::string& vault, const std::string& out);
 int run_render(const Common& common, const RenderArgs& args);
 int run_replay(const Common& common, const ReplayArgs& args);
+/// `sscs report RUN|SWEEP|REPORT.json --html FILE`: the HTML report of an existing output.
+int run_report(const Common& common, const std::string& input, const std::string& html);
 int run_simulate(const Common& common, const SimulateArgs& args);
 int run_compare(const std::vector<std::string>& paths, const std::string& format);
 int run_sweep_command(const Common& common, const SweepArgs& args);

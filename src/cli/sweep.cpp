@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include "cli/subcommands.h"
+#include "pipeline/html_report.h"
 #include "sweep/sweep.h"
 
 namespace sscs::cli {
@@ -82,7 +83,17 @@ int run_sweep_command(const Common& common, const SweepArgs& args) {
     outcome = run_sweep(args.sweep, options, sources, diag);
   }
   if (report_diagnostics(diag, sources, common)) return kInputError;
-  return report_sweep(outcome, "swept");
+  const int status = report_sweep(outcome, "swept");
+  if (!args.html.empty() && outcome.end == SweepOutcome::End::Done) {
+    Expected<std::string> html = sweep_html(outcome.out, args.html);
+    std::string err = html ? write_file_atomic(args.html, *html) : html.error();
+    if (!err.empty()) {
+      std::cerr << "sscs: error: the HTML report: " << err << "\n";
+      return kInputError;
+    }
+    if (!common.quiet) std::cout << fmt::format("HTML report: {}\n", args.html);
+  }
+  return status;
 }
 
 

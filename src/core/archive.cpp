@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <vector>
 
@@ -75,6 +76,40 @@ Expected<std::string> read_zip_entry(const std::string& zip_path, const std::str
   if (!f || zip_fread(f.get(), bytes.data(), st.size) != static_cast<zip_int64_t>(st.size))
     return Unexpected{fmt::format("{}: cannot read {}: {}", zip_path, name, zip_strerror(za.get()))};
   return bytes;
+}
+
+std::string unzip_into(const std::string& zip_path, const std::string& dir, const std::vector<std::string>& skip) {
+  int code = 0;
+  std::unique_ptr<zip_t, decltype(&zip_discard)> za(zip_open(zip_path.c_str(), ZIP_RDONLY, &code), &zip_discard);
+  if (!za) return fmt::format("{}: not a readable zip archive ({})", zip_path, zip_message(code));
+  const zip_int64_t n = zip_get_num_entries(za.get(), 0);
+  for (zip_int64_t i = 0; i < n; ++i) {
+    const char* raw = zip_get_name(za.get(), static_cast<zip_uint64_t>(i), 0);
+    if (!raw) return fmt::format("{}: entry {} has no name", zip_path, i);
+    const std::string name = raw;
+    if (std::any_of(skip.begin(), skip.end(), [&](const std::string& s) { return name.rfind(s, 0) == 0; })) continue;
+    const fs::path rel = fs::path(name).lexically_normal();
+    if (name.empty() || rel.is_absolute() || rel.empty() || *rel.begin() == "..")
+      return fmt::format("{}: entry '{}' lies outside the archive's folder", zip_path, name);
+    const fs::path target = fs::path(dir) / rel;
+    std::error_code ec;
+    if (name.back() == '/') {
+      fs::create_directories(target, ec);
+      if (ec) return fmt::format("cannot create '{}': {}", target.string(), ec.message());
+      continue;
+    }
+    fs::create_directories(target.parent_path(), ec);
+    if (ec) return fmt::format("cannot create '{}': {}", target.parent_path().string(), ec.message());
+    std::unique_ptr<zip_file_t, decltype(&zip_fclose)> f(zip_fopen_index(za.get(), static_cast<zip_uint64_t>(i), 0), &zip_fclose);
+    if (!f) return fmt::format("{}: cannot read {}: {}", zip_path, name, zip_strerror(za.get()));
+    std::ofstream out(target, std::ios::binary);
+    char buffer[1 << 16];
+    zip_int64_t got = 0;
+    while ((got = zip_fread(f.get(), buffer, sizeof buffer)) > 0) out.write(buffer, got);
+    if (got < 0) return fmt::format("{}: cannot read {}: {}", zip_path, name, zip_file_strerror(f.get()));
+    if (!out.flush()) return fmt::format("cannot write '{}'", target.string());
+  }
+  return "";
 }
 
 }  // namespace sscs

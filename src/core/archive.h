@@ -4,6 +4,7 @@
 /// run gives the same bytes.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/expected.h"
 
@@ -16,5 +17,11 @@ std::string zip_folder(const std::string& folder, const std::string& zip_path);
 /// The bytes of entry `name` in the zip at `zip_path`; nullopt with `error` set when the file is
 /// not a readable zip or has no such entry.
 Expected<std::string> read_zip_entry(const std::string& zip_path, const std::string& name);
+
+/// Unpacks the zip at `zip_path` into the existing folder `dir`, except entries whose names
+/// start with one of `skip` (a bundle's frames). An entry whose name is absolute, climbs out
+/// (`..`) or is not a plain file or folder is an error: nothing is written outside `dir`.
+/// Returns an error message or "".
+std::string unzip_into(const std::string& zip_path, const std::string& dir, const std::vector<std::string>& skip = {});
 
 }  // namespace sscs

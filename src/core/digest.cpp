@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -28,6 +29,20 @@ std::optional<std::string> read_file_bytes(const std::string& path) {
   buf << in.rdbuf();
   if (in.bad()) return std::nullopt;
   return std::move(buf).str();
+}
+
+std::string base64(std::string_view bytes) {
+  std::string out(4 * ((bytes.size() + 2) / 3) + 1, '\0');
+  // EVP_EncodeBlock takes an int length: encode in blocks (a multiple of 3 bytes) to be safe.
+  constexpr size_t kBlock = 3 << 20;
+  size_t written = 0;
+  for (size_t at = 0; at < bytes.size(); at += kBlock) {
+    const size_t n = std::min(kBlock, bytes.size() - at);
+    written += static_cast<size_t>(EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data() + written),
+                                                   reinterpret_cast<const unsigned char*>(bytes.data() + at), static_cast<int>(n)));
+  }
+  out.resize(written);
+  return out;
 }
 
 }  // namespace sscs

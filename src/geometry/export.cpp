@@ -107,10 +107,41 @@ TriangleMesh tessellate(const Shape& s) {
   return m;
 }
 
+std::vector<float> shaded_triangles(const TriangleMesh& m) {
+  const size_t nt = m.triangles.size();
+  std::vector<Eigen::Vector3d> face(nt);
+  std::vector<std::vector<size_t>> faces_of(m.vertices.size());
+  for (size_t t = 0; t < nt; ++t) {
+    const Eigen::Vector3i& tri = m.triangles[t];
+    Eigen::Vector3d n = (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]);
+    face[t] = n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitZ();
+    for (int k = 0; k < 3; ++k) faces_of[tri[k]].push_back(t);
+  }
+  const double crease = std::cos(30 * std::numbers::pi / 180);
+  std::vector<float> out;
+  out.reserve(nt * 18);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      int v = m.triangles[t][k];
+      Eigen::Vector3d n = Eigen::Vector3d::Zero();
+      for (size_t f : faces_of[v])
+        if (face[f].dot(face[t]) >= crease) n += face[f];
+      n = n.norm() > 0 ? n.normalized() : face[t];
+      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(m.vertices[v][c]));
+      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(n[c]));
+    }
+  return out;
+}
+
+std::string shape_key(const Shape& s) {
+  return fmt::format("{}|{}|{}|{}|{}|{}", static_cast<int>(s.kind), fmt::join(s.box_size, ","), s.radius, s.length,
+                     static_cast<const void*>(s.mesh.get()), fmt::join(s.scale, ","));
+}
+
 std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, const std::string& path) {
   namespace fs = std::filesystem;
   std::string ext = fs::path(path).extension().string();
-  std::string format = ext == ".glb" ? "glb2" : ext == ".gltf" ? "gltf2" : ext == ".obj" ? "obj" : ext == ".stl" ? "stlb" : "";
+  std::string format = ext == ".obj" ? "obj" : ext == ".stl" ? "stlb" : "";
   if (format.empty()) return fmt::format("cannot export '{}': expected a .glb, .gltf, .obj or .stl file", path);
 
   aiScene scene;  // owns everything below; its destructor frees the arrays
@@ -197,7 +228,7 @@ std::string export_workcell(const Workcell& wc, const GeometryModel& geometry, c
 
   // STL has no nodes: bake the world transforms into the vertices.
   unsigned steps = format == "stlb" ? static_cast<unsigned>(aiProcess_PreTransformVertices) : 0u;
-  // glTF writes a .bin and OBJ a .mtl beside the file, named after it: export into a fresh
+  // OBJ writes a .mtl beside the file, named after it: export into a fresh
   // folder under the final names, then move every file into place.
   fs::path target(path);
   fs::path stage = temp_path_for((target.parent_path() / "export").string());

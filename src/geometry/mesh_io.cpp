@@ -253,11 +253,13 @@ RawMesh read_with_assimp(const std::string& path) {
     for (unsigned f = 0; f < scene->mMeshes[m]->mNumFaces; ++f)
       triangles += std::max(2u, scene->mMeshes[m]->mFaces[f].mNumIndices) - 2;
   if (out.error = too_many_triangles(triangles); !out.error.empty()) return out;
-  // assimp turns a Collada file's up axis (Z_UP in ROS packages) into its own Y up; sscs's
-  // world is Z up, so a .dae file's Y up is turned back into Z up: (x, y, z) -> (x, -z, y).
+  // assimp turns a Collada file's up axis (Z_UP in ROS packages) into its own Y up, and glTF is
+  // Y up by its specification (Blender's exports, sscs's own); sscs's world is Z up, so their Y
+  // up is turned into Z up: (x, y, z) -> (x, -z, y). (glTF used to be read as Z up: a Blender
+  // model lay on its side.)
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  const bool y_up = ext == ".dae";
+  const bool y_up = ext == ".dae" || ext == ".gltf" || ext == ".glb";
   Textures textures(scene, std::filesystem::path(path).parent_path());
   std::vector<const Texture*> texture_of(scene->mNumMeshes);  // of a mesh with texture coordinates
   bool coloured = false;

@@ -93,33 +93,6 @@ out vec4 color;
 void main() { color = vec4(vertex_color, 1.0); }
 )";
 
-/// Triangles with per-corner normals: a corner takes the average of the neighbouring faces
-/// within 30 degrees of its own face (smooth cylinders and spheres, crisp box edges).
-std::vector<float> shaded_triangles(const TriangleMesh& m) {
-  const size_t nt = m.triangles.size();
-  std::vector<Eigen::Vector3d> face(nt);
-  std::vector<std::vector<size_t>> faces_of(m.vertices.size());
-  for (size_t t = 0; t < nt; ++t) {
-    const Eigen::Vector3i& tri = m.triangles[t];
-    Eigen::Vector3d n = (m.vertices[tri[1]] - m.vertices[tri[0]]).cross(m.vertices[tri[2]] - m.vertices[tri[0]]);
-    face[t] = n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitZ();
-    for (int k = 0; k < 3; ++k) faces_of[tri[k]].push_back(t);
-  }
-  const double crease = std::cos(30 * std::numbers::pi / 180);
-  std::vector<float> out;
-  out.reserve(nt * 18);
-  for (size_t t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      int v = m.triangles[t][k];
-      Eigen::Vector3d n = Eigen::Vector3d::Zero();
-      for (size_t f : faces_of[v])
-        if (face[f].dot(face[t]) >= crease) n += face[f];
-      n = n.norm() > 0 ? n.normalized() : face[t];
-      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(m.vertices[v][c]));
-      for (int c = 0; c < 3; ++c) out.push_back(static_cast<float>(n[c]));
-    }
-  return out;
-}
 
 Eigen::Matrix4f to_float(const Eigen::Matrix4d& M) { return M.cast<float>(); }
 
@@ -324,9 +297,7 @@ struct Renderer::Impl {
       for (const Shape& s : g.drawn_shapes()) {
         Shape local = s;
         local.X_object_shape.setIdentity();
-        std::string key = fmt::format("{}|{}|{}|{}|{}|{}", static_cast<int>(s.kind), fmt::join(s.box_size, ","), s.radius,
-                                      s.length, static_cast<const void*>(s.mesh.get()), fmt::join(s.scale, ","));
-        auto [it, fresh] = known.try_emplace(key, meshes.size());
+        auto [it, fresh] = known.try_emplace(shape_key(s), meshes.size());
         if (fresh) meshes.push_back(buffer(shaded_triangles(tessellate(local))));
         Item item;
         item.object = static_cast<int>(o);

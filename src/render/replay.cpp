@@ -172,6 +172,26 @@ Expected<std::vector<double>> RecordedRun::frame_times(double fps) const {
   return times;
 }
 
+std::vector<double> RecordedRun::log_times() const {
+  std::vector<double> all{0.0};
+  for (const auto* series : {&devices_, &objects_})
+    for (const auto& [o, s] : *series) all.insert(all.end(), s.t.begin(), s.t.end());
+  std::sort(all.begin(), all.end());
+  std::vector<double> out;
+  for (double t : all)
+    if (out.empty() || static_cast<float>(t) > static_cast<float>(out.back())) out.push_back(t);
+  return out;
+}
+
+std::vector<int> RecordedRun::logged_objects() const {
+  std::vector<int> out;
+  for (const auto* series : {&devices_, &objects_})
+    for (const auto& [o, s] : *series) out.push_back(o);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 ScenePose RecordedRun::at(double t) const {
   ScenePose pose = ScenePose::of(*geometry_);
   for (const auto& [o, s] : devices_) {

@@ -29,6 +29,11 @@ class RecordedRun {
   /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
   ScenePose at(double t) const;
   double duration() const { return duration_; }
+  /// Every time a log has a row at (devices' trajectories, objects.csv), increasing, each one
+  /// once; 0 first. Times closer than a 32-bit float tells apart (glTF's) are kept once.
+  std::vector<double> log_times() const;
+  /// The objects the logs move (devices with a trajectory, objects in objects.csv), in order.
+  std::vector<int> logged_objects() const;
   /// The times to draw frames at: the run's own (its frames/index.csv, as FrameRecorder wrote
   /// it) when it recorded frames, else every 1/fps of its duration. Why not (file and line
   /// named) when the index is not as FrameRecorder writes it: its header, rows of frame number

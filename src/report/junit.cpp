@@ -7,10 +7,6 @@
 
 namespace sscs {
 
-namespace {
-
-/// Text as XML character data or an attribute value: control characters (which XML 1.0 cannot
-/// carry even as references) and bytes that are not UTF-8 become '?', markup is escaped.
 std::string xml_escape(std::string_view text) {
   const std::string s = printable(text, true);
   std::string out;
@@ -27,6 +23,8 @@ std::string xml_escape(std::string_view text) {
   }
   return out;
 }
+
+namespace {
 
 /// A check's place in the suite: a passing case, an <error> or a <failure> (counted), or a
 /// warning shown in <system-out> (passes the gate unless strict). A check that could not be

@@ -23,7 +23,11 @@ enum class Change : uint8_t {
   Fixed,         ///< passing now, failing in the baseline
   Unchanged,     ///< passing now and there (or new and passing)
 };
-const char* change_name(Change c);  ///< "new", "still_failing", "fixed", "unchanged"
+const char* change_name(Change c);
+
+/// Text as XML (or HTML) character data or an attribute value: control characters (which XML
+/// 1.0 cannot carry even as references) and bytes that are not UTF-8 become '?', markup is escaped.
+std::string xml_escape(std::string_view text);  ///< "new", "still_failing", "fixed", "unchanged"
 
 /// One vault against its part of the baseline report.
 struct BaselineDiff {

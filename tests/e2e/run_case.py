@@ -1601,6 +1601,21 @@ def recipe(root, name):
         return load(f.name)
 
 
+def html_report(path, uploaded):
+    """A recipe's HTML report: written, kept as an artifact, one page with the baseline's diff
+    and the model inlined (nothing to fetch)."""
+    if not uploaded:
+        fail(f"the recipe does not keep {os.path.basename(path)} as an artifact")
+    if not os.path.isfile(path):
+        fail(f"the recipe wrote no {path}")
+    page = open(path, encoding="utf-8").read()
+    for needle in ('<script type="application/json" id="sscs-data">', 'id="sscs-model-0"', '"baseline"', "THREE.GLTFLoader"):
+        if needle not in page:
+            fail(f"{path} lacks {needle!r}")
+    if re.search(r'(src|href)="(https?:)?//', page):
+        fail(f"{path} refers to something on the network")
+
+
 def ci_recipes(sscs, root):
     """The CI recipes of docs/ci.md, run as written (less installing and building sscs) in a
     scratch repository whose base branch holds scenarios/ci-example/main and whose change holds
@@ -1655,6 +1670,9 @@ def ci_recipes(sscs, root):
         sarif = json.load(open(os.path.join(work, uploads[0]["sarif_file"])))
         if sorted(r.get("baselineState") for r in sarif["runs"][0]["results"]) != ["absent", "new", "unchanged"]:
             fail(f"the SARIF the workflow uploads: {sarif['runs'][0]['results']}")
+        # The artifact holds the HTML report (the page itself is tested in chromium: web.reports).
+        artifact = [s["with"]["path"] for s in job["steps"] if s.get("uses", "").startswith("actions/upload-artifact")][0]
+        html_report(os.path.join(work, "sscs.html"), "sscs.html" in artifact.split())
 
         # GitLab CI: the job's script, one shell as GitLab runs it.
         job = recipe(root, "gitlab")["sscs-check"]
@@ -1668,6 +1686,7 @@ def ci_recipes(sscs, root):
         check_junit(junit)
         if "[new failure]" not in open(junit).read():
             fail("the GitLab JUnit report has no [new failure]")
+        html_report(os.path.join(work, "sscs.html"), "sscs.html" in job["artifacts"]["paths"])
     print("ok ci recipes")
 
 

@@ -11,4 +11,11 @@ code=$?
 [ $code = 2 ] || { echo "FAIL: exit $code, expected 2"; cat err; exit 1; }
 grep -q "is an input of this check" err || { echo "FAIL: no reason given"; cat err; exit 1; }
 cmp -s vault.yaml "$root/tests/data/hostile/out_is_input.yaml" || { echo "FAIL: the input was changed"; exit 1; }
-echo "check --out over its own vault: refused, the vault untouched"
+echo "check --out over its own vault: refused, the vault untouched" # (and --html below)
+# The same for --html (the report's page over the vault).
+"$sscs" check vault.yaml --html vault.yaml >/dev/null 2>err
+code=$?
+[ $code = 2 ] || { echo "FAIL: --html: exit $code, expected 2"; cat err; exit 1; }
+grep -q "\-\-html 'vault.yaml' is an input of this check" err || { echo "FAIL: --html: no reason given"; cat err; exit 1; }
+cmp -s vault.yaml "$root/tests/data/hostile/out_is_input.yaml" || { echo "FAIL: --html: the input was changed"; exit 1; }
+echo "check --html over its own vault: refused, the vault untouched"

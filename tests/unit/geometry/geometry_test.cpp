@@ -111,24 +111,28 @@ TEST_F(Geometry, CorruptMeshIsAnInputError) {
 #include <assimp/scene.h>
 
 #include "geometry/export.h"
+#include "render/gltf.h"
 #include "geometry/mesh_io.h"
 
 namespace sscs::testing {
 namespace {
 
-/// World bounds of every mesh under each named node, as a viewer would place them.
-void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
-             std::map<std::string, Eigen::AlignedBox3d>& boxes, Eigen::AlignedBox3d& all) {
+/// World bounds of every mesh under each named node (its own and its descendants'), as a viewer
+/// would place them; `y_up` (glTF) turns the file's y up back into sscs's z up.
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, std::vector<std::string> names,
+             std::map<std::string, Eigen::AlignedBox3d>& boxes, Eigen::AlignedBox3d& all, bool y_up) {
   aiMatrix4x4 world = parent * node->mTransformation;
+  names.push_back(node->mName.C_Str());
   for (unsigned m = 0; m < node->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
       aiVector3D p = world * mesh->mVertices[v];
-      boxes[node->mName.C_Str()].extend(Eigen::Vector3d(p.x, p.y, p.z));
-      all.extend(Eigen::Vector3d(p.x, p.y, p.z));
+      const Eigen::Vector3d x = y_up ? Eigen::Vector3d(p.x, -p.z, p.y) : Eigen::Vector3d(p.x, p.y, p.z);
+      for (const std::string& name : names) boxes[name].extend(x);
+      all.extend(x);
     }
   }
-  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], world, boxes, all);
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], world, names, boxes, all, y_up);
 }
 
 TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
@@ -144,19 +148,19 @@ TEST_F(Geometry, ExportRoundTripKeepsNamesAndBounds) {
   std::filesystem::create_directories(dir);
   for (const char* ext : {"glb", "gltf", "obj", "stl"}) {
     std::string path = (dir / (std::string("w.") + ext)).string();
-    ASSERT_EQ(export_workcell(wc, g, path), "") << ext;
+    ASSERT_EQ(write_export(wc, g, {}, path), "") << ext;
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFile(path, 0);
     ASSERT_TRUE(scene) << ext << ": " << importer.GetErrorString();
     std::map<std::string, Eigen::AlignedBox3d> boxes;
     Eigen::AlignedBox3d all;
-    collect(scene, scene->mRootNode, aiMatrix4x4(), boxes, all);
+    collect(scene, scene->mRootNode, aiMatrix4x4(), {}, boxes, all, std::string(ext) == "glb" || std::string(ext) == "gltf");
     // The cylinder is tessellated with 32 segments: its bounds are exact along its own axes.
     EXPECT_TRUE(all.min().isApprox(expected.min(), 1e-4)) << ext << " " << all.min().transpose();
     EXPECT_TRUE(all.max().isApprox(expected.max(), 1e-4)) << ext << " " << all.max().transpose();
     if (std::string(ext) == "stl") continue;  // STL has no nodes
     if (std::string(ext) == "gltf") {
-      EXPECT_TRUE(std::filesystem::exists(dir / "w.bin"));  // its buffer, named after it
+      EXPECT_FALSE(std::filesystem::exists(dir / "w.bin"));  // one file: its buffer inline
     }
     for (const auto& entry : std::filesystem::directory_iterator(dir))
       EXPECT_NE(entry.path().filename().string()[0], '.') << "temporary left behind: " << entry.path();
@@ -189,6 +193,7 @@ TEST_F(Geometry, MeshFormatsLoadAlike) {
   ASSERT_TRUE(obj);
   Workcell wc;
   wc.name = "T";
+  wc.types.emplace_back().name = "tetrahedron";
   wc.objects.push_back(Object{"Tet", 0, -1, 0, {}, "", "", ""});
   GeometryModel g;
   g.objects.resize(1);
@@ -196,7 +201,7 @@ TEST_F(Geometry, MeshFormatsLoadAlike) {
   s.kind = Shape::Kind::Mesh;
   s.mesh = obj;
   g.objects[0].shapes.push_back(s);
-  for (const char* ext : {"stl", "gltf", "glb"}) ASSERT_EQ(export_workcell(wc, g, at(std::string("t.") + ext)), "");
+  for (const char* ext : {"stl", "gltf", "glb"}) ASSERT_EQ(write_export(wc, g, {}, at(std::string("t.") + ext)), "");
   for (const char* ext : {"obj", "ply", "stl", "gltf", "glb"}) {
     auto mesh = cache.load(at(std::string("t.") + ext), {}, diag);
     ASSERT_TRUE(mesh) << ext << diag.format(sources);

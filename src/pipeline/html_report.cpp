@@ -1,0 +1,178 @@
+#include "pipeline/html_report.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/archive.h"
+#include "core/digest.h"
+#include "pipeline/prepare.h"
+#include "render/gltf.h"
+#include "render/replay.h"
+#include "report/html.h"
+
+namespace sscs {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+std::string generator() { return fmt::format("sscs {}", SSCS_VERSION); }
+
+Expected<json> read_json(const std::string& path) {
+  std::optional<std::string> text = read_file_bytes(path);
+  if (!text) return Unexpected{fmt::format("{}: cannot be read", path)};
+  json j = json::parse(*text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return Unexpected{fmt::format("{}: not JSON", path)};
+  return j;
+}
+
+}  // namespace
+
+Expected<std::shared_ptr<OpenedRun>> OpenedRun::open(const std::string& path) {
+  auto run = std::make_shared<OpenedRun>();
+  run->given_ = path;
+  run->dir_ = path;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    // The bundle unpacked beside the system's temporary files, under a name of this process.
+    run->unpacked_.emplace((fs::temp_directory_path() / fmt::format("sscs-run-{}", ::getpid())).string());
+    if (std::string err = unzip_into(path, run->unpacked_->path(), {"frames/"}); !err.empty()) return Unexpected{err};
+    run->dir_ = run->unpacked_->path();
+  }
+  if (!fs::is_regular_file(fs::path(run->dir_) / "resolved" / "scenario.yaml", ec))
+    return Unexpected{fmt::format("{}: not a run folder or bundle (expected resolved/scenario.yaml in it)", path)};
+  return run;
+}
+
+Expected<std::string> run_gltf(const OpenedRun& run, const CompileOptions& options, bool binary, std::string* warnings) {
+  PreparedScenario ps;
+  if (!ps.prepare((fs::path(run.dir()) / "resolved" / "scenario.yaml").string(), options))
+    return Unexpected{ps.diag.format(ps.sources)};
+  if (warnings) *warnings = ps.diag.format(ps.sources);
+  std::vector<int> driven;
+  for (const Track& track : ps.plan->tracks) driven.push_back(track.object);
+  auto recorded = RecordedRun::read(run.dir(), *ps.wc, ps.geometry, driven);
+  if (!recorded) return Unexpected{recorded.error()};
+  const Eigen::AlignedBox3d bounds = scene_bounds(ps.geometry);
+  SceneAnimation animation;
+  animation.times = recorded->log_times();
+  animation.moving = recorded->logged_objects();
+  animation.at = [&](double t) { return recorded->at(t); };
+  animation.aspect = double(ps.plan->settings.width) / ps.plan->settings.height;
+  animation.camera = [&](double t, const ScenePose& pose) { return ps.cameras.at(t, pose, bounds, animation.aspect); };
+  return gltf_file(*ps.wc, ps.geometry, {vault_cameras(*ps.wc, ps.geometry), &animation}, binary);
+}
+
+std::string check_html(const std::vector<VaultReport>& reports, const Sources& sources, const std::vector<const GeometryModel*>& geometry) {
+  HtmlReport page;
+  json all = json::parse(format_json(reports, sources));
+  json list = reports.size() == 1 ? json::array({all}) : all["reports"];
+  page.data = {{"kind", "check"}, {"generator", generator()}, {"reports", list}, {"models", json::array()}};
+  std::vector<std::string> names;
+  for (size_t i = 0; i < reports.size(); ++i) {
+    Expected<std::string> glb = gltf_file(*reports[i].workcell, *geometry[i], {vault_cameras(*reports[i].workcell, *geometry[i]), nullptr}, true);
+    page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());
+    if (glb) page.models.push_back(std::move(*glb));
+    names.push_back(reports[i].workcell->name);
+  }
+  page.title = fmt::format("sscs check: {}", fmt::join(names, ", "));
+  page.data["title"] = page.title;
+  return html_page(page);
+}
+
+Expected<std::string> run_html(const OpenedRun& run, const CompileOptions& options, std::string* warnings) {
+  const fs::path dir(run.dir());
+  Expected<json> summary = read_json((dir / "summary.json").string());
+  if (!summary) return Unexpected{summary.error()};
+  json events = json::array();
+  {
+    std::ifstream in(dir / "events.jsonl");
+    if (!in) return Unexpected{fmt::format("{}: no events.jsonl (is the run complete?)", run.given())};
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      if (line.empty()) continue;
+      json e = json::parse(line, nullptr, false);
+      if (e.is_discarded() || !e.is_object()) return Unexpected{fmt::format("{}/events.jsonl:{}: not a JSON object", run.given(), n)};
+      events.push_back(std::move(e));
+    }
+  }
+  json trajectories = json::object();
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir / "trajectories", ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+    if (it->path().extension() == ".csv")
+      if (std::optional<std::string> text = read_file_bytes(it->path().string())) trajectories[it->path().stem().string()] = *text;
+  Expected<std::string> glb = run_gltf(run, options, true, warnings);
+  if (!glb) return Unexpected{glb.error()};
+  HtmlReport page;
+  page.title = fmt::format("sscs simulate: {} ({})", summary->value("scenario", std::string("run")), summary->value("status", std::string("?")));
+  page.models.push_back(std::move(*glb));
+  page.data = {{"kind", "run"}, {"title", page.title}, {"generator", generator()}, {"source", run.given()}, {"summary", *summary},
+               {"events", events}, {"trajectories", trajectories}, {"model", "sscs-model-0"}};
+  return html_page(page);
+}
+
+Expected<std::string> sweep_html(const std::string& sweep_dir, const std::string& html_path) {
+  Expected<json> results = read_json((fs::path(sweep_dir) / "results.json").string());
+  if (!results) return Unexpected{fmt::format("{}: not a sweep folder ({})", sweep_dir, results.error())};
+  if (!results->contains("variants") || !(*results)["variants"].is_array())
+    return Unexpected{fmt::format("{}/results.json: no variants (is it a sweep's results?)", sweep_dir)};
+  // Each variant's folder, as a link from where the page is written: its report (a check) or
+  // its run's summary.
+  const fs::path from = fs::absolute(fs::path(html_path)).parent_path();
+  json links = json::object();
+  for (const json& v : (*results)["variants"]) {
+    const std::string folder = v.value("folder", std::string());
+    if (folder.empty()) continue;
+    const fs::path variant = fs::absolute(fs::path(sweep_dir) / folder);
+    fs::path target = variant / "report.json";
+    if (!fs::exists(target)) target = variant / "run" / "summary.json";
+    if (!fs::exists(target)) target = variant;
+    links[folder] = target.lexically_relative(from).generic_string();
+  }
+  HtmlReport page;
+  page.title = fmt::format("sscs sweep: {}", results->value("sweep", std::string("sweep")));
+  page.data = {{"kind", "sweep"}, {"title", page.title}, {"generator", generator()}, {"source", sweep_dir}, {"results", *results}, {"links", links}};
+  return html_page(page);
+}
+
+Expected<std::string> report_json_html(const std::string& json_path, const CompileOptions& options,
+                                       const std::function<void(const std::string&)>& confine) {
+  Expected<json> report = read_json(json_path);
+  if (!report) return Unexpected{report.error()};
+  json list = report->contains("reports") ? (*report)["reports"] : json::array({*report});
+  if (!list.is_array() || list.empty() || !list[0].contains("results"))
+    return Unexpected{fmt::format("{}: not a check report (expected the JSON of sscs check --format json)", json_path)};
+  HtmlReport page;
+  page.data = {{"kind", "check"}, {"generator", generator()}, {"source", json_path}, {"reports", list}, {"models", json::array()}};
+  std::vector<std::string> names;
+  for (const json& r : list) {
+    names.push_back(r.value("vault", std::string("?")));
+    // The vault again, for its model: a report made elsewhere, or of a vault since changed or
+    // gone, has none (the table is the report's, whatever the vault says now).
+    const std::string file = r.value("file", std::string());
+    Sources sources;
+    Diagnostics diag;
+    std::optional<std::string> glb;
+    if (!file.empty() && fs::is_regular_file(file)) {
+      confine(file);
+      PreparedVault vault = prepare_vault(file, options, sources, diag, {.visuals = true, .contacts = nullptr});
+      if (vault.wc) {
+        Expected<std::string> bytes = gltf_file(*vault.wc, vault.geometry, {vault_cameras(*vault.wc, vault.geometry), nullptr}, true);
+        if (bytes) glb = std::move(*bytes);
+      }
+    }
+    page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());
+    if (glb) page.models.push_back(std::move(*glb));
+  }
+  page.title = fmt::format("sscs check: {}", fmt::join(names, ", "));
+  page.data["title"] = page.title;
+  return html_page(page);
+}
+
+}  // namespace sscs

@@ -1,0 +1,32 @@
+#pragma once
+/// HTML reports (`--html FILE` on check, simulate and sweep; `sscs report`): one self-contained
+/// page, its scripts, styles, data and 3D model inlined, that opens from disk with no server and
+/// no network (docs/reports.md). This stage assembles the page; what goes in it is gathered by
+/// pipeline/html_report.h.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace sscs {
+
+/// The page's code, built into sscs (html_assets.cpp): scripts in load order, then the styles.
+struct HtmlAssets {
+  std::vector<std::string_view> scripts;
+  std::string_view css;
+};
+HtmlAssets html_assets();
+
+struct HtmlReport {
+  std::string title;
+  /// What the page shows: {"kind": "check" | "run" | "sweep", ...} (app.js reads it); models
+  /// are named in it as "sscs-model-N", N indexing `models`.
+  nlohmann::json data;
+  std::vector<std::string> models;  ///< binary glTF files
+};
+
+/// The page's bytes. Text inlined in <script> elements cannot end them: "</" is written "<\/".
+std::string html_page(const HtmlReport& report);
+
+}  // namespace sscs

@@ -1,0 +1,367 @@
+// sscs HTML reports: the page. One of three kinds, from the data sscs inlined
+// (<script id="sscs-data">): a check (the JSON report of each vault and its model), a run (its
+// summary, events, trajectories and animated model), a sweep (its results). window.sscsReport
+// exposes the page's state to the browser tests (tests/web/reports.test.mjs).
+(function (root) {
+  'use strict';
+  const S = root.SSCS;
+  const RED = 0xd62728, AMBER = 0xff9f1c, BLUE = 0x1f77b4, GREEN = 0x2ca02c;
+  const STATUS_COLOUR = { pass: '#2ca02c', fail: '#d62728', error: '#8c1c13', warn: '#ff9f1c', removed: '#7f7f7f' };
+
+  function el(tag, attrs = {}, ...children) {
+    const e = document.createElement(tag);
+    for (const [k, v] of Object.entries(attrs)) {
+      if (k === 'class') e.className = v;
+      else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+      else if (v !== undefined && v !== null && v !== false) e.setAttribute(k, v === true ? '' : v);
+    }
+    for (const c of children.flat(Infinity)) if (c !== null && c !== undefined) e.append(c instanceof Node ? c : String(c));
+    return e;
+  }
+  const svgNS = 'http://www.w3.org/2000/svg';
+  function svg(tag, attrs = {}, ...children) {
+    const e = document.createElementNS(svgNS, tag);
+    for (const [k, v] of Object.entries(attrs)) {
+      if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+      else e.setAttribute(k, v);
+    }
+    for (const c of children.flat(Infinity)) if (c) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
+    return e;
+  }
+  function chip(status, text) { return el('span', { class: `chip ${status}` }, text ?? status); }
+  function model(id) { const e = id && document.getElementById(id); return e ? e.textContent : null; }
+
+  // ---- a sortable, filterable table ------------------------------------------------------------
+  class Table {
+    constructor(columns, rows, { onSelect, rowClass } = {}) {
+      this.columns = columns;  // [{key, label, render?(row), numeric?}]
+      this.rows = rows;
+      this.filter = {};
+      this.sort = { key: null, dir: 1 };
+      this.onSelect = onSelect || (() => {});
+      this.rowClass = rowClass || (() => '');
+      this.selected = null;
+      this.element = el('table', { class: 'results', 'data-testid': 'results' });
+      this.head = el('thead');
+      this.body = el('tbody');
+      this.element.append(this.head, this.body);
+      const tr = el('tr');
+      for (const c of columns)
+        tr.append(el('th', { 'data-key': c.key, class: c.numeric ? 'num' : '', onclick: () => this.sortBy(c.key) }, c.label));
+      this.head.append(tr);
+      this.draw();
+    }
+    sortBy(key) {
+      this.sort = { key, dir: this.sort.key === key ? -this.sort.dir : 1 };
+      for (const th of this.head.querySelectorAll('th'))
+        th.dataset.sorted = th.dataset.key === key ? (this.sort.dir > 0 ? 'asc' : 'desc') : '';
+      this.draw();
+    }
+    setFilter(f) { this.filter = Object.assign({}, this.filter, f); this.draw(); }
+    visible() {
+      const kept = S.filterRows(this.rows, this.filter);
+      return this.sort.key ? S.sortRows(kept, this.sort.key, this.sort.dir) : kept;
+    }
+    draw() {
+      this.body.replaceChildren();
+      for (const row of this.visible()) {
+        const tr = el('tr', { 'data-id': row.id, 'data-subjects': (row.subjects || []).join('|'), class: `${this.rowClass(row)}${row === this.selected ? ' selected' : ''}`,
+                              onclick: () => this.select(row) });
+        for (const c of this.columns) tr.append(el('td', { class: c.numeric ? 'num' : '' }, c.render ? c.render(row) : row[c.key]));
+        this.body.append(tr);
+      }
+      if (this.counter) this.counter.textContent = `${this.body.children.length} of ${this.rows.length}`;
+    }
+    select(row) {
+      this.selected = row;
+      for (const tr of this.body.children) tr.classList.toggle('selected', tr.dataset.id === (row && row.id));
+      this.onSelect(row);
+    }
+    /** Filter controls: a select per field in `fields`, a search box, a count. */
+    controls(fields, placeholder = 'search constraints, objects, messages') {
+      const bar = el('div', { class: 'filters' });
+      for (const [key, label] of fields) {
+        const values = S.distinct(this.rows, key);
+        if (values.length < 2 && key !== 'status') continue;
+        bar.append(el('label', {}, `${label} `, el('select', { 'data-filter': key, onchange: (e) => this.setFilter({ [key]: e.target.value }) },
+          el('option', { value: '' }, 'all'), values.map((v) => el('option', { value: v }, v)))));
+      }
+      bar.append(el('input', { type: 'search', placeholder, 'data-filter': 'text',
+                               oninput: (e) => this.setFilter({ text: e.target.value }) }));
+      this.counter = el('span', { class: 'count' });
+      bar.append(this.counter);
+      this.draw();
+      return bar;
+    }
+  }
+
+  // ---- plots (SVG) -------------------------------------------------------------------------------
+  /** Lines of `series` [{name, xs, ys, colour}] in an SVG; returns {svg, cursor(x)}. */
+  function linePlot(series, { width = 560, height = 200, xLabel = '', yLabel = '', onClick } = {}) {
+    const m = { l: 56, r: 12, t: 10, b: 34 };
+    const xe = S.extent(series.flatMap((s) => s.xs)) || [0, 1], ye = S.extent(series.flatMap((s) => s.ys)) || [0, 1];
+    const x = S.scale(xe[0], xe[1], m.l, width - m.r), y = S.scale(ye[0], ye[1], height - m.b, m.t);
+    const g = svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'plot', width, height });
+    axes(g, x, y, width, height, m, xLabel, yLabel);
+    const palette = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#17becf'];
+    series.forEach((s, i) => {
+      const pts = s.xs.map((xv, k) => (Number.isFinite(s.ys[k]) ? `${x(xv).toFixed(1)},${y(s.ys[k]).toFixed(1)}` : null)).filter(Boolean);
+      g.append(svg('polyline', { points: pts.join(' '), fill: 'none', stroke: s.colour || palette[i % palette.length], 'stroke-width': 1.5 }));
+    });
+    const legend = svg('g', { class: 'legend' });
+    series.forEach((s, i) => legend.append(svg('text', { x: m.l + 6 + i * 62, y: m.t + 10, fill: s.colour || palette[i % palette.length] }, s.name)));
+    g.append(legend);
+    const cursor = svg('line', { y1: m.t, y2: height - m.b, class: 'cursor' });
+    g.append(cursor);
+    if (onClick) g.addEventListener('click', (e) => {
+      const r = g.getBoundingClientRect();
+      const px = ((e.clientX - r.left) / r.width) * width;
+      onClick(x.domain[0] + ((px - m.l) / (width - m.l - m.r)) * (x.domain[1] - x.domain[0]));
+    });
+    return { svg: g, cursor: (v) => { cursor.setAttribute('x1', x(v)); cursor.setAttribute('x2', x(v)); } };
+  }
+
+  function axes(g, x, y, width, height, m, xLabel, yLabel) {
+    for (const t of x.ticks(6)) {
+      g.append(svg('line', { x1: x(t), x2: x(t), y1: m.t, y2: height - m.b, class: 'gridline' }));
+      g.append(svg('text', { x: x(t), y: height - m.b + 14, 'text-anchor': 'middle' }, S.num(t)));
+    }
+    for (const t of y.ticks(4)) {
+      g.append(svg('line', { x1: m.l, x2: width - m.r, y1: y(t), y2: y(t), class: 'gridline' }));
+      g.append(svg('text', { x: m.l - 4, y: y(t) + 4, 'text-anchor': 'end' }, S.num(t)));
+    }
+    g.append(svg('text', { x: (m.l + width - m.r) / 2, y: height - 4, 'text-anchor': 'middle', class: 'label' }, xLabel));
+    g.append(svg('text', { x: 12, y: (m.t + height - m.b) / 2, 'text-anchor': 'middle', class: 'label',
+                           transform: `rotate(-90 12 ${(m.t + height - m.b) / 2})` }, yLabel));
+  }
+
+  // ---- the page ----------------------------------------------------------------------------------
+  function header(title, ...items) {
+    return el('header', {}, el('h1', {}, title), el('div', { class: 'summary' }, items));
+  }
+
+  function viewPanel(modelId, opts) {
+    const box = el('div', { class: 'view3d' });
+    const text = model(modelId);
+    const panel = el('section', { class: 'panel3d' }, box);
+    if (!text) {
+      box.append(el('p', { class: 'note' }, 'No 3D model in this report (its vault could not be read).'));
+      return { panel, view: null };
+    }
+    const view = new S.View3D(box, text, opts);
+    // Over the view: back to the whole scene, and walls see-through (on: they hide the racks).
+    const xray = el('input', { type: 'checkbox', checked: true, 'data-testid': 'xray', onchange: (e) => view.setXray(e.target.checked) });
+    box.append(el('div', { class: 'overlay' }, el('button', { 'data-testid': 'frame-all', onclick: () => view.frameAll() }, 'whole scene'),
+                  el('label', {}, xray, ' see-through walls')));
+    view.ready.then(() => view.setXray(true));
+    return { panel, box, view };
+  }
+
+  function checkPage(data, app) {
+    const reports = data.reports;
+    const rows = S.checkRows(reports);
+    const failing = (r) => r.status === 'fail' || r.status === 'error';
+    const totals = { pass: 0, fail: 0, error: 0, warn: 0 };
+    // A failed warning is a warning (as the text report counts it), not a failure.
+    for (const r of rows) {
+      const k = r.status === 'fail' && r.severity === 'warning' ? 'warn' : r.status;
+      if (totals[k] !== undefined) totals[k]++;
+    }
+    const baseline = reports.map((r) => r.baseline).filter(Boolean);
+    const hasBaseline = baseline.length > 0;
+    app.append(header(`sscs check \u2014 ${reports.map((r) => r.vault).join(', ')}`,
+      chip('pass', `${totals.pass} pass`), chip('fail', `${totals.fail} fail`), totals.error ? chip('error', `${totals.error} error`) : null,
+      totals.warn ? chip('warn', `${totals.warn} warnings`) : null,
+      hasBaseline ? el('span', { class: 'baseline-summary', 'data-testid': 'baseline' },
+        baseline.map((b) => `against ${b.file}: ${b.new} new, ${b.fixed} fixed, ${b.still_failing} still failing` +
+          `${(b.renamed || []).length ? `, ${b.renamed.length} renamed` : ''}${(b.removed || []).length ? `, ${b.removed.length} removed` : ''}`).join('; ')) : null));
+    let view = null, vaultShown = 0;
+    const objectPanel = el('div', { class: 'object-panel', 'data-testid': 'object-panel' }, el('p', { class: 'note' }, 'Click an object to list its constraints.'));
+    const colours = (vault, selected) => {
+      const map = {};
+      for (const r of rows) if (r.vault === vault && failing(r)) for (const s of r.subjects) map[s] = RED;
+      if (hasBaseline) for (const r of rows) if (r.vault === vault && r.change === 'new') for (const s of r.subjects) map[s] = AMBER;
+      if (hasBaseline) for (const r of rows) if (r.vault === vault && r.change === 'fixed') for (const s of r.subjects) if (!map[s]) map[s] = GREEN;
+      if (selected) for (const s of selected.subjects) map[s] = BLUE;
+      return map;
+    };
+    const columns = [
+      { key: 'status', label: 'Status', render: (r) => chip(r.status) },
+      hasBaseline ? { key: 'change', label: 'Change', render: (r) => (r.change ? el('span', { class: `change ${r.change.replace(/ /g, '-')}` }, r.change) : '') } : null,
+      reports.length > 1 ? { key: 'vaultName', label: 'Vault' } : null,
+      { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, r.constraint), el('div', { class: 'message' }, r.message)] },
+      { key: 'kind', label: 'Kind' },
+      { key: 'severity', label: 'Severity' },
+      { key: 'subjects', label: 'Objects', render: (r) => (r.subjects.length > 4
+        ? el('span', { title: r.subjects.join(', ') }, `${r.subjects.slice(0, 3).join(', ')} and ${r.subjects.length - 3} more`)
+        : r.subjects.join(', ')) },
+      { key: 'lhs', label: 'Value', numeric: true, render: (r) => S.num(r.lhs, r.unit) },
+      { key: 'rhs', label: 'Limit', numeric: true, render: (r) => S.num(r.rhs, r.unit) },
+      { key: 'margin', label: 'Margin', numeric: true, render: (r) => S.num(r.margin, r.unit) },
+      { key: 'where', label: 'Where', render: (r) => el('code', {}, r.where) },
+    ].filter(Boolean);
+    const table = new Table(columns, rows, {
+      rowClass: (r) => r.status,
+      onSelect: (r) => {
+        if (!r) return;
+        if (view && r.vault === vaultShown) {
+          view.setHighlights(colours(r.vault, r));
+          if (r.subjects.length) view.frameObjects(r.subjects);
+        }
+      },
+    });
+    const filters = table.controls([['status', 'Status'], ['kind', 'Kind'], ['severity', 'Severity'], ...(hasBaseline ? [['change', 'Change']] : [])]);
+    const listObject = (name) => {
+      objectPanel.replaceChildren();
+      if (!name) { objectPanel.append(el('p', { class: 'note' }, 'Nothing there: click an object.')); table.setFilter({ object: '' }); return; }
+      const own = rows.filter((r) => r.vault === vaultShown && r.subjects.includes(name));
+      objectPanel.append(el('h3', {}, name), own.length
+        ? el('ul', {}, own.map((r) => el('li', {}, chip(r.status), ' ', el('a', { href: '#', onclick: (e) => { e.preventDefault(); table.select(r); } }, r.constraint), ` \u2014 ${r.message}`)))
+        : el('p', { class: 'note' }, 'No constraint names it.'),
+        el('button', { onclick: () => { table.setFilter({ object: '' }); objectPanel.replaceChildren(el('p', { class: 'note' }, 'Click an object to list its constraints.')); } }, 'show every row'));
+      table.setFilter({ object: name });
+      view && view.setHighlights(Object.assign(colours(vaultShown), { [name]: BLUE }));
+    };
+    const v = viewPanel(data.models[0], { onPick: listObject });
+    view = v.view;
+    v.panel.append(objectPanel);
+    app.append(el('main', { class: 'check' }, el('section', { class: 'table-panel' }, filters, el('div', { class: 'scroll' }, table.element)), v.panel));
+    if (view) view.ready.then(() => view.setHighlights(colours(0)));
+    return { kind: 'check', table, view, rows, listObject };
+  }
+
+  function runPage(data, app) {
+    const sum = data.summary;
+    const events = data.events || [];
+    const steps = S.stepBreakdown(sum);
+    const mc = sum.min_clearance;
+    const statusClass = sum.status === 'ok' ? 'pass' : sum.status === 'violations' ? 'fail' : 'error';
+    const timeText = el('span', { class: 'time', 'data-testid': 'time' }, '0.00 s');
+    app.append(header(`sscs simulate \u2014 ${sum.scenario} (${sum.vault})`, chip(statusClass, sum.status),
+      el('span', {}, `cycle time ${S.num(sum.cycle_time, 's')}`),
+      mc ? el('a', { href: '#', 'data-testid': 'min-clearance', onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
+        `minimum clearance ${S.num(mc.distance, 'm')} between ${mc.a} and ${mc.b} at ${S.num(mc.t, 's')}`) : null,
+      el('span', {}, `${Object.entries(sum.events || {}).map(([k, n]) => `${n} ${k}`).join(', ')}`)));
+    const v = viewPanel(data.model, { onTime: (t) => onTime(t) });
+    const view = v.view;
+    const duration = Math.max(sum.simulated_time || 0, sum.cycle_time || 0, view ? view.duration : 0);
+    const scrub = el('input', { type: 'range', min: 0, max: duration, step: 'any', value: 0, 'data-testid': 'scrub',
+                                oninput: (e) => seek(+e.target.value) });
+    const play = el('button', { 'data-testid': 'play', onclick: () => { if (!view) return; view.playing ? view.pause() : view.play(); play.textContent = view.playing ? 'pause' : 'play'; } }, 'play');
+    const speed = el('select', { 'data-testid': 'speed', onchange: (e) => { if (view) view.speed = +e.target.value; } },
+      [0.25, 0.5, 1, 2, 4].map((s) => el('option', { value: s, selected: s === 1 }, `${s}\u00d7`)));
+    const cameraSelect = el('select', { 'data-testid': 'camera', onchange: (e) => view && view.useCamera(e.target.value) }, el('option', { value: '' }, 'free orbit'));
+    const controls = el('div', { class: 'player' }, play, scrub, timeText, el('label', {}, 'speed ', speed), el('label', {}, 'camera ', cameraSelect));
+    // The timeline: steps as bands, notable events as marks; clicking jumps there.
+    const W = 900, H = 46;
+    const tx = S.scale(0, duration || 1, 8, W - 8);
+    const timeline = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'timeline', 'data-testid': 'timeline' });
+    steps.forEach((s, i) => timeline.append(svg('rect', { x: tx(s.start), y: 4, width: Math.max(1, tx(s.end) - tx(s.start)), height: 16,
+      class: `step s${i % 6}`, onclick: () => seek(s.start) }, svg('title', {}, `${s.label}: ${S.num(s.duration, 's')}`))));
+    S.notableEvents(events).forEach((e) => timeline.append(svg('circle', { cx: tx(e.t), cy: 32, r: 5, class: `event ${e.kind}`, onclick: () => seek(e.t) },
+      svg('title', {}, `${e.kind} at ${S.num(e.t, 's')}`))));
+    const playhead = svg('line', { y1: 0, y2: H, class: 'cursor' });
+    timeline.append(playhead);
+    const eventList = el('table', { class: 'events', 'data-testid': 'events' }, el('thead', {}, el('tr', {}, el('th', {}, 't (s)'), el('th', {}, 'event'), el('th', {}, 'details'))),
+      el('tbody', {}, events.map((e, i) => el('tr', { 'data-event': i, class: e.kind, onclick: () => seek(e.t) }, el('td', { class: 'num' }, S.num(e.t)), el('td', {}, e.kind),
+        el('td', {}, Object.entries(e).filter(([k]) => k !== 't' && k !== 'kind').map(([k, x]) => `${k}: ${typeof x === 'object' ? JSON.stringify(x) : x}`).join(', '))))));
+    // Cycle time per step.
+    const maxDur = Math.max(...steps.map((s) => s.duration), 1e-9);
+    const breakdown = el('table', { class: 'breakdown', 'data-testid': 'breakdown' }, steps.map((s) => el('tr', { onclick: () => seek(s.start) },
+      el('td', {}, s.label), el('td', {}, s.device), el('td', { class: 'num' }, S.num(s.duration, 's')),
+      el('td', { class: 'bar' }, el('span', { style: `width:${(100 * s.duration) / maxDur}%` })))));
+    // Joint position and velocity per device.
+    const plots = [];
+    const plotBox = el('div', { class: 'plots' });
+    for (const [device, csv] of Object.entries(data.trajectories || {})) {
+      const t = S.parseCsv(csv);
+      const ti = t.columns.indexOf('t');
+      const joints = t.columns.filter((c, i) => i !== ti && !c.startsWith('tool_'));
+      const xs = t.rows.map((r) => r[ti]);
+      const pos = joints.map((j) => ({ name: j, xs, ys: t.rows.map((r) => r[t.columns.indexOf(j)]) }));
+      const vel = pos.map((s) => ({ name: s.name, xs, ys: s.ys.map((y, k) => (k === 0 ? 0 : (y - s.ys[k - 1]) / ((xs[k] - xs[k - 1]) || Infinity))) }));
+      const p1 = linePlot(pos, { xLabel: 't (s)', yLabel: 'position (deg | m)', onClick: seek });
+      const p2 = linePlot(vel, { xLabel: 't (s)', yLabel: 'velocity (/s)', onClick: seek });
+      plots.push(p1, p2);
+      plotBox.append(el('figure', { 'data-device': device }, el('figcaption', {}, `${device}: joint positions`), p1.svg),
+                     el('figure', {}, el('figcaption', {}, `${device}: joint velocities`), p2.svg));
+    }
+    function onTime(t) {
+      timeText.textContent = `${t.toFixed(2)} s`;
+      if (+scrub.value !== t) scrub.value = t;
+      playhead.setAttribute('x1', tx(t));
+      playhead.setAttribute('x2', tx(t));
+      for (const p of plots) p.cursor(t);
+      if (view && !view.playing) play.textContent = 'play';
+    }
+    function seek(t) { if (view) view.setTime(t); else onTime(t); }
+    v.panel.append(controls, timeline);
+    app.append(el('main', { class: 'run' }, v.panel,
+      el('section', { class: 'side' }, el('h2', {}, 'Cycle time by step'), breakdown, el('h2', {}, 'Events'), el('div', { class: 'scroll' }, eventList))),
+      el('section', { class: 'wide' }, el('h2', {}, 'Joints'), plotBox));
+    if (view) view.ready.then(() => {
+      for (const c of view.cameras) cameraSelect.append(el('option', { value: c.name }, c.name === 'run' ? "the run's camera" : c.name));
+      onTime(0);
+    });
+    return { kind: 'run', view, seek, events, duration };
+  }
+
+  function sweepPage(data, app) {
+    const res = data.results;
+    const rows = S.sweepRows(res).map((r) => Object.assign(r, { id: String(r.variant), subjects: [] }));
+    const params = (res.parameters || []).map((p) => p.name), metrics = res.metrics || [];
+    const counts = {};
+    for (const r of rows) counts[r.status] = (counts[r.status] || 0) + 1;
+    app.append(header(`sscs sweep \u2014 ${res.sweep}`, el('span', {}, `${rows.length} variants`),
+      Object.entries(counts).map(([k, n]) => chip(k, `${n} ${k}`))));
+    const unitOf = Object.fromEntries((res.parameters || []).map((p) => [p.name, p.unit || '']));
+    const columns = [
+      { key: 'variant', label: '#', numeric: true },
+      { key: 'status', label: 'Status', render: (r) => chip(r.status) },
+      ...params.map((p) => ({ key: p, label: unitOf[p] ? `${p} (${unitOf[p]})` : p, numeric: true, render: (r) => S.num(r[p]) })),
+      ...metrics.map((m) => ({ key: m, label: m, numeric: true, render: (r) => S.num(r[m]) })),
+      { key: 'failed', label: 'failed', numeric: true },
+      { key: 'folder', label: 'Variant', render: (r) => el('a', { href: (data.links || {})[r.folder] || `${r.folder}/report.json` }, r.folder) },
+      { key: 'message', label: 'Message' },
+    ];
+    let chosen = null;
+    const table = new Table(columns, rows, { rowClass: (r) => r.status, onSelect: (r) => { chosen = r; draw(); } });
+    const filters = table.controls([['status', 'Status']], 'search variants, messages');
+    const xSel = el('select', { 'data-testid': 'plot-x', onchange: () => draw() }, [...params, ...metrics].map((c) => el('option', { value: c }, c)));
+    const ySel = el('select', { 'data-testid': 'plot-y', onchange: () => draw() }, [...metrics, ...params].map((c) => el('option', { value: c }, c)));
+    const plotBox = el('div', { class: 'scatter', 'data-testid': 'scatter' });
+    function draw() {
+      const xk = xSel.value, yk = ySel.value;
+      const W = 640, H = 340, m = { l: 64, r: 16, t: 12, b: 40 };
+      const xe = S.extent(rows.map((r) => r[xk])), ye = S.extent(rows.map((r) => r[yk]));
+      const x = S.scale(...(xe || [0, 1]), m.l, W - m.r), y = S.scale(...(ye || [0, 1]), H - m.b, m.t);
+      const g = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', width: W, height: H });
+      axes(g, x, y, W, H, m, xk, yk);
+      for (const r of rows) {
+        if (typeof r[xk] !== 'number' || typeof r[yk] !== 'number' || !Number.isFinite(r[xk]) || !Number.isFinite(r[yk])) continue;
+        g.append(svg('circle', { cx: x(r[xk]), cy: y(r[yk]), r: r === chosen ? 7 : 4.5, fill: STATUS_COLOUR[r.status] || '#555', class: r === chosen ? 'chosen' : '',
+          'data-variant': r.variant, onclick: () => table.select(r) }, svg('title', {}, `${r.folder}: ${xk} ${S.num(r[xk])}, ${yk} ${S.num(r[yk])} (${r.status})`)));
+      }
+      Object.keys(counts).forEach((k, i) => {
+        g.append(svg('circle', { cx: W - m.r - 90, cy: m.t + 8 + i * 14, r: 4.5, fill: STATUS_COLOUR[k] || '#555' }));
+        g.append(svg('text', { x: W - m.r - 80, y: m.t + 12 + i * 14 }, k));
+      });
+      plotBox.replaceChildren(g);
+    }
+    draw();
+    app.append(el('main', { class: 'sweep' }, el('section', { class: 'plot-panel' }, el('div', { class: 'filters' }, el('label', {}, 'x ', xSel), el('label', {}, 'y ', ySel)), plotBox),
+      el('section', { class: 'table-panel' }, filters, el('div', { class: 'scroll' }, table.element))));
+    return { kind: 'sweep', table, rows, draw };
+  }
+
+  function start() {
+    const data = JSON.parse(document.getElementById('sscs-data').textContent);
+    const app = document.getElementById('app');
+    document.title = data.title || 'sscs report';
+    const page = data.kind === 'check' ? checkPage(data, app) : data.kind === 'run' ? runPage(data, app) : sweepPage(data, app);
+    app.append(el('footer', {}, `made by ${data.generator || 'sscs'}${data.source ? ` from ${data.source}` : ''}; opens from disk, nothing fetched`));
+    root.sscsReport = Object.assign(page, { data, ready: page.view ? page.view.ready.then(() => true) : Promise.resolve(true) });
+  }
+
+  if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start); else start();
+})(typeof globalThis !== 'undefined' ? globalThis : this);

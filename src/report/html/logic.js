@@ -1,0 +1,191 @@
+// sscs HTML reports: the logic that needs no page (tables, filters, series, scales), so that
+// node's test runner checks it (tests/web/logic.test.mjs). Loaded as a classic script in the
+// report (it sets globalThis.SSCS) and with require() in the tests.
+(function (root) {
+  'use strict';
+
+  const STATUS_ORDER = { error: 0, fail: 1, warn: 2, pass: 3, skipped: 4 };
+
+  /** The check results of every vault of a check report, flattened, each with its vault. */
+  function checkRows(reports) {
+    const rows = [];
+    reports.forEach((report, vault) => {
+      (report.results || []).forEach((r, i) => {
+        rows.push({
+          id: `${vault}:${i}`,
+          vault,
+          vaultName: report.vault,
+          constraint: r.constraint,
+          kind: r.kind,
+          severity: r.severity,
+          status: r.status,
+          subjects: r.subject || [],
+          lhs: r.lhs,
+          rhs: r.rhs,
+          margin: r.margin,
+          unit: r.unit || '',
+          message: r.message || '',
+          where: r.location ? `${r.location.file}:${r.location.line}` : '',
+          change: baselineChange(r),
+        });
+      });
+      const removed = (report.baseline && report.baseline.removed) || [];
+      removed.forEach((r, i) => {
+        rows.push({
+          id: `${vault}:removed:${i}`, vault, vaultName: report.vault, constraint: r.constraint, kind: '', severity: '',
+          status: 'removed', subjects: [], lhs: undefined, rhs: undefined, margin: undefined, unit: '',
+          message: `removed (it was ${r.was})`, where: '', change: 'removed',
+        });
+      });
+    });
+    return rows;
+  }
+
+  /** What a result's baseline entry says changed: new, fixed, still failing, renamed or ''. */
+  function baselineChange(r) {
+    const b = r.baseline;
+    if (!b) return '';
+    if (typeof b === 'string') return b.replace(/_/g, ' ');
+    if (b.change) return String(b.change).replace(/_/g, ' ');
+    if (b.status) return String(b.status).replace(/_/g, ' ');
+    return '';
+  }
+
+  /** Rows kept by a filter: {status, kind, severity, change, text, object} ('' or absent: any). */
+  function filterRows(rows, f) {
+    const text = (f.text || '').trim().toLowerCase();
+    return rows.filter((r) =>
+      (!f.status || r.status === f.status) &&
+      (!f.kind || r.kind === f.kind) &&
+      (!f.severity || r.severity === f.severity) &&
+      (!f.change || r.change === f.change) &&
+      (!f.object || r.subjects.includes(f.object)) &&
+      (!text || [r.constraint, r.kind, r.message, r.where, r.subjects.join(' ')].join(' ').toLowerCase().includes(text)));
+  }
+
+  /** Compares two cells: numbers numerically (absent last), statuses by gravity, else text. */
+  function compareCells(a, b, key) {
+    if (key === 'status') return (STATUS_ORDER[a] ?? 9) - (STATUS_ORDER[b] ?? 9);
+    const na = typeof a === 'number' && Number.isFinite(a), nb = typeof b === 'number' && Number.isFinite(b);
+    if (na || nb) {
+      if (!na) return 1;
+      if (!nb) return -1;
+      return a - b;
+    }
+    return String(a ?? '').localeCompare(String(b ?? ''), undefined, { numeric: true });
+  }
+
+  const absent = (v) => v === undefined || v === null || v === '' || (Array.isArray(v) && !v.length);
+
+  /** Rows sorted by `key` (a row field), `dir` 1 or -1, rows without a value last either way; stable. */
+  function sortRows(rows, key, dir) {
+    return rows.map((r, i) => [r, i]).sort((x, y) => {
+      const a = x[0][key], b = y[0][key];
+      if (absent(a) !== absent(b)) return absent(a) ? 1 : -1;
+      const c = compareCells(a, b, key);
+      return c !== 0 ? c * dir : x[1] - y[1];
+    }).map((p) => p[0]);
+  }
+
+  /** The distinct values of a field, sorted, for a filter's options. */
+  function distinct(rows, key) {
+    return [...new Set(rows.map((r) => r[key]).filter((v) => v !== '' && v !== undefined))].sort();
+  }
+
+  /** A number as a report shows it (4 significant digits; none: an em dash). */
+  function num(v, unit) {
+    if (typeof v !== 'number') return '\u2014';
+    if (!Number.isFinite(v)) return String(v);
+    const s = Math.abs(v) >= 1e5 || (v !== 0 && Math.abs(v) < 1e-3) ? v.toExponential(3) : String(+v.toPrecision(4));
+    return unit ? `${s} ${unit}` : s;
+  }
+
+  /** A CSV text (header row, comma-separated numbers or words) as {columns, rows}. */
+  function parseCsv(text) {
+    const lines = text.split(/\r?\n/).filter((l) => l.length);
+    if (!lines.length) return { columns: [], rows: [] };
+    const columns = splitCsvLine(lines[0]);
+    const rows = lines.slice(1).map((l) => splitCsvLine(l).map((c) => (c !== '' && !isNaN(+c) ? +c : c)));
+    return { columns, rows };
+  }
+
+  function splitCsvLine(line) {
+    const out = [];
+    let cell = '', quoted = false;
+    for (let i = 0; i < line.length; ++i) {
+      const c = line[i];
+      if (quoted) {
+        if (c === '"' && line[i + 1] === '"') { cell += '"'; ++i; } else if (c === '"') quoted = false; else cell += c;
+      } else if (c === '"') quoted = true;
+      else if (c === ',') { out.push(cell); cell = ''; } else cell += c;
+    }
+    out.push(cell);
+    return out;
+  }
+
+  /** A linear scale from [d0, d1] to [r0, r1] with `nice` ticks; an empty or flat domain widens. */
+  function scale(d0, d1, r0, r1) {
+    if (!Number.isFinite(d0) || !Number.isFinite(d1)) { d0 = 0; d1 = 1; }
+    if (d0 === d1) { d0 -= Math.abs(d0) * 0.05 || 0.5; d1 += Math.abs(d1) * 0.05 || 0.5; }
+    const f = (v) => r0 + ((v - d0) / (d1 - d0)) * (r1 - r0);
+    f.domain = [d0, d1];
+    f.ticks = (n = 5) => {
+      const step0 = (d1 - d0) / n, mag = Math.pow(10, Math.floor(Math.log10(step0)));
+      const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => s >= step0);
+      const out = [];
+      for (let v = Math.ceil(d0 / step) * step; v <= d1 + step * 1e-9; v += step) out.push(+v.toPrecision(12));
+      return out;
+    };
+    return f;
+  }
+
+  /** [min, max] of finite values (undefined when none). */
+  function extent(values) {
+    let lo = Infinity, hi = -Infinity;
+    for (const v of values) if (typeof v === 'number' && Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+    return lo <= hi ? [lo, hi] : undefined;
+  }
+
+  /** The index of the last time <= t in increasing `times` (0 before the first). */
+  function indexAt(times, t) {
+    let lo = 0, hi = times.length - 1;
+    if (hi < 0 || t <= times[0]) return 0;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (times[mid] <= t) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  }
+
+  /** Per-step durations of a run summary, in order: {label, device, start, end, duration}. */
+  function stepBreakdown(summary) {
+    return (summary.steps || []).map((s) => ({
+      label: `${s.index + 1}. ${s.action}${s.object ? ' ' + s.object : ''}`,
+      device: s.device || '',
+      start: s.start,
+      end: s.end,
+      duration: (s.end ?? s.start) - s.start,
+    }));
+  }
+
+  /** Events worth a mark on the timeline (not every step start and end). */
+  function notableEvents(events) {
+    return events.filter((e) => e.kind !== 'step_start' && e.kind !== 'step_end');
+  }
+
+  /** A sweep's variants as rows: {variant, folder, status, message, <parameter>: number, <metric>: number}. */
+  function sweepRows(results) {
+    return (results.variants || []).map((v) => {
+      const row = { variant: v.variant, folder: v.folder, status: v.status, message: v.message || '',
+                    passed: v.passed, failed: v.failed, warnings: v.warnings };
+      for (const [k, x] of Object.entries(v.values || {})) row[k] = x !== '' && !isNaN(+x) ? +x : x;
+      for (const [k, x] of Object.entries(v.metrics || {})) row[k] = x;
+      return row;
+    });
+  }
+
+  const api = { checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, parseCsv, scale, extent,
+                indexAt, stepBreakdown, notableEvents, sweepRows };
+  root.SSCS = Object.assign(root.SSCS || {}, api);
+  if (typeof module === 'object' && module.exports) module.exports = api;
+})(typeof globalThis !== 'undefined' ? globalThis : this);

@@ -1,0 +1,260 @@
+// sscs HTML reports: the 3D view. The model is the glTF sscs export writes (render/gltf.h): a
+// node per object with extras.sscs.object, per device part, per shape; a run's motion as the
+// animation "run"; the vault's cameras and the run's camera as glTF cameras. three.js r111
+// (Debian's libjs-three: THREE, THREE.GLTFLoader, THREE.OrbitControls as globals).
+(function (root) {
+  'use strict';
+
+  function decodeBase64(text) {
+    const bin = atob(text.trim());
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
+    return bytes.buffer;
+  }
+
+  class View3D {
+    /** A canvas in `container` showing the glb (base64); `onPick(name)` when an object is clicked. */
+    constructor(container, glbBase64, { onPick, onTime } = {}) {
+      this.container = container;
+      this.onPick = onPick || (() => {});
+      this.onTime = onTime || (() => {});
+      this.objects = new Map();   // object name -> its node
+      this.cameras = [];          // [{name, camera}]
+      this.activeCamera = null;   // null: free orbit
+      this.highlights = new Map();  // object name -> colour (hex number)
+      this.time = 0;
+      this.duration = 0;
+      this.playing = false;
+      this.speed = 1;
+      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+      this.renderer.setPixelRatio(Math.min(2, root.devicePixelRatio || 1));
+      this.renderer.setClearColor(0xf4f5f7);
+      container.appendChild(this.renderer.domElement);
+      this.renderer.domElement.setAttribute('data-testid', 'view3d');
+      this.scene = new THREE.Scene();
+      this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8d8d8d, 0.9));
+      const sun = new THREE.DirectionalLight(0xffffff, 0.7);
+      sun.position.set(-3, 10, 6);
+      this.scene.add(sun);
+      this.orbitCamera = new THREE.PerspectiveCamera(45, 1, 0.05, 5000);
+      this.controls = new THREE.OrbitControls(this.orbitCamera, this.renderer.domElement);
+      this.controls.addEventListener('change', () => { this.activeCamera = null; this.render(); });
+      this.ready = new Promise((resolve, reject) => {
+        new THREE.GLTFLoader().parse(decodeBase64(glbBase64), '', (gltf) => {
+          try { this.loaded(gltf); resolve(this); } catch (e) { reject(e); }
+        }, reject);
+      });
+      // The container gets its size once the page lays it out: follow it.
+      if (root.ResizeObserver) new ResizeObserver(() => this.resize()).observe(container);
+      else root.addEventListener('resize', () => this.resize());
+      this.resize();
+      this.pickAt = this.pickAt.bind(this);
+      let down = null;
+      this.renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+      this.renderer.domElement.addEventListener('pointerup', (e) => {
+        if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) < 4) this.onPick(this.pickAt(e.clientX, e.clientY));
+        down = null;
+      });
+    }
+
+    loaded(gltf) {
+      this.model = gltf.scene;
+      this.scene.add(this.model);
+      this.model.traverse((node) => {
+        const info = node.userData && node.userData.sscs;
+        if (info && info.object && !info.part) this.objects.set(info.object, node);
+        if (node.isMesh) {
+          node.material = node.material.clone();  // one material per mesh: highlights colour one object
+          if (node.material.transparent) node.material.depthWrite = false;  // a room does not hide what it holds
+          node.userData.baseEmissive = node.material.emissive ? node.material.emissive.getHex() : 0;
+        }
+      });
+      (gltf.cameras || []).forEach((camera) => {
+        const info = camera.parent && camera.parent.userData && camera.parent.userData.sscs;
+        this.cameras.push({ name: (info && info.camera) || camera.name || `camera ${this.cameras.length + 1}`, camera });
+      });
+      const clip = (gltf.animations || [])[0];
+      if (clip) {
+        this.mixer = new THREE.AnimationMixer(this.model);
+        this.action = this.mixer.clipAction(clip);
+        this.action.play();
+        this.duration = clip.duration;
+      }
+      const rootInfo = this.model.children[0] && this.model.children[0].userData.sscs;
+      if (rootInfo && typeof rootInfo.duration === 'number') this.duration = Math.max(this.duration, rootInfo.duration);
+      this.model.updateMatrixWorld(true);
+      this.bounds = new THREE.Box3().setFromObject(this.model);
+      // What to frame first: the objects a container (a room) holds, not the room's walls.
+      this.contentBounds = new THREE.Box3();
+      for (const node of this.objects.values()) if (!node.userData.sscs.container) this.contentBounds.expandByObject(node);
+      if (this.contentBounds.isEmpty()) this.contentBounds = this.bounds;
+      this.grid();
+      this.resize();
+      this.frameAll();
+      this.setTime(0);
+      this.loop();
+    }
+
+    grid() {
+      const size = this.bounds.getSize(new THREE.Vector3());
+      const span = Math.max(size.x, size.z, 1);
+      const step = span > 60 ? 10 : 1;
+      const n = Math.ceil((span * 1.2) / step);
+      const grid = new THREE.GridHelper(n * step, n, 0xb0b4ba, 0xd5d8dc);
+      const c = this.bounds.getCenter(new THREE.Vector3());
+      grid.position.set(c.x, this.bounds.min.y - 0.001, c.z);
+      this.scene.add(grid);
+    }
+
+    resize() {
+      const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
+      this.renderer.setSize(w, h);
+      this.orbitCamera.aspect = w / h;
+      this.orbitCamera.updateProjectionMatrix();
+      this.render();
+    }
+
+    /** Looks at `box` (a THREE.Box3) from the three-quarter view sscs renders with. */
+    frameBox(box) {
+      if (!box || box.isEmpty()) return;
+      const c = box.getCenter(new THREE.Vector3());
+      const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.3);
+      // The narrower of the vertical and horizontal fields of view (a tall view is narrow).
+      const half = Math.min((this.orbitCamera.fov * Math.PI) / 360, Math.atan(Math.tan((this.orbitCamera.fov * Math.PI) / 360) * this.orbitCamera.aspect));
+      const d = r / Math.sin(half);
+      const dir = new THREE.Vector3(-0.55, 0.5, 0.67).normalize();  // from -x, +z (sscs -y), up
+      this.orbitCamera.position.copy(c).addScaledVector(dir, d);
+      this.orbitCamera.near = Math.max(0.01, d / 1000);
+      this.orbitCamera.far = d * 20 + 100;
+      this.orbitCamera.updateProjectionMatrix();
+      this.controls.target.copy(c);
+      this.controls.update();
+      this.activeCamera = null;
+      this.render();
+    }
+
+    frameAll() { this.frameBox(this.contentBounds || this.bounds); }
+
+    /** Frames the named objects (those the model has). */
+    frameObjects(names) {
+      const box = new THREE.Box3();
+      for (const n of names) {
+        const node = this.objects.get(n);
+        if (node) box.expandByObject(node);
+      }
+      this.frameBox(box);
+    }
+
+    /** Colours objects: {name: 0xrrggbb}; every other object loses its highlight. */
+    setHighlights(map) {
+      this.highlights = new Map(Object.entries(map));
+      this.look();
+    }
+
+    /** Draws walls, doors and fences see-through (`on`) or solid: they hide what a room holds. */
+    setXray(on) {
+      this.xray = on;
+      this.look();
+    }
+
+    /** Every object as the state says: its highlight, and see-through when x-rayed (a wall,
+     *  door or fence not highlighted: the object a row names is drawn solid). */
+    look() {
+      const see = new Set(['wall', 'door', 'rollup_door', 'fence']);
+      for (const [name, node] of this.objects) {
+        const colour = this.highlights.get(name);
+        const clear = !!this.xray && colour === undefined && (node.userData.sscs.lineage || []).some((t) => see.has(t));
+        node.traverse((m) => {
+          if (!m.isMesh) return;
+          if (m.userData.solid === undefined) m.userData.solid = { transparent: m.material.transparent, opacity: m.material.opacity };
+          if (m.material.emissive) {
+            m.material.emissive.setHex(colour !== undefined ? colour : m.userData.baseEmissive);
+            m.material.emissiveIntensity = colour !== undefined ? 0.75 : 1;
+          }
+          const transparent = clear || m.userData.solid.transparent;
+          if (m.material.transparent !== transparent) m.material.needsUpdate = true;
+          m.material.transparent = transparent;
+          m.material.opacity = clear ? 0.2 : m.userData.solid.opacity;
+          m.material.depthWrite = !transparent;
+        });
+      }
+      this.render();
+    }
+
+    /** The object under a page point, or null. */
+    pickAt(x, y) {
+      const rect = this.renderer.domElement.getBoundingClientRect();
+      const ndc = new THREE.Vector2(((x - rect.left) / rect.width) * 2 - 1, -((y - rect.top) / rect.height) * 2 + 1);
+      const ray = new THREE.Raycaster();
+      ray.setFromCamera(ndc, this.camera());
+      for (const hit of ray.intersectObject(this.model, true)) {
+        if (hit.object.material && hit.object.material.transparent) continue;  // rooms: look through
+        for (let n = hit.object; n; n = n.parent) {
+          const info = n.userData && n.userData.sscs;
+          if (info && info.object && !info.part) return info.object;
+        }
+      }
+      return null;
+    }
+
+    /** The page point where an object's centre is drawn (for tests and labels), or null. */
+    screenPoint(name) {
+      const node = this.objects.get(name);
+      if (!node) return null;
+      const c = new THREE.Box3().setFromObject(node).getCenter(new THREE.Vector3()).project(this.camera());
+      const rect = this.renderer.domElement.getBoundingClientRect();
+      return { x: rect.left + ((c.x + 1) / 2) * rect.width, y: rect.top + ((1 - c.y) / 2) * rect.height };
+    }
+
+    camera() {
+      if (!this.activeCamera) return this.orbitCamera;
+      const cam = this.activeCamera;
+      const w = this.container.clientWidth, h = this.container.clientHeight;
+      if (cam.isPerspectiveCamera && h > 0 && Math.abs(cam.aspect - w / h) > 1e-6) {
+        cam.aspect = w / h;
+        cam.updateProjectionMatrix();
+      }
+      return cam;
+    }
+
+    /** Looks through the named glTF camera ('' or unknown: free orbit). */
+    useCamera(name) {
+      const found = this.cameras.find((c) => c.name === name);
+      this.activeCamera = found ? found.camera : null;
+      this.render();
+    }
+
+    /** Shows the run at time t (clamped to the run). */
+    setTime(t) {
+      this.time = Math.min(Math.max(0, t), this.duration);
+      if (this.mixer) {
+        this.action.time = Math.min(this.time, this.action.getClip().duration);
+        this.mixer.update(0);
+      }
+      this.model && this.model.updateMatrixWorld(true);
+      this.onTime(this.time);
+      this.render();
+    }
+
+    play() { if (this.time >= this.duration) this.setTime(0); this.playing = true; this.last = null; }
+    pause() { this.playing = false; }
+
+    loop() {
+      requestAnimationFrame((now) => {
+        if (this.playing) {
+          const dt = this.last == null ? 0 : (now - this.last) / 1000;
+          this.setTime(this.time + dt * this.speed);
+          if (this.time >= this.duration) this.playing = false;
+        }
+        this.last = now;
+        this.loop();
+      });
+    }
+
+    render() {
+      if (this.model) this.renderer.render(this.scene, this.camera());
+    }
+  }
+
+  root.SSCS = Object.assign(root.SSCS || {}, { View3D, decodeBase64 });
+})(typeof globalThis !== 'undefined' ? globalThis : this);

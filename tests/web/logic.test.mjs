@@ -1,0 +1,89 @@
+// Units of the HTML reports' page logic (src/report/html/logic.js), with node's test runner.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
+const require = createRequire(import.meta.url);
+const S = require('../../src/report/html/logic.js');
+
+const report = {
+  vault: 'V',
+  results: [
+    { constraint: 'b', kind: 'bound', severity: 'error', status: 'pass', subject: ['A'], margin: 2, message: 'ok', location: { file: 'v.yaml', line: 3 }, baseline: 'unchanged' },
+    { constraint: 'a', kind: 'clearance', severity: 'error', status: 'fail', subject: ['A', 'B'], margin: -0.5, message: 'too close', baseline: 'new' },
+    { constraint: 'c', kind: 'bound', severity: 'warning', status: 'fail', subject: ['C'], margin: -1, message: 'warned', baseline: 'still_failing' },
+    { constraint: 'd', kind: 'expr', severity: 'error', status: 'error', subject: [], message: 'not a number' },
+  ],
+  baseline: { removed: [{ constraint: 'gone', was: 'passing' }] },
+};
+
+test('check rows: one per result and per removed constraint, with where and change', () => {
+  const rows = S.checkRows([report]);
+  assert.equal(rows.length, 5);
+  assert.equal(rows[0].where, 'v.yaml:3');
+  assert.equal(rows[1].change, 'new');
+  assert.equal(rows[2].change, 'still failing');
+  assert.equal(rows[4].status, 'removed');
+  assert.equal(rows[4].change, 'removed');
+});
+
+test('filters combine status, kind, object and text', () => {
+  const rows = S.checkRows([report]);
+  assert.deepEqual(S.filterRows(rows, { status: 'fail' }).map((r) => r.constraint), ['a', 'c']);
+  assert.deepEqual(S.filterRows(rows, { kind: 'bound' }).map((r) => r.constraint), ['b', 'c']);
+  assert.deepEqual(S.filterRows(rows, { object: 'B' }).map((r) => r.constraint), ['a']);
+  assert.deepEqual(S.filterRows(rows, { text: 'TOO' }).map((r) => r.constraint), ['a']);
+  assert.deepEqual(S.filterRows(rows, { status: 'fail', severity: 'warning' }).map((r) => r.constraint), ['c']);
+  assert.equal(S.filterRows(rows, {}).length, 5);
+});
+
+test('sorting: margins numerically with absent last, statuses by gravity, stable', () => {
+  const rows = S.checkRows([report]);
+  assert.deepEqual(S.sortRows(rows, 'margin', 1).map((r) => r.constraint), ['c', 'a', 'b', 'd', 'gone']);
+  assert.deepEqual(S.sortRows(rows, 'margin', -1).map((r) => r.constraint).slice(0, 3), ['b', 'a', 'c']);
+  assert.deepEqual(S.sortRows(rows, 'status', 1).map((r) => r.status), ['error', 'fail', 'fail', 'pass', 'removed']);
+  assert.deepEqual(S.sortRows(rows, 'constraint', 1).map((r) => r.constraint), ['a', 'b', 'c', 'd', 'gone']);
+});
+
+test('numbers: four significant digits, units, non-finite shown as such, absent as a dash', () => {
+  assert.equal(S.num(1.23456, 'm'), '1.235 m');
+  assert.equal(S.num(0), '0');
+  assert.equal(S.num(2.5e-5), '2.500e-5');
+  assert.equal(S.num(NaN), 'NaN');
+  assert.equal(S.num(undefined), '\u2014');
+});
+
+test('CSV: header and numbers, quoted cells', () => {
+  const t = S.parseCsv('t,j1,name\n0,1.5,"a,b"\n0.02,2,x\n');
+  assert.deepEqual(t.columns, ['t', 'j1', 'name']);
+  assert.deepEqual(t.rows, [[0, 1.5, 'a,b'], [0.02, 2, 'x']]);
+});
+
+test('scales map the domain and tick at round steps; a flat domain widens', () => {
+  const x = S.scale(0, 10, 100, 200);
+  assert.equal(x(5), 150);
+  assert.deepEqual(x.ticks(5), [0, 2, 4, 6, 8, 10]);
+  const flat = S.scale(3, 3, 0, 1);
+  assert.ok(flat.domain[0] < 3 && flat.domain[1] > 3);
+  assert.ok(Number.isFinite(flat(3)));
+  assert.deepEqual(S.extent([3, NaN, -1, 'x', 7]), [-1, 7]);
+  assert.equal(S.extent([NaN]), undefined);
+});
+
+test('indexAt finds the last sample at or before t', () => {
+  const ts = [0, 0.5, 1, 1.5];
+  assert.equal(S.indexAt(ts, -1), 0);
+  assert.equal(S.indexAt(ts, 0.7), 1);
+  assert.equal(S.indexAt(ts, 1), 2);
+  assert.equal(S.indexAt(ts, 9), 3);
+});
+
+test('steps and events of a run summary', () => {
+  const steps = S.stepBreakdown({ steps: [{ index: 0, action: 'move_to', device: 'R', start: 0, end: 1.5 }, { index: 1, action: 'grasp', object: 'D', device: 'R', start: 1.5, end: 1.5 }] });
+  assert.deepEqual(steps.map((s) => [s.label, s.duration]), [['1. move_to', 1.5], ['2. grasp D', 0]]);
+  assert.deepEqual(S.notableEvents([{ kind: 'step_start' }, { kind: 'collision' }, { kind: 'step_end' }]).map((e) => e.kind), ['collision']);
+});
+
+test('sweep rows: parameters as numbers, metrics kept', () => {
+  const rows = S.sweepRows({ variants: [{ variant: 0, folder: '00', values: { aisle: '1.5', kind: 'arm' }, status: 'pass', metrics: { capacity: 48 } }] });
+  assert.deepEqual(rows[0], { variant: 0, folder: '00', status: 'pass', message: '', passed: undefined, failed: undefined, warnings: undefined, aisle: 1.5, kind: 'arm', capacity: 48 });
+});

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Makes the HTML reports and glTF files the web tests look at, from the project's scenarios:
+# every check, run and sweep report a user gets from scenarios/ (tests/web/reports.test.mjs).
+# Usage: make-reports.sh SSCS SOURCE_DIR OUT_DIR
+set -euo pipefail
+sscs=$1
+src=$2
+out=$3
+rm -rf "$out"
+mkdir -p "$out"
+cd "$src"
+q=(--quiet)
+# Checks: exit 1 means failing constraints (the demo fails 4 on purpose), not a broken report.
+check() { local name=$1; shift; "$sscs" check "$@" --format json --out "$out/$name.json" --html "$out/$name.html" "${q[@]}" >/dev/null || [[ $? == 1 ]]; }
+check demo scenarios/demo/demo.yaml
+check drum-store scenarios/drum-store/store.yaml
+check ci-main scenarios/ci-example/main/store.yaml
+check ci-branch scenarios/ci-example/branch/store.yaml --baseline "$out/ci-main.json"
+# Runs: a run folder each, its HTML, and the animated glTF sscs export makes of it.
+run() {
+  local name=$1 scenario=$2
+  "$sscs" simulate "$scenario" --out "$out/$name" --no-frames --html "$out/$name.html" "${q[@]}" >/dev/null || [[ $? == 1 ]]
+  "$sscs" export "$out/$name" --out "$out/$name.glb" "${q[@]}"
+}
+run arm-loads-drum scenarios/drum-transfer/arm-loads-drum.yaml
+run gantry-loads-drum scenarios/drum-transfer/gantry-loads-drum.yaml
+run collision scenarios/drum-transfer/collision.yaml
+run store-drum scenarios/drum-store/store-drum.yaml
+# A run written only as a bundle: its report and glTF are those of the same run in a folder.
+"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --bundle "$out/arm-bundle.zip" --no-frames "${q[@]}" >/dev/null
+"$sscs" report "$out/arm-bundle.zip" --html "$out/arm-bundle.html" "${q[@]}"
+"$sscs" export "$out/arm-bundle.zip" --out "$out/arm-bundle.glb" "${q[@]}"
+cmp "$out/arm-bundle.glb" "$out/arm-loads-drum.glb" || { echo "the bundle's glTF differs from the folder's" >&2; exit 1; }
+# A sweep, and a report made afterwards from a check's JSON.
+"$sscs" sweep scenarios/sweeps/aisle-rows.yaml --out "$out/aisle-rows" --html "$out/aisle-rows.html" "${q[@]}" >/dev/null || [[ $? == 1 ]]
+"$sscs" report "$out/demo.json" --html "$out/demo-from-json.html" "${q[@]}"
+# Still models: the vaults as sscs export writes them.
+"$sscs" export scenarios/demo/demo.yaml --out "$out/demo.glb" "${q[@]}"
+"$sscs" export scenarios/drum-store/store.yaml --out "$out/drum-store.glb" "${q[@]}"
+ls "$out"/*.html "$out"/*.glb >/dev/null

@@ -1,0 +1,204 @@
+// The HTML reports in a real browser: Debian's chromium-headless-shell driven by puppeteer-core.
+// Every report tests/web/make-reports.sh made from scenarios/ (in SSCS_WEB_OUT) must load from
+// disk with no console error and no network request, show a 3D view that is not blank, list the
+// rows of its JSON; clicking a failing row highlights its object, clicking an object lists its
+// constraints, scrubbing to an event moves the scene, clicking a sweep point selects its row.
+// Screenshots go to SSCS_WEB_OUT/screenshots (docs/reports.md shows them: SSCS_UPDATE_DOCS=1).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { readdirSync, readFileSync, existsSync, mkdirSync, copyFileSync } from 'node:fs';
+import { join, basename, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import puppeteer from 'puppeteer-core';
+
+const out = process.env.SSCS_WEB_OUT;
+assert.ok(out && existsSync(out), 'SSCS_WEB_OUT names the folder make-reports.sh filled');
+const shots = join(out, 'screenshots');
+mkdirSync(shots, { recursive: true });
+const chromium = ['/usr/bin/chromium-headless-shell', '/usr/bin/chromium'].find(existsSync);
+const pages = readdirSync(out).filter((f) => f.endsWith('.html')).sort();
+let browser;
+
+before(async () => {
+  assert.ok(chromium, 'chromium-headless-shell is installed (tools/setup.sh)');
+  browser = await puppeteer.launch({
+    executablePath: chromium, headless: 'shell',
+    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--disable-background-networking',
+           '--disable-component-update', '--no-first-run', '--disable-sync', '--disable-quic'],
+  });
+});
+after(async () => { await browser?.close(); });
+
+/** Opens a report: every console error, page error and request that leaves the file is kept. */
+async function open(file) {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
+  const problems = [];
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.setRequestInterception(true);
+  page.on('request', (r) => {
+    const url = r.url();
+    if (url.startsWith('data:') || url.startsWith('blob:') || url === `file://${join(out, file)}`) return r.continue();
+    problems.push(`network: ${url}`);
+    r.abort();
+  });
+  await page.goto(`file://${join(out, file)}`);
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  await page.evaluate(CANVAS_HELPERS);
+  return { page, problems };
+}
+
+// In the page: the 3D canvas's pixels (its drawing buffer is preserved), how many differ from the
+// background, and how many differ from an earlier snapshot.
+const CANVAS_HELPERS = `
+window.__pixels = () => {
+  const c = document.querySelector('canvas[data-testid=view3d]');
+  const t = document.createElement('canvas'); t.width = c.width; t.height = c.height;
+  const g = t.getContext('2d'); g.drawImage(c, 0, 0);
+  return g.getImageData(0, 0, t.width, t.height).data;
+};
+window.__notBackground = () => {
+  const d = window.__pixels(); let n = 0;
+  for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 244) + Math.abs(d[i + 1] - 245) + Math.abs(d[i + 2] - 247) > 30) n++;
+  return n / (d.length / 4);
+};
+window.__snap = () => { window.__before = window.__pixels(); };
+window.__changed = () => {
+  const a = window.__before, b = window.__pixels(); let n = 0;
+  for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 30) n++;
+  return n;
+};`;
+
+const shot = (page, name) => page.screenshot({ path: join(shots, `${name}.png`) });
+const kind = (page) => page.evaluate('window.sscsReport.kind');
+
+for (const file of pages) {
+  const name = basename(file, '.html');
+  test(`${file}: loads from disk, no console error, no network, a 3D view that is not blank`, async () => {
+    const { page, problems } = await open(file);
+    assert.deepEqual(problems, []);
+    if (await kind(page) !== 'sweep') {
+      const drawn = await page.evaluate('window.__notBackground()');
+      assert.ok(drawn > 0.03, `the 3D view draws on ${(drawn * 100).toFixed(1)}% of its pixels`);
+    }
+    await shot(page, name);
+    await page.close();
+  });
+}
+
+/** The check reports and the JSON each was made with (demo-from-json.html: from demo.json). */
+const checks = pages.filter((f) => existsSync(join(out, f.replace('.html', '.json'))) || f === 'demo-from-json.html');
+const jsonOf = (f) => JSON.parse(readFileSync(join(out, f === 'demo-from-json.html' ? 'demo.json' : f.replace('.html', '.json')), 'utf8'));
+
+for (const file of checks) {
+  test(`${file}: the table's rows are the JSON report's`, async () => {
+    const { page } = await open(file);
+    const report = jsonOf(file);
+    const reports = report.reports || [report];
+    const expected = reports.flatMap((r) => r.results.map((x) => x.constraint).concat(((r.baseline || {}).removed || []).map((x) => x.constraint)));
+    const shown = await page.$$eval('table.results tbody tr .name', (cells) => cells.map((c) => c.textContent));
+    assert.deepEqual(shown, expected);
+    // Filtering by status keeps exactly the failing rows (a report without one offers no such filter).
+    const fails = reports.flatMap((r) => r.results.filter((x) => x.status === 'fail').map((x) => x.constraint));
+    const offered = await page.$$eval('select[data-filter=status] option', (os) => os.map((o) => o.value));
+    assert.equal(offered.includes('fail'), fails.length > 0, offered.join(','));
+    if (fails.length) {
+      await page.select('select[data-filter=status]', 'fail');
+      const failing = await page.$$eval('table.results tbody tr .name', (cells) => cells.map((c) => c.textContent));
+      assert.deepEqual(failing, fails);
+    }
+    await page.close();
+  });
+}
+
+test('demo.html: clicking a failing row highlights and frames its object; clicking an object lists its constraints', async () => {
+  const { page } = await open('demo.html');
+  const row = await page.$('table.results tbody tr.fail');
+  const subjects = await row.evaluate((tr) => tr.dataset.subjects.split('|').filter(Boolean));
+  assert.ok(subjects.length > 0);
+  await page.evaluate('window.__snap()');
+  await row.click();
+  assert.equal(await row.evaluate((tr) => tr.classList.contains('selected')), true);
+  const emissive = await page.evaluate((n) => {
+    let hex = null;
+    window.sscsReport.view.objects.get(n).traverse((m) => { if (m.isMesh && hex === null) hex = m.material.emissive.getHex(); });
+    return hex;
+  }, subjects[0]);
+  assert.equal(emissive, 0x1f77b4, `${subjects[0]} is drawn highlighted`);
+  assert.ok(await page.evaluate('window.__changed()') > 500, 'the view moved to the object and coloured it');
+  await shot(page, 'demo-row-selected');
+  // The object in the middle of the view, clicked: its constraints are listed, the table filtered.
+  const at = await page.evaluate((n) => window.sscsReport.view.screenPoint(n), subjects[0]);
+  await page.mouse.click(at.x, at.y);
+  const listed = await page.$eval('[data-testid=object-panel] h3', (h) => h.textContent);
+  assert.equal(listed, subjects[0]);
+  const objects = await page.$$eval('table.results tbody tr', (rows) => rows.map((tr) => tr.dataset.subjects));
+  assert.ok(objects.length > 0 && objects.every((o) => o.split('|').includes(listed)), objects.join(' ; '));
+  await page.close();
+});
+
+test('ci-branch.html: the baseline diff is in the table (new, fixed, still failing) and the summary', async () => {
+  const { page } = await open('ci-branch.html');
+  const report = jsonOf('ci-branch.html');
+  const changes = await page.$$eval('table.results tbody tr td:nth-child(2)', (cells) => cells.map((c) => c.textContent));
+  const expected = report.results.map((r) => r.baseline.replace(/_/g, ' ').replace('unchanged', 'unchanged'))
+    .concat(report.baseline.removed.map(() => 'removed'));
+  assert.deepEqual(changes, expected);
+  const summary = await page.$eval('[data-testid=baseline]', (e) => e.textContent);
+  assert.match(summary, new RegExp(`${report.baseline.new} new, ${report.baseline.fixed} fixed`));
+  await page.select('select[data-filter=change]', 'new');
+  assert.equal((await page.$$('table.results tbody tr')).length, report.baseline.new);
+  await page.close();
+});
+
+for (const file of pages.filter((f) => existsSync(join(out, basename(f, '.html'), 'summary.json')))) {
+  test(`${file}: scrubbing to an event moves the scene; the timeline, plots and breakdown are there`, async () => {
+    const { page } = await open(file);
+    const summary = JSON.parse(readFileSync(join(out, basename(file, '.html'), 'summary.json'), 'utf8'));
+    assert.equal((await page.$$('table.breakdown tr')).length, summary.steps.length);
+    const events = await page.evaluate('window.sscsReport.events');
+    // The event the most into the run (a device has moved by then).
+    const i = events.reduce((best, e, k) => (e.t > events[best].t ? k : best), 0);
+    await page.evaluate('window.sscsReport.seek(0)');
+    await page.evaluate('window.__snap()');
+    await page.click(`table.events tr[data-event="${i}"]`);
+    const t = await page.evaluate('window.sscsReport.view.time');
+    assert.ok(Math.abs(t - Math.min(events[i].t, await page.evaluate('window.sscsReport.view.duration'))) < 1e-6, `at ${t}, event at ${events[i].t}`);
+    assert.equal(await page.$eval('[data-testid=time]', (e) => e.textContent), `${t.toFixed(2)} s`);
+    assert.ok(await page.evaluate('window.__changed()') > 200, 'the device is drawn elsewhere');
+    assert.ok((await page.$$('svg.plot polyline')).length > 0, 'joint plots');
+    // Playing advances time.
+    await page.evaluate('window.sscsReport.seek(0)');
+    await page.click('[data-testid=play]');
+    await new Promise((r) => setTimeout(r, 600));
+    assert.ok(await page.evaluate('window.sscsReport.view.time') > 0, 'play moves the time on');
+    await page.click('[data-testid=play]');
+    await page.evaluate(`window.sscsReport.seek(${events[i].t})`);
+    await shot(page, `${basename(file, '.html')}-event`);
+    await page.close();
+  });
+}
+
+test('aisle-rows.html: one row per variant, one point per variant, a point selects its row', async () => {
+  const { page } = await open('aisle-rows.html');
+  const results = JSON.parse(readFileSync(join(out, 'aisle-rows', 'results.json'), 'utf8'));
+  assert.equal((await page.$$('table.results tbody tr')).length, results.variants.length);
+  assert.equal((await page.$$('svg.plot circle[data-variant]')).length, results.variants.length);
+  await page.click('svg.plot circle[data-variant="7"]');
+  assert.equal(await page.$eval('table.results tbody tr.selected', (tr) => tr.dataset.id), '7');
+  // The link of each row reaches the variant's report from where the page is.
+  const href = await page.$eval('table.results tbody tr.selected a', (a) => a.getAttribute('href'));
+  assert.ok(existsSync(join(out, href)), href);
+  await page.select('[data-testid=plot-y]', 'aisle_margin');
+  await shot(page, 'aisle-rows-plot');
+  await page.close();
+});
+
+test('screenshots for docs/reports.md', { skip: !process.env.SSCS_UPDATE_DOCS }, () => {
+  const docs = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'docs', 'img', 'reports');
+  mkdirSync(docs, { recursive: true });
+  for (const f of ['demo-row-selected', 'ci-branch', 'arm-loads-drum-event', 'store-drum-event', 'aisle-rows-plot'])
+    copyFileSync(join(shots, `${f}.png`), join(docs, `${f}.png`));
+});
