@@ -9,6 +9,7 @@
 #include "render/camera_path.h"
 #include "render/gltf.h"
 #include "pipeline/html_report.h"
+#include "pipeline/run_scenario.h"
 #include "render/frames.h"
 #include "render/image.h"
 #include "render/renderer.h"
@@ -193,6 +194,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
   StagedDir staging(args.out);
   {
     FrameRecorder recorder(wc, ps.geometry, ps.cameras, ro, staging.path() + "/frames");
+    recorder.set_focus([&](double t) { return plan_focus(wc, plan, t); });  // the action camera's, as the run's
     for (size_t n = 0; n < times.size(); ++n) recorder.frame(static_cast<int>(n), times[n], recorded->at(times[n]));
     recorder.finish(staging.path() + "/contact_sheet.png");
   }

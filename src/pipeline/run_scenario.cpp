@@ -1,5 +1,7 @@
 #include "pipeline/run_scenario.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -67,10 +69,12 @@ Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& 
     recorder = std::make_unique<FrameRecorder>(wc, ps.geometry, ps.cameras, ro, run.work_dir + "/frames");
     if (!request.video.empty()) recorder->record_video(request.video, plan.settings.fps);
     run.frame_interval = 1.0 / plan.settings.fps;
+    recorder->set_focus([&](double t) { return plan_focus(wc, plan, t); });
     run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
     run.on_step_end = [&](const PlannedStep& step, double t, const ScenePose& pose) {
       std::string who = step.device >= 0 ? " " + wc.objects[step.device].name : "";
-      recorder->step_end(step.index, fmt::format("{}. {}{}  t = {:.2f} s", step.index + 1, step_kind_name(step.kind), who, t), t, pose);
+      recorder->step_end(step.index, fmt::format("{}. {}{}  t = {:.2f} s", step.index + 1, step_kind_name(step.kind), who, t), t, pose,
+                         step_focus(wc, plan, step, t));
     };
     run.before_write = [&] {
       recorder->finish(run.work_dir + "/contact_sheet.png");
@@ -80,6 +84,61 @@ Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& 
   Expected<RunSummary> ran = run_simulation(wc, ps.geometry, plan, run);
   recorder.reset();  // before the staging folder it writes into goes
   return ran;
+}
+
+namespace {
+
+/// The objects carried at t: each grasp's object from the grasp's end until its release starts
+/// (to the end of the run when it is never released). Containers never count.
+std::vector<int> carried_at(const Workcell& wc, const Plan& plan, double t) {
+  // The run ends a step on a physics step, the plan at its exact time: within a step is "then".
+  t += plan.settings.timestep;
+  std::vector<int> out;
+  for (size_t g = 0; g < plan.steps.size(); ++g) {
+    const PlannedStep& grasp = plan.steps[g];
+    if (grasp.kind != StepKind::Grasp || grasp.object < 0 || t < grasp.end) continue;
+    if (wc.types[wc.objects[grasp.object].type].container) continue;  // a space: no load to watch
+    double until = INFINITY;
+    for (size_t r = g + 1; r < plan.steps.size(); ++r)
+      if (plan.steps[r].kind == StepKind::Release && plan.steps[r].object == grasp.object) {
+        until = plan.steps[r].start;
+        break;
+      }
+    if (t <= until) out.push_back(grasp.object);
+  }
+  return out;
+}
+
+void add_once(std::vector<int>& v, int x) {
+  if (x >= 0 && std::find(v.begin(), v.end(), x) == v.end()) v.push_back(x);
+}
+
+}  // namespace
+
+Focus plan_focus(const Workcell& wc, const Plan& plan, double t) {
+  Focus f;
+  const PlannedStep* last = nullptr;  // the last step begun by t
+  const double now = t + plan.settings.timestep;  // the run is on physics steps, the plan's times exact
+  for (const PlannedStep& step : plan.steps) {
+    if (step.start > now) continue;
+    if (!last || step.start >= last->start) last = &step;
+    if (t <= step.end + plan.settings.timestep) {
+      add_once(f.devices, step.device);
+      if (step.kind == StepKind::Grasp || step.kind == StepKind::Release) add_once(f.objects, step.object);
+    }
+  }
+  if (f.devices.empty() && last) add_once(f.devices, last->device);
+  if (f.devices.empty() && !plan.steps.empty()) add_once(f.devices, plan.steps.front().device);
+  for (int o : carried_at(wc, plan, t)) add_once(f.objects, o);
+  return f;
+}
+
+Focus step_focus(const Workcell& wc, const Plan& plan, const PlannedStep& step, double t) {
+  Focus f;
+  add_once(f.devices, step.device);
+  for (int o : carried_at(wc, plan, t)) add_once(f.objects, o);
+  if (step.kind == StepKind::Grasp || step.kind == StepKind::Release) add_once(f.objects, step.object);
+  return f;
 }
 
 }  // namespace sscs

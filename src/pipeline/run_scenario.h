@@ -7,6 +7,7 @@
 
 #include "core/expected.h"
 #include "pipeline/prepare.h"
+#include "render/action_camera.h"
 #include "simulate/simulate.h"
 
 namespace sscs {
@@ -38,5 +39,13 @@ std::string run_request_refusal(const PreparedScenario& ps, const RunRequest& re
 /// Whatever happens, nothing is left under the requested names unless the run is complete.
 /// An error only for what is not the input's fault (a full disk, a renderer that fails).
 Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& request);
+
+/// What the run is doing at time t, as its plan says (the action camera's focus): the devices
+/// of the steps under way (else of the last step that ended), the objects carried then (from a
+/// grasp's end to its release's start), and those the steps under way grasp or release.
+Focus plan_focus(const Workcell& wc, const Plan& plan, double t);
+/// A contact-sheet panel's focus when `step` ends at t: its device, and what is carried then or
+/// what it grasped or released.
+Focus step_focus(const Workcell& wc, const Plan& plan, const PlannedStep& step, double t);
 
 }  // namespace sscs

@@ -22,7 +22,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 FrameRecorder::FrameRecorder(const Workcell& wc, const GeometryModel& geometry, CameraPath cameras,
                              const RenderOptions& options, std::string dir, int threads, size_t queue)
-    : renderer_(wc, geometry, options), cameras_(std::move(cameras)), aspect_(double(options.width) / options.height),
+    : geometry_(geometry), renderer_(wc, geometry, options), cameras_(std::move(cameras)), aspect_(double(options.width) / options.height),
       dir_(std::move(dir)), capacity_(std::max<size_t>(1, queue)), width_(options.width),
       height_(options.height), font_(default_font_path(), 15) {
   std::filesystem::create_directories(dir_);
@@ -72,7 +72,11 @@ FrameRecorder::~FrameRecorder() {
     if (t.joinable()) t.join();
 }
 
-Camera FrameRecorder::camera_at(double t, const ScenePose& pose) const { return cameras_.at(t, pose, renderer_.bounds(), aspect_); }
+Camera FrameRecorder::camera_at(double t, const ScenePose& pose) {
+  // No cameras in the scenario: the action camera, on what the run is doing.
+  if (cameras_.keys().empty() && focus_) return action_.at(focus_(t), pose, geometry_, renderer_, aspect_);
+  return cameras_.at(t, pose, renderer_.bounds(), aspect_);
+}
 
 void FrameRecorder::frame(int n, double t, const ScenePose& pose) {
   auto t0 = Clock::now();
@@ -90,10 +94,19 @@ void FrameRecorder::frame(int n, double t, const ScenePose& pose) {
   changed_.notify_all();
 }
 
-void FrameRecorder::step_end(size_t index, const std::string& label, double t, const ScenePose& pose) {
+void FrameRecorder::step_end(size_t index, const std::string& label, double t, const ScenePose& pose, const Focus& focus) {
   auto t0 = Clock::now();
-  thumbs_[index] = {downscale(renderer_.render(camera_at(t, pose), pose), 320), label};
+  // A panel shows what its step did, whatever the scenario's cameras film: the action camera.
+  const Camera camera = focus.empty() ? camera_at(t, pose) : sheet_camera_.at(focus, pose, geometry_, renderer_, aspect_);
+  thumbs_[index] = {downscale(renderer_.render(camera, pose), 320), label};
+  panels_.insert_or_assign(index, std::pair{camera, pose});
   stats_.render_s += since(t0);
+}
+
+std::vector<Renderer::Visibility> FrameRecorder::panel_visibility(size_t index, const std::vector<int>& objects) {
+  auto it = panels_.find(index);
+  if (it == panels_.end()) return {};
+  return renderer_.visibility(it->second.first, it->second.second, objects);
 }
 
 void FrameRecorder::work() {

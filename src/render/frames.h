@@ -12,6 +12,9 @@
 #include <thread>
 #include <vector>
 
+#include <functional>
+
+#include "render/action_camera.h"
 #include "render/camera_path.h"
 #include "render/contact_sheet.h"
 #include "render/text.h"
@@ -45,13 +48,20 @@ class FrameRecorder {
   /// Renders frame `n` of the state at simulated time `t`.
   void frame(int n, double t, const ScenePose& pose);
   /// A thumbnail for the contact sheet: the state when step `index` ended (a later call for the
-  /// same index replaces it: a parallel group ends with its last member).
-  void step_end(size_t index, const std::string& label, double t, const ScenePose& pose);
+  /// same index replaces it: a parallel group ends with its last member), seen by the action
+  /// camera on `focus` (the step's device, what it carries or acts on); none: the frames' camera.
+  void step_end(size_t index, const std::string& label, double t, const ScenePose& pose, const Focus& focus = {});
+  /// How much of each of `objects` contact-sheet panel `index` shows (the id pass of its camera
+  /// at its moment); empty when no such panel was drawn.
+  std::vector<Renderer::Visibility> panel_visibility(size_t index, const std::vector<int>& objects);
+  /// What the run is doing at time t, for the frames' camera when the scenario has none.
+  void set_focus(std::function<Focus(double)> focus) { focus_ = std::move(focus); }
   /// Waits for the queue to drain, writes index.csv and, when any step ended, the contact sheet
   /// to `contact_sheet`. Rethrows a worker's error (a full disk).
   FrameStats finish(const std::string& contact_sheet);
-  /// The camera at time t (the view sequence of the run).
-  Camera camera_at(double t, const ScenePose& pose) const;
+  /// The camera at time t (the view sequence of the run: the scenario's keyframes, else the
+  /// action camera on the focus).
+  Camera camera_at(double t, const ScenePose& pose);
 
  private:
   void work();
@@ -59,8 +69,11 @@ class FrameRecorder {
     int n;
     Image image;
   };
+  const GeometryModel& geometry_;
   Renderer renderer_;
   CameraPath cameras_;
+  std::function<Focus(double)> focus_;
+  ActionCamera action_, sheet_camera_;  // the frames' and the contact sheet's: each keeps its side
   double aspect_;
   std::string dir_;
   size_t capacity_;
@@ -72,6 +85,7 @@ class FrameRecorder {
   std::vector<std::thread> workers_;
   std::vector<std::pair<int, double>> index_;
   std::map<size_t, Thumbnail> thumbs_;
+  std::map<size_t, std::pair<Camera, ScenePose>> panels_;  ///< how each thumbnail was drawn
   int width_, height_;
   FILE* video_ = nullptr;
   std::string video_path_, video_tmp_;

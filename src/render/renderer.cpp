@@ -46,6 +46,13 @@ constexpr const char* kDepthFragment = R"(#version 330 core
 void main() {}
 )";
 
+// The id pass (Renderer::visibility): each object in a flat colour that encodes its index.
+constexpr const char* kIdFragment = R"(#version 330 core
+uniform vec3 id_color;
+out vec4 color;
+void main() { color = vec4(id_color, 1.0); }
+)";
+
 constexpr const char* kSolidFragment = R"(#version 330 core
 in vec3 world_normal;
 in vec4 light_position;
@@ -128,6 +135,8 @@ struct Renderer::Impl {
   GLuint shadow_fbo = 0, shadow_map = 0;
   static constexpr int kShadowSize = 2048;
   GLuint fbo = 0, color_rb = 0, depth_rb = 0, resolve_fbo = 0, resolve_rb = 0;
+  GLuint ids = 0, id_fbo = 0, id_color_rb = 0, id_depth_rb = 0;  // the id pass, made when first asked
+  int id_w = 0, id_h = 0;
   Eigen::AlignedBox3d bounds;
   double draw_s = 0, readback_s = 0;
 
@@ -147,6 +156,12 @@ struct Renderer::Impl {
     gl.DeleteProgram(solid);
     gl.DeleteProgram(line);
     if (depth) gl.DeleteProgram(depth);
+    if (ids) {
+      gl.DeleteProgram(ids);
+      GLuint id_rbs[] = {id_color_rb, id_depth_rb};
+      gl.DeleteFramebuffers(1, &id_fbo);
+      gl.DeleteRenderbuffers(2, id_rbs);
+    }
     if (shadow_map) gl.DeleteTextures(1, &shadow_map);
     if (shadow_fbo) gl.DeleteFramebuffers(1, &shadow_fbo);
     GLuint fbos[] = {fbo, resolve_fbo}, rbs[] = {color_rb, depth_rb, resolve_rb};
@@ -339,6 +354,84 @@ struct Renderer::Impl {
     lines = buffer(v);
   }
 
+  /// World -> clip space, the depth range from the scene's bounds as seen from the eye.
+  Eigen::Matrix4f view_projection(const Camera& camera, double aspect) const {
+    double far = 10;
+    if (!bounds.isEmpty())
+      for (int c = 0; c < 8; ++c)
+        far = std::max(far, (bounds.corner(Eigen::AlignedBox3d::CornerType(c)) - camera.eye).norm());
+    return to_float(projection_matrix(camera.fov, aspect, std::max(0.01, far * 1e-4), 2 * far + 100) * view_matrix(camera));
+  }
+
+  /// Pixels of each object of `objects` in an id image `width` wide (the frames' aspect): where it
+  /// is in front with everything drawn, and where it is with only `objects` drawn.
+  std::vector<Renderer::Visibility> visibility(const Camera& camera, const ScenePose& pose, const std::vector<int>& objects, int width) {
+    const int w = std::max(8, width), h = std::max(8, static_cast<int>(std::lround(width * double(options.height) / options.width)));
+    if (!ids) ids = program(kDepthVertex, kIdFragment);
+    if (w != id_w || h != id_h) {
+      if (id_fbo) {
+        GLuint id_rbs[] = {id_color_rb, id_depth_rb};
+        gl.DeleteFramebuffers(1, &id_fbo);
+        gl.DeleteRenderbuffers(2, id_rbs);
+      }
+      gl.GenFramebuffers(1, &id_fbo);
+      gl.BindFramebuffer(GL_FRAMEBUFFER, id_fbo);
+      gl.GenRenderbuffers(1, &id_color_rb);
+      gl.BindRenderbuffer(GL_RENDERBUFFER, id_color_rb);
+      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_RGBA8, w, h);
+      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, id_color_rb);
+      gl.GenRenderbuffers(1, &id_depth_rb);
+      gl.BindRenderbuffer(GL_RENDERBUFFER, id_depth_rb);
+      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_DEPTH_COMPONENT24, w, h);
+      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, id_depth_rb);
+      if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error(fmt::format("cannot make a {}x{} id framebuffer", w, h));
+      id_w = w;
+      id_h = h;
+    }
+    std::vector<int> slot(geometry.objects.size(), -1);
+    for (size_t k = 0; k < objects.size(); ++k) slot[objects[k]] = static_cast<int>(k);
+    std::vector<Renderer::Visibility> out(objects.size());
+    const Eigen::Matrix4f vp = view_projection(camera, double(w) / h);
+    for (bool everything : {true, false}) {
+      gl.BindFramebuffer(GL_FRAMEBUFFER, id_fbo);
+      gl.Viewport(0, 0, w, h);
+      gl.ClearColor(0, 0, 0, 1);
+      gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      gl.Enable(GL_DEPTH_TEST);
+      gl.UseProgram(ids);
+      gl.UniformMatrix4fv(gl.GetUniformLocation(ids, "light_projection"), 1, GL_FALSE, vp.data());
+      const GLint u_model = gl.GetUniformLocation(ids, "model"), u_id = gl.GetUniformLocation(ids, "id_color");
+      for (const Item& it : items) {
+        if (!everything && slot[it.object] < 0) continue;
+        const Eigen::Matrix4f model = to_float(world_pose(it, pose).matrix());
+        gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
+        const int id = it.object + 1;  // 0: nothing
+        gl.Uniform3f(u_id, (id & 255) / 255.0f, ((id >> 8) & 255) / 255.0f, ((id >> 16) & 255) / 255.0f);
+        if (it.inside) {  // a room is seen from the inside, as in the frames
+          gl.Enable(GL_CULL_FACE);
+          gl.CullFace(GL_FRONT);
+        } else {
+          gl.Disable(GL_CULL_FACE);
+        }
+        gl.BindVertexArray(meshes[it.mesh].vao);
+        gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);
+      }
+      gl.Disable(GL_CULL_FACE);
+      std::vector<uint8_t> rgba(static_cast<size_t>(w) * h * 4);
+      gl.BindFramebuffer(GL_READ_FRAMEBUFFER, id_fbo);
+      gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+      gl.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+      for (size_t p = 0; p < rgba.size(); p += 4) {
+        const int id = rgba[p] | (rgba[p + 1] << 8) | (rgba[p + 2] << 16);
+        if (id == 0 || id > static_cast<int>(slot.size()) || slot[id - 1] < 0) continue;
+        (everything ? out[slot[id - 1]].visible : out[slot[id - 1]].alone)++;
+      }
+    }
+    if (GLenum e = gl.GetError(); e != GL_NO_ERROR) throw std::runtime_error(fmt::format("OpenGL error 0x{:x}", e));
+    return out;
+  }
+
   Image draw(const Camera& camera, const ScenePose& pose) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
@@ -352,14 +445,7 @@ struct Renderer::Impl {
     gl.Enable(GL_DEPTH_TEST);
     if (options.samples > 1) gl.Enable(GL_MULTISAMPLE);
 
-    // Depth range from the scene's bounds as seen from the eye.
-    double far = 10;
-    if (!bounds.isEmpty())
-      for (int c = 0; c < 8; ++c)
-        far = std::max(far, (bounds.corner(Eigen::AlignedBox3d::CornerType(c)) - camera.eye).norm());
-    const Eigen::Matrix4d VP = projection_matrix(camera.fov, double(w) / h, std::max(0.01, far * 1e-4), 2 * far + 100) *
-                               view_matrix(camera);
-    const Eigen::Matrix4f vp = to_float(VP);
+    const Eigen::Matrix4f vp = view_projection(camera, double(w) / h);
 
     gl.UseProgram(solid);
     const GLint u_model = gl.GetUniformLocation(solid, "model"), u_vp = gl.GetUniformLocation(solid, "view_projection"),
@@ -426,6 +512,9 @@ Renderer::~Renderer() = default;
 
 Image Renderer::render(const Camera& camera, const ScenePose& pose) { return impl_->draw(camera, pose); }
 Image Renderer::render(const Camera& camera) { return impl_->draw(camera, ScenePose::of(impl_->geometry)); }
+std::vector<Renderer::Visibility> Renderer::visibility(const Camera& camera, const ScenePose& pose, const std::vector<int>& objects, int width) {
+  return impl_->visibility(camera, pose, objects, width);
+}
 const Eigen::AlignedBox3d& Renderer::bounds() const { return impl_->bounds; }
 std::string Renderer::gl_renderer() const { return impl_->context.renderer(); }
 double Renderer::draw_seconds() const { return impl_->draw_s; }

@@ -32,6 +32,14 @@ class Renderer {
 
   Image render(const Camera& camera, const ScenePose& pose);
   Image render(const Camera& camera);  ///< at the geometry's own placement
+  /// How much of an object the camera shows, in pixels of an id image (each object drawn in a
+  /// flat colour of its own, `width` pixels wide at the frames' aspect): where it is in front
+  /// with the whole scene drawn, and where it would be with only the objects asked about.
+  struct Visibility {
+    int visible = 0, alone = 0;
+    double fraction() const { return alone > 0 ? double(visible) / alone : 0.0; }
+  };
+  std::vector<Visibility> visibility(const Camera& camera, const ScenePose& pose, const std::vector<int>& objects, int width = 192);
   /// The scene's world bounds (for framing cameras).
   const Eigen::AlignedBox3d& bounds() const;
   std::string gl_renderer() const;
