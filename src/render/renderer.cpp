@@ -205,26 +205,27 @@ struct Renderer::Impl {
     return p;
   }
 
+  /// A renderbuffer of `format` (`samples` 0: not multisampled) attached to the bound framebuffer.
+  GLuint attach_renderbuffer(GLenum format, int w, int h, int samples, GLenum attachment) {
+    GLuint rb = 0;
+    gl.GenRenderbuffers(1, &rb);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, rb);
+    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    return rb;
+  }
+
   void framebuffers() {
     const int w = options.width, h = options.height, n = std::max(1, options.samples);
     gl.GenFramebuffers(1, &fbo);
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl.GenRenderbuffers(1, &color_rb);
-    gl.BindRenderbuffer(GL_RENDERBUFFER, color_rb);
-    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_RGBA8, w, h);
-    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb);
-    gl.GenRenderbuffers(1, &depth_rb);
-    gl.BindRenderbuffer(GL_RENDERBUFFER, depth_rb);
-    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, n, GL_DEPTH_COMPONENT24, w, h);
-    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    color_rb = attach_renderbuffer(GL_RGBA8, w, h, n, GL_COLOR_ATTACHMENT0);
+    depth_rb = attach_renderbuffer(GL_DEPTH_COMPONENT24, w, h, n, GL_DEPTH_ATTACHMENT);
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw std::runtime_error(fmt::format("cannot make a {}x{} framebuffer with {} samples", w, h, n));
     gl.GenFramebuffers(1, &resolve_fbo);
     gl.BindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
-    gl.GenRenderbuffers(1, &resolve_rb);
-    gl.BindRenderbuffer(GL_RENDERBUFFER, resolve_rb);
-    gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_RGBA8, w, h);
-    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_rb);
+    resolve_rb = attach_renderbuffer(GL_RGBA8, w, h, 0, GL_COLOR_ATTACHMENT0);
     if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw std::runtime_error("cannot make the resolve framebuffer");
   }
@@ -376,14 +377,8 @@ struct Renderer::Impl {
       }
       gl.GenFramebuffers(1, &id_fbo);
       gl.BindFramebuffer(GL_FRAMEBUFFER, id_fbo);
-      gl.GenRenderbuffers(1, &id_color_rb);
-      gl.BindRenderbuffer(GL_RENDERBUFFER, id_color_rb);
-      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_RGBA8, w, h);
-      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, id_color_rb);
-      gl.GenRenderbuffers(1, &id_depth_rb);
-      gl.BindRenderbuffer(GL_RENDERBUFFER, id_depth_rb);
-      gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_DEPTH_COMPONENT24, w, h);
-      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, id_depth_rb);
+      id_color_rb = attach_renderbuffer(GL_RGBA8, w, h, 0, GL_COLOR_ATTACHMENT0);
+      id_depth_rb = attach_renderbuffer(GL_DEPTH_COMPONENT24, w, h, 0, GL_DEPTH_ATTACHMENT);
       if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw std::runtime_error(fmt::format("cannot make a {}x{} id framebuffer", w, h));
       id_w = w;
