@@ -135,13 +135,16 @@
 
     frameAll() { this.frameBox(this.contentBounds || this.bounds); }
 
-    /** Frames the named objects (those the model has). */
+    /** Frames the named objects (those the model has), with some of what is around them. */
     frameObjects(names) {
       const box = new THREE.Box3();
       for (const n of names) {
         const node = this.objects.get(n);
         if (node) box.expandByObject(node);
       }
+      if (box.isEmpty()) return;
+      const c = box.getCenter(new THREE.Vector3());
+      box.expandByPoint(c.clone().addScalar(2.5)).expandByPoint(c.clone().addScalar(-2.5));
       this.frameBox(box);
     }
 
@@ -167,9 +170,12 @@
         node.traverse((m) => {
           if (!m.isMesh) return;
           if (m.userData.solid === undefined) m.userData.solid = { transparent: m.material.transparent, opacity: m.material.opacity };
+          if (m.userData.baseColour === undefined) m.userData.baseColour = m.material.color.getHex();
+          // A highlighted object takes the highlight's colour, lit a little from within.
+          m.material.color.setHex(colour !== undefined ? colour : m.userData.baseColour);
           if (m.material.emissive) {
             m.material.emissive.setHex(colour !== undefined ? colour : m.userData.baseEmissive);
-            m.material.emissiveIntensity = colour !== undefined ? 0.75 : 1;
+            m.material.emissiveIntensity = colour !== undefined ? 0.35 : 1;
           }
           const transparent = clear || m.userData.solid.transparent;
           if (m.material.transparent !== transparent) m.material.needsUpdate = true;
