@@ -71,8 +71,10 @@ Expected<std::string> run_gltf(const OpenedRun& run, const CompileOptions& optio
 
 std::string check_html(const std::vector<VaultReport>& reports, const Sources& sources, const std::vector<const GeometryModel*>& geometry) {
   HtmlReport page;
-  json all = json::parse(format_json(reports, sources));
-  json list = reports.size() == 1 ? json::array({all}) : all["reports"];
+  // The JSON report as `--format json` writes it (no exception: a report it cannot parse is a
+  // page that says so, never a crash).
+  json all = json::parse(format_json(reports, sources), nullptr, /*allow_exceptions=*/false);
+  json list = all.is_discarded() ? json::array() : reports.size() == 1 ? json::array({all}) : all.value("reports", json::array());
   page.data = {{"kind", "check"}, {"generator", generator()}, {"reports", list}, {"models", json::array()}};
   std::vector<std::string> names;
   for (size_t i = 0; i < reports.size(); ++i) {
