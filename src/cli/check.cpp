@@ -32,6 +32,10 @@ std::string pick_format(const CheckArgs& a) {
 }  // namespace
 
 int run_check(const Common& common, const CheckArgs& args) {
+  if (std::string why = html_target_refusal(args.html, {args.out}); !why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
   std::string format = pick_format(args);
   CompileOptions options;
   if (!common.apply(options, args.vaults)) return kInputError;
@@ -71,9 +75,9 @@ int run_check(const Common& common, const CheckArgs& args) {
   StageTimer timer;
   std::vector<VaultReport> reports;
   CheckOptions check_options;
-  check_options.describe_passes = format != "text";  // the text report prints failures only
+  check_options.describe_passes = format != "text" || !args.html.empty();  // the text report prints failures only
   for (size_t i = 0; i < cells.size(); ++i) {
-    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options), std::nullopt, input_warnings[i]});
+    reports.push_back({&cells[i], args.vaults[i], check(cells[i], geometry[i], check_options), std::nullopt, input_warnings[i], options.overrides});
     if (baseline) reports.back().baseline = compare_with_baseline(cells[i], reports.back().report, *baseline);
   }
   timer.lap("check");

@@ -1,3 +1,5 @@
+#include <filesystem>
+#include <algorithm>
 #include "cli/subcommands.h"
 
 namespace sscs::cli {
@@ -48,6 +50,24 @@ InterruptGuard::InterruptGuard() {
 InterruptGuard::~InterruptGuard() {
   sigaction(SIGINT, &old_int_, nullptr);
   sigaction(SIGTERM, &old_term_, nullptr);
+}
+
+std::string html_target_refusal(const std::string& html, const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  if (html.empty()) return "";
+  std::string ext = fs::path(html).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  // A page is written only to a .html file: never over a vault, a report, a run's log or a
+  // folder (`--html vault.yaml` replaced the vault).
+  if (ext != ".html" && ext != ".htm") return fmt::format("--html expects a .html file, found '{}'", html);
+  std::error_code ec;
+  if (fs::is_directory(html, ec)) return fmt::format("--html '{}' is a folder", html);
+  const fs::path parent = fs::path(html).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec)) return fmt::format("--html '{}': there is no folder '{}'", html, parent.string());
+  const fs::path target = fs::weakly_canonical(html, ec);
+  for (const std::string& out : outputs)
+    if (!out.empty() && fs::weakly_canonical(out, ec) == target) return fmt::format("--html '{}' is also another output of this command", html);
+  return "";
 }
 
 }  // namespace sscs::cli

@@ -64,18 +64,32 @@ int run_export(const Common& common, const std::string& input, const std::string
 
 int run_report(const Common& common, const std::string& input, const std::string& html) {
   namespace fs = std::filesystem;
+  if (std::string why = html_target_refusal(html, {input}); !why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
+  if (!common.set.empty()) {
+    std::cerr << "sscs: error: sscs report takes no --set: a report shows the values it was made with\n";
+    return kInputError;
+  }
   CompileOptions options;
   std::error_code ec;
   Expected<std::string> page = Unexpected{fmt::format("{}: expected a run folder or bundle, a sweep folder or a check's JSON report", input)};
-  if (fs::is_directory(input, ec) && fs::exists(fs::path(input) / "results.json", ec)) {
+  if (!fs::exists(input, ec)) {
+    page = Unexpected{fmt::format("{}: no such file or folder", input)};
+  } else if (fs::is_directory(input, ec) && fs::exists(fs::path(input) / "results.json", ec)) {
     page = sweep_html(input, html);
-  } else if (fs::is_directory(input, ec) || fs::path(input).extension() == ".zip") {
+  } else if ((fs::is_directory(input, ec) && fs::exists(fs::path(input) / "resolved" / "scenario.yaml", ec)) || fs::path(input).extension() == ".zip") {
     Expected<std::shared_ptr<OpenedRun>> run = OpenedRun::open(input);
     if (run && !common.apply(options, {(*run)->dir()})) return kInputError;  // read within the run's folder
     page = run ? run_html(**run, options) : Unexpected{run.error()};
+  } else if (fs::is_directory(input, ec) && !fs::exists(fs::path(input) / "resolved" / "scenario.yaml", ec)) {
+    page = Unexpected{fmt::format("{}: neither a run folder (resolved/scenario.yaml) nor a sweep folder (results.json)", input)};
   } else if (fs::path(input).extension() == ".json") {
     if (!common.apply(options, {input})) return kInputError;
-    page = report_json_html(input, options, [&](const std::string& vault) { common.confine_to(vault); });
+    std::string warnings;
+    page = report_json_html(input, options, [&](const std::string& vault) { common.confine_to(vault); }, &warnings);
+    if (!common.quiet) std::cerr << warnings;
   }
   std::string err = page ? write_file_atomic(html, *page) : page.error();
   if (!err.empty()) {

@@ -24,7 +24,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
                         ? fmt::format("--video expects a .mp4 file, found '{}'", args.video)
                     : !args.bundle.empty() && std::filesystem::path(args.bundle).extension() != ".zip"
                         ? fmt::format("--bundle expects a .zip file, found '{}'", args.bundle)
-                        : "";
+                        : html_target_refusal(args.html, {args.out, args.bundle, args.video});
   if (why.empty() && args.wall_limit) {
     // Decimal only (strtod read "0x10" as 16 s); an empty value is an error, not "no limit".
     const std::string& text = *args.wall_limit;

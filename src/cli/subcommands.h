@@ -153,6 +153,9 @@ struct SweepArgs {
 bool report_diagnostics(const Diagnostics& diag, const Sources& sources, const Common& common);
 /// "WIDTHxHEIGHT" within 16..8192; false (with the message printed) otherwise.
 bool parse_size(const std::string& text, int& width, int& height);
+/// Why `--html FILE` may not be written, or "" when it may (checked before anything is written):
+/// not a .html file, a folder, in no folder, or one of the command's other `outputs`.
+std::string html_target_refusal(const std::string& html, const std::vector<std::string>& outputs);
 /// "x,y,z" -> a vector; false when it is not three numbers.
 bool parse_vec3(const std::string& text, Eigen::Vector3d& v);
 

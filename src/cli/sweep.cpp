@@ -51,6 +51,10 @@ int report_sweep(const SweepOutcome& o, const char* verb) {
 }
 
 int run_sweep_command(const Common& common, const SweepArgs& args) {
+  if (std::string why = html_target_refusal(args.html, {args.out}); !why.empty()) {
+    std::cerr << "sscs: error: " << why << "\n";
+    return kInputError;
+  }
   SweepOptions options;
   if (!common.apply(options.compile, args.sweep.empty() ? std::vector<std::string>{} : std::vector<std::string>{args.sweep}))
     return kInputError;

@@ -144,29 +144,56 @@ Expected<std::string> sweep_html(const std::string& sweep_dir, const std::string
 }
 
 Expected<std::string> report_json_html(const std::string& json_path, const CompileOptions& options,
-                                       const std::function<void(const std::string&)>& confine) {
+                                       const std::function<void(const std::string&)>& confine, std::string* warnings) {
   Expected<json> report = read_json(json_path);
   if (!report) return Unexpected{report.error()};
   json list = report->contains("reports") ? (*report)["reports"] : json::array({*report});
-  if (!list.is_array() || list.empty() || !list[0].contains("results"))
+  if (!list.is_array() || list.empty() || !list[0].is_object() || !list[0].contains("results"))
     return Unexpected{fmt::format("{}: not a check report (expected the JSON of sscs check --format json)", json_path)};
   HtmlReport page;
-  page.data = {{"kind", "check"}, {"generator", generator()}, {"source", json_path}, {"reports", list}, {"models", json::array()}};
+  page.data = {{"kind", "check"}, {"generator", generator()}, {"source", json_path}, {"reports", list}, {"models", json::array()},
+               {"notes", json::array()}};
   std::vector<std::string> names;
+  auto note = [&](const std::string& text) {
+    page.data["notes"].push_back(text);
+    if (warnings) *warnings += "sscs: warning: " + text + "\n";
+  };
   for (const json& r : list) {
     names.push_back(r.value("vault", std::string("?")));
-    // The vault again, for its model: a report made elsewhere, or of a vault since changed or
-    // gone, has none (the table is the report's, whatever the vault says now).
-    const std::string file = r.value("file", std::string());
-    Sources sources;
-    Diagnostics diag;
+    // The vault again, with the values the report says it was checked with ("set"), for its
+    // model. The table is the report's whatever the vault says now; a vault that cannot be
+    // found, or no longer has the objects the report names, gets no model (a picture of
+    // something else would mislead).
+    std::string file = r.value("file", std::string());
+    if (!file.empty() && !fs::is_regular_file(file)) {
+      const fs::path beside = fs::path(json_path).parent_path() / file;  // paths are as given where sscs check ran
+      if (fs::is_regular_file(beside)) file = beside.string();
+    }
     std::optional<std::string> glb;
-    if (!file.empty() && fs::is_regular_file(file)) {
+    if (file.empty() || !fs::is_regular_file(file)) {
+      note(fmt::format("{}: no 3D view: its vault '{}' is not found from here (the report names it as sscs check was given it)", r.value("vault", "?"), file));
+    } else {
+      CompileOptions vault_options = options;
+      vault_options.overrides.clear();
+      if (r.contains("set") && r["set"].is_object())
+        for (const auto& [name, value] : r["set"].items()) vault_options.overrides.emplace_back(name, value.is_string() ? value.get<std::string>() : value.dump());
       confine(file);
-      PreparedVault vault = prepare_vault(file, options, sources, diag, {.visuals = true, .contacts = nullptr});
-      if (vault.wc) {
+      Sources sources;
+      Diagnostics diag;
+      PreparedVault vault = prepare_vault(file, vault_options, sources, diag, {.visuals = true, .contacts = nullptr});
+      std::string missing;
+      if (vault.wc)
+        for (const json& result : r["results"])
+          for (const json& subject : result.value("subject", json::array()))
+            if (subject.is_string() && vault.wc->find_object(subject.get<std::string>()) < 0) missing = subject.get<std::string>();
+      if (!vault.wc) {
+        note(fmt::format("{}: no 3D view: its vault '{}' does not compile now", r.value("vault", "?"), file));
+      } else if (!missing.empty()) {
+        note(fmt::format("{}: no 3D view: the vault '{}' has no object '{}' the report names (it changed since)", r.value("vault", "?"), file, missing));
+      } else {
         Expected<std::string> bytes = gltf_file(*vault.wc, vault.geometry, {vault_cameras(*vault.wc, vault.geometry), nullptr}, true);
         if (bytes) glb = std::move(*bytes);
+        else note(fmt::format("{}: no 3D view: {}", r.value("vault", "?"), bytes.error()));
       }
     }
     page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());

@@ -47,9 +47,10 @@ Expected<std::string> run_html(const OpenedRun& run, const CompileOptions& optio
 Expected<std::string> sweep_html(const std::string& sweep_dir, const std::string& html_path);
 
 /// The HTML page of a check's JSON report (`sscs check --format json`): each vault it names is
-/// compiled again for its model, when it still can be (else the page says it has none).
-/// `confine(file)` is called before each vault is read (the CLI confines reads to its project).
+/// compiled again, with the values the report says it was checked with ("set"), for its
+/// model; a vault not found, not compiling or lacking an object the report names gets none, and
+/// the page (and `warnings`) says why. `confine(file)` is called before each vault is read.
 Expected<std::string> report_json_html(const std::string& json_path, const CompileOptions& options,
-                                       const std::function<void(const std::string&)>& confine);
+                                       const std::function<void(const std::string&)>& confine, std::string* warnings = nullptr);
 
 }  // namespace sscs

@@ -44,6 +44,11 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
   w.field("sscs", 1);
   w.field("vault", wc.name);
   w.field("file", vr.file);
+  if (!vr.overrides.empty()) {
+    nlohmann::ordered_json set = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : vr.overrides) set[name] = value;  // the last of a name is the one in force
+    w.field("set", set);
+  }
   w.field("passed", vr.report.passed);
   w.field("failed", vr.report.failed);
   w.field("warnings", vr.report.warnings);

@@ -62,6 +62,9 @@ struct VaultReport {
   /// Warnings of its inputs (a URDF shape skipped, a texture not read): on stderr as the vault
   /// loads, and in the report so CI annotates them.
   std::vector<Diagnostic> input_warnings;
+  /// The parameter values set on the vault (`--set`, a sweep's variant), in order: the report
+  /// says them ("set"), so that what it was made from can be compiled again (`sscs report`).
+  std::vector<std::pair<std::string, std::string>> overrides = {};
   /// The gate: with a baseline, only new failures; else every failure.
   bool violated(bool strict) const {
     if (!baseline) return report.violated(strict);

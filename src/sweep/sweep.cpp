@@ -360,7 +360,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
     return row;
   }
   CheckReport report = check(*wc, geometry);
-  std::string err = write_file_atomic(dir + "/report.json", format_json({VaultReport{&*wc, c.vault_path, report, {}, diag.warnings()}}, sources_));
+  std::string err = write_file_atomic(dir + "/report.json", format_json({VaultReport{&*wc, c.vault_path, report, {}, diag.warnings(), options.overrides}}, sources_));
   if (!err.empty()) throw std::runtime_error(err);
   row.passed = report.passed;
   row.failed = report.failed;

@@ -16,6 +16,13 @@ echo "check --out over its own vault: refused, the vault untouched" # (and --htm
 "$sscs" check vault.yaml --html vault.yaml >/dev/null 2>err
 code=$?
 [ $code = 2 ] || { echo "FAIL: --html: exit $code, expected 2"; cat err; exit 1; }
-grep -q "\-\-html 'vault.yaml' is an input of this check" err || { echo "FAIL: --html: no reason given"; cat err; exit 1; }
+grep -q "\-\-html expects a .html file, found 'vault.yaml'" err || { echo "FAIL: --html: no reason given"; cat err; exit 1; }
 cmp -s vault.yaml "$root/tests/data/hostile/out_is_input.yaml" || { echo "FAIL: --html: the input was changed"; exit 1; }
 echo "check --html over its own vault: refused, the vault untouched"
+# --html and --out naming one file: refused before anything is written.
+"$sscs" check vault.yaml --format json --out r.html --html r.html >/dev/null 2>err
+code=$?
+[ $code = 2 ] || { echo "FAIL: --out = --html: exit $code, expected 2"; cat err; exit 1; }
+grep -q "is also another output of this command" err || { echo "FAIL: --out = --html: no reason given"; cat err; exit 1; }
+[ ! -e r.html ] || { echo "FAIL: --out = --html: r.html written"; exit 1; }
+echo "check --out and --html naming one file: refused, nothing written"

@@ -13,7 +13,7 @@ const report = {
     { constraint: 'c', kind: 'bound', severity: 'warning', status: 'fail', subject: ['C'], margin: -1, message: 'warned', baseline: 'still_failing' },
     { constraint: 'd', kind: 'expr', severity: 'error', status: 'error', subject: [], message: 'not a number' },
   ],
-  baseline: { removed: [{ constraint: 'gone', was: 'passing' }] },
+  baseline: { removed: [{ constraint: 'gone', was: 'passing' }], renamed: [{ from: 'old b', to: 'b' }] },
 };
 
 test('check rows: one per result and per removed constraint, with where and change', () => {
@@ -22,17 +22,22 @@ test('check rows: one per result and per removed constraint, with where and chan
   assert.equal(rows[0].where, 'v.yaml:3');
   assert.equal(rows[1].change, 'new');
   assert.equal(rows[2].change, 'still failing');
+  assert.equal(rows[0].change, 'renamed');  // its baseline says unchanged: under another name
+  assert.equal(rows[0].renamedFrom, 'old b');
+  assert.equal(rows[2].status, 'warn');  // a failed warning is a warning, as the text report counts it
   assert.equal(rows[4].status, 'removed');
   assert.equal(rows[4].change, 'removed');
 });
 
 test('filters combine status, kind, object and text', () => {
   const rows = S.checkRows([report]);
-  assert.deepEqual(S.filterRows(rows, { status: 'fail' }).map((r) => r.constraint), ['a', 'c']);
+  assert.deepEqual(S.filterRows(rows, { status: 'fail' }).map((r) => r.constraint), ['a']);
+  assert.deepEqual(S.filterRows(rows, { status: 'warn' }).map((r) => r.constraint), ['c']);
   assert.deepEqual(S.filterRows(rows, { kind: 'bound' }).map((r) => r.constraint), ['b', 'c']);
   assert.deepEqual(S.filterRows(rows, { object: 'B' }).map((r) => r.constraint), ['a']);
   assert.deepEqual(S.filterRows(rows, { text: 'TOO' }).map((r) => r.constraint), ['a']);
-  assert.deepEqual(S.filterRows(rows, { status: 'fail', severity: 'warning' }).map((r) => r.constraint), ['c']);
+  assert.deepEqual(S.filterRows(rows, { status: 'fail', severity: 'warning' }).map((r) => r.constraint), []);
+  assert.deepEqual(S.filterRows([{ folder: '54-aisle=2m-rows=5', subjects: [] }], { text: 'rows=5' }).length, 1);  // a sweep's folders
   assert.equal(S.filterRows(rows, {}).length, 5);
 });
 
@@ -40,7 +45,7 @@ test('sorting: margins numerically with absent last, statuses by gravity, stable
   const rows = S.checkRows([report]);
   assert.deepEqual(S.sortRows(rows, 'margin', 1).map((r) => r.constraint), ['c', 'a', 'b', 'd', 'gone']);
   assert.deepEqual(S.sortRows(rows, 'margin', -1).map((r) => r.constraint).slice(0, 3), ['b', 'a', 'c']);
-  assert.deepEqual(S.sortRows(rows, 'status', 1).map((r) => r.status), ['error', 'fail', 'fail', 'pass', 'removed']);
+  assert.deepEqual(S.sortRows(rows, 'status', 1).map((r) => r.status), ['error', 'fail', 'warn', 'pass', 'removed']);
   assert.deepEqual(S.sortRows(rows, 'constraint', 1).map((r) => r.constraint), ['a', 'b', 'c', 'd', 'gone']);
 });
 
@@ -80,10 +85,29 @@ test('indexAt finds the last sample at or before t', () => {
 test('steps and events of a run summary', () => {
   const steps = S.stepBreakdown({ steps: [{ index: 0, action: 'move_to', device: 'R', start: 0, end: 1.5 }, { index: 1, action: 'grasp', object: 'D', device: 'R', start: 1.5, end: 1.5 }] });
   assert.deepEqual(steps.map((s) => [s.label, s.duration]), [['1. move_to', 1.5], ['2. grasp D', 0]]);
+  // A run that stopped: the summary's null times come from the events; a step never ended has no duration.
+  const stopped = S.stepBreakdown({ steps: [{ index: 0, action: 'move_to', start: 0, end: null }, { index: 1, action: 'move_to', start: null, end: null }] },
+    [{ t: 0, kind: 'step_start', step: 0 }, { t: 0.715, kind: 'step_end', step: 0 }, { t: 0.715, kind: 'step_start', step: 1 }]);
+  assert.deepEqual(stopped.map((s) => [s.start, s.end, s.duration]), [[0, 0.715, 0.715], [0.715, null, null]]);
   assert.deepEqual(S.notableEvents([{ kind: 'step_start' }, { kind: 'collision' }, { kind: 'step_end' }]).map((e) => e.kind), ['collision']);
 });
 
 test('sweep rows: parameters as numbers, metrics kept', () => {
   const rows = S.sweepRows({ variants: [{ variant: 0, folder: '00', values: { aisle: '1.5', kind: 'arm' }, status: 'pass', metrics: { capacity: 48 } }] });
   assert.deepEqual(rows[0], { variant: 0, folder: '00', status: 'pass', message: '', passed: undefined, failed: undefined, warnings: undefined, aisle: 1.5, kind: 'arm', capacity: 48 });
+});
+
+test('plot axes: numbers on a linear scale, words as categories in natural order', () => {
+  const rows = [{ f: 'gantry.yaml', v: 2 }, { f: 'arm.yaml', v: 1 }, { f: 'arm10.yaml', v: NaN }, { f: 'arm2.yaml', v: 3 }];
+  const words = S.axis(rows, 'f');
+  assert.deepEqual(words.categories, ['arm.yaml', 'arm2.yaml', 'arm10.yaml', 'gantry.yaml']);
+  assert.deepEqual(rows.map(words.get), [3, 0, 2, 1]);
+  const xs = S.axisScale(words, rows, 0, 400);
+  assert.deepEqual(xs.ticks(), [0, 1, 2, 3]);
+  assert.equal(xs.label(2), 'arm10.yaml');
+  assert.equal(xs(0), 50);
+  const numbers = S.axis(rows, 'v');
+  assert.equal(numbers.categories, null);
+  assert.deepEqual(rows.map(numbers.get), [2, 1, undefined, 3]);
+  assert.deepEqual(S.axisScale(numbers, rows, 0, 100).domain, [1, 3]);
 });

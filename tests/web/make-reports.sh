@@ -16,6 +16,7 @@ check demo scenarios/demo/demo.yaml
 check drum-store scenarios/drum-store/store.yaml
 check ci-main scenarios/ci-example/main/store.yaml
 check ci-branch scenarios/ci-example/branch/store.yaml --baseline "$out/ci-main.json"
+check two-vaults scenarios/demo/demo.yaml scenarios/ci-example/main/store.yaml
 # Runs: a run folder each, its HTML, and the animated glTF sscs export makes of it.
 run() {
   local name=$1 scenario=$2
@@ -33,7 +34,11 @@ run store-drum scenarios/drum-store/store-drum.yaml
 cmp "$out/arm-bundle.glb" "$out/arm-loads-drum.glb" || { echo "the bundle's glTF differs from the folder's" >&2; exit 1; }
 # A sweep, and a report made afterwards from a check's JSON.
 "$sscs" sweep scenarios/sweeps/aisle-rows.yaml --out "$out/aisle-rows" --html "$out/aisle-rows.html" "${q[@]}" >/dev/null || [[ $? == 1 ]]
+# A sweep over alternative files (its parameter is words: an axis of categories) with simulations.
+"$sscs" sweep scenarios/sweeps/arm-vs-gantry.yaml --out "$out/arm-vs-gantry" --html "$out/arm-vs-gantry.html" "${q[@]}" >/dev/null || [[ $? == 1 ]]
 "$sscs" report "$out/demo.json" --html "$out/demo-from-json.html" "${q[@]}"
+# A sweep variant's report: its vault with the variant's values (the report's "set"), five rows.
+"$sscs" report "$out/aisle-rows/54-aisle=2m-rows=5/report.json" --html "$out/variant-from-json.html" "${q[@]}"
 # Still models: the vaults as sscs export writes them.
 "$sscs" export scenarios/demo/demo.yaml --out "$out/demo.glb" "${q[@]}"
 "$sscs" export scenarios/drum-store/store.yaml --out "$out/drum-store.glb" "${q[@]}"

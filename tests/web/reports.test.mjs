@@ -89,8 +89,9 @@ for (const file of pages) {
 }
 
 /** The check reports and the JSON each was made with (demo-from-json.html: from demo.json). */
-const checks = pages.filter((f) => existsSync(join(out, f.replace('.html', '.json'))) || f === 'demo-from-json.html');
-const jsonOf = (f) => JSON.parse(readFileSync(join(out, f === 'demo-from-json.html' ? 'demo.json' : f.replace('.html', '.json')), 'utf8'));
+const fromJson = { 'demo-from-json.html': 'demo.json', 'variant-from-json.html': 'aisle-rows/54-aisle=2m-rows=5/report.json' };
+const checks = pages.filter((f) => existsSync(join(out, f.replace('.html', '.json'))) || f in fromJson);
+const jsonOf = (f) => JSON.parse(readFileSync(join(out, fromJson[f] || f.replace('.html', '.json')), 'utf8'));
 
 for (const file of checks) {
   test(`${file}: the table's rows are the JSON report's`, async () => {
@@ -101,7 +102,8 @@ for (const file of checks) {
     const shown = await page.$$eval('table.results tbody tr .name', (cells) => cells.map((c) => c.textContent));
     assert.deepEqual(shown, expected);
     // Filtering by status keeps exactly the failing rows (a report without one offers no such filter).
-    const fails = reports.flatMap((r) => r.results.filter((x) => x.status === 'fail').map((x) => x.constraint));
+    // (a failed warning is filtered as a warning, as the text report counts it)
+    const fails = reports.flatMap((r) => r.results.filter((x) => x.status === 'fail' && x.severity !== 'warning').map((x) => x.constraint));
     const offered = await page.$$eval('select[data-filter=status] option', (os) => os.map((o) => o.value));
     assert.equal(offered.includes('fail'), fails.length > 0, offered.join(','));
     if (fails.length) {
@@ -139,12 +141,39 @@ test('demo.html: clicking a failing row highlights and frames its object; clicki
   await page.close();
 });
 
+test('two-vaults.html: a row of the second vault shows that vault in 3D', async () => {
+  const { page } = await open('two-vaults.html');
+  const report = jsonOf('two-vaults.html');
+  const second = report.reports[1];
+  const row = await page.$(`table.results tbody tr[data-id^="1:"]`);
+  await row.click();
+  await page.waitForFunction('window.sscsReport.view && window.sscsReport.view.objects.size > 0');
+  await page.evaluate('window.sscsReport.view.ready');
+  const shown = await page.evaluate('[...window.sscsReport.view.objects.keys()]');
+  for (const r of second.results) for (const s of r.subject) assert.ok(shown.includes(s), `${s} of ${second.vault} is in the view`);
+  assert.equal(await page.$eval('select[data-testid=vault]', (s) => s.value), '1');
+  assert.equal((await page.$$('canvas[data-testid=view3d]')).length, 1, 'one view at a time');
+  await page.close();
+});
+
+test('variant-from-json.html: a sweep variant report is drawn with the values of the variant', async () => {
+  const { page } = await open('variant-from-json.html');
+  const report = jsonOf('variant-from-json.html');
+  assert.equal(report.set.rows, '5');
+  const shown = await page.evaluate('[...window.sscsReport.view.objects.keys()]');
+  for (const r of report.results) for (const s of r.subject) assert.ok(shown.includes(s), `${s} is in the view`);
+  assert.ok(shown.includes('Rack_5_1'), 'five rows of racks, as the variant had');
+  await page.close();
+});
+
 test('ci-branch.html: the baseline diff is in the table (new, fixed, still failing) and the summary', async () => {
   const { page } = await open('ci-branch.html');
   const report = jsonOf('ci-branch.html');
   const changes = await page.$$eval('table.results tbody tr td:nth-child(2)', (cells) => cells.map((c) => c.textContent));
-  const expected = report.results.map((r) => r.baseline.replace(/_/g, ' ').replace('unchanged', 'unchanged'))
+  const renamed = new Map(report.baseline.renamed.map((x) => [x.to, x.from]));
+  const expected = report.results.map((r) => (renamed.has(r.constraint) ? `renamed (was ${renamed.get(r.constraint)})` : r.baseline.replace(/_/g, ' ')))
     .concat(report.baseline.removed.map(() => 'removed'));
+  assert.ok(renamed.size > 0, 'the CI example renames a constraint');
   assert.deepEqual(changes, expected);
   const summary = await page.$eval('[data-testid=baseline]', (e) => e.textContent);
   assert.match(summary, new RegExp(`${report.baseline.new} new, ${report.baseline.fixed} fixed`));
@@ -180,6 +209,16 @@ for (const file of pages.filter((f) => existsSync(join(out, basename(f, '.html')
     await page.close();
   });
 }
+
+test('arm-vs-gantry.html: a parameter of words (the scenario files) is an axis of categories with every variant on it', async () => {
+  const { page } = await open('arm-vs-gantry.html');
+  const results = JSON.parse(readFileSync(join(out, 'arm-vs-gantry', 'results.json'), 'utf8'));
+  assert.equal(await page.$eval('[data-testid=plot-x]', (s) => s.value), 'scenario');
+  assert.equal((await page.$$('svg.plot circle[data-variant]')).length, results.variants.length);
+  const labels = await page.$$eval('svg.plot text', (ts) => ts.map((t) => t.textContent));
+  for (const v of results.variants) assert.ok(labels.includes(v.values.scenario), `${v.values.scenario} labels the axis`);
+  await page.close();
+});
 
 test('aisle-rows.html: one row per variant, one point per variant, a point selects its row', async () => {
   const { page } = await open('aisle-rows.html');

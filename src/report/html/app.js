@@ -5,7 +5,7 @@
 (function (root) {
   'use strict';
   const S = root.SSCS;
-  const RED = 0xd62728, AMBER = 0xff9f1c, BLUE = 0x1f77b4, GREEN = 0x2ca02c;
+  const RED = 0xd62728, ORANGE = 0xff7f0e, YELLOW = 0xe0b000, BLUE = 0x1f77b4, GREEN = 0x2ca02c;
   const STATUS_COLOUR = { pass: '#2ca02c', fail: '#d62728', error: '#8c1c13', warn: '#ff9f1c', removed: '#7f7f7f' };
 
   function el(tag, attrs = {}, ...children) {
@@ -33,12 +33,13 @@
 
   // ---- a sortable, filterable table ------------------------------------------------------------
   class Table {
-    constructor(columns, rows, { onSelect, rowClass } = {}) {
+    constructor(columns, rows, { onSelect, rowClass, onFilter } = {}) {
       this.columns = columns;  // [{key, label, render?(row), numeric?}]
       this.rows = rows;
       this.filter = {};
       this.sort = { key: null, dir: 1 };
       this.onSelect = onSelect || (() => {});
+      this.onFilter = onFilter || (() => {});
       this.rowClass = rowClass || (() => '');
       this.selected = null;
       this.element = el('table', { class: 'results', 'data-testid': 'results' });
@@ -57,7 +58,7 @@
         th.dataset.sorted = th.dataset.key === key ? (this.sort.dir > 0 ? 'asc' : 'desc') : '';
       this.draw();
     }
-    setFilter(f) { this.filter = Object.assign({}, this.filter, f); this.draw(); }
+    setFilter(f) { this.filter = Object.assign({}, this.filter, f); this.draw(); this.onFilter(); }
     visible() {
       const kept = S.filterRows(this.rows, this.filter);
       return this.sort.key ? S.sortRows(kept, this.sort.key, this.sort.dir) : kept;
@@ -109,7 +110,7 @@
       g.append(svg('polyline', { points: pts.join(' '), fill: 'none', stroke: s.colour || palette[i % palette.length], 'stroke-width': 1.5 }));
     });
     const legend = svg('g', { class: 'legend' });
-    series.forEach((s, i) => legend.append(svg('text', { x: m.l + 6 + i * 62, y: m.t + 10, fill: s.colour || palette[i % palette.length] }, s.name)));
+    series.forEach((s, i) => legend.append(svg('text', { x: m.l + 6 + i * 62, y: m.t + 10, style: `fill: ${s.colour || palette[i % palette.length]}; font-weight: 600` }, s.name)));
     g.append(legend);
     const cursor = svg('line', { y1: m.t, y2: height - m.b, class: 'cursor' });
     g.append(cursor);
@@ -124,11 +125,11 @@
   function axes(g, x, y, width, height, m, xLabel, yLabel) {
     for (const t of x.ticks(6)) {
       g.append(svg('line', { x1: x(t), x2: x(t), y1: m.t, y2: height - m.b, class: 'gridline' }));
-      g.append(svg('text', { x: x(t), y: height - m.b + 14, 'text-anchor': 'middle' }, S.num(t)));
+      g.append(svg('text', { x: x(t), y: height - m.b + 14, 'text-anchor': 'middle' }, x.label ? x.label(t) : S.num(t)));
     }
     for (const t of y.ticks(4)) {
       g.append(svg('line', { x1: m.l, x2: width - m.r, y1: y(t), y2: y(t), class: 'gridline' }));
-      g.append(svg('text', { x: m.l - 4, y: y(t) + 4, 'text-anchor': 'end' }, S.num(t)));
+      g.append(svg('text', { x: m.l - 4, y: y(t) + 4, 'text-anchor': 'end' }, y.label ? y.label(t) : S.num(t)));
     }
     g.append(svg('text', { x: (m.l + width - m.r) / 2, y: height - 4, 'text-anchor': 'middle', class: 'label' }, xLabel));
     g.append(svg('text', { x: 12, y: (m.t + height - m.b) / 2, 'text-anchor': 'middle', class: 'label',
@@ -162,11 +163,7 @@
     const rows = S.checkRows(reports);
     const failing = (r) => r.status === 'fail' || r.status === 'error';
     const totals = { pass: 0, fail: 0, error: 0, warn: 0 };
-    // A failed warning is a warning (as the text report counts it), not a failure.
-    for (const r of rows) {
-      const k = r.status === 'fail' && r.severity === 'warning' ? 'warn' : r.status;
-      if (totals[k] !== undefined) totals[k]++;
-    }
+    for (const r of rows) if (totals[r.status] !== undefined) totals[r.status]++;  // a failed warning is 'warn'
     const baseline = reports.map((r) => r.baseline).filter(Boolean);
     const hasBaseline = baseline.length > 0;
     app.append(header(`sscs check \u2014 ${reports.map((r) => r.vault).join(', ')}`,
@@ -174,22 +171,26 @@
       totals.warn ? chip('warn', `${totals.warn} warnings`) : null,
       hasBaseline ? el('span', { class: 'baseline-summary', 'data-testid': 'baseline' },
         baseline.map((b) => `against ${b.file}: ${b.new} new, ${b.fixed} fixed, ${b.still_failing} still failing` +
-          `${(b.renamed || []).length ? `, ${b.renamed.length} renamed` : ''}${(b.removed || []).length ? `, ${b.removed.length} removed` : ''}`).join('; ')) : null));
+          `${(b.renamed || []).length ? `, ${b.renamed.length} renamed` : ''}${(b.removed || []).length ? `, ${b.removed.length} removed` : ''}`).join('; ')) : null,
+      (data.notes || []).map((n) => el('div', { class: 'note warning', 'data-testid': 'note' }, n))));
     let view = null, vaultShown = 0;
     const objectPanel = el('div', { class: 'object-panel', 'data-testid': 'object-panel' }, el('p', { class: 'note' }, 'Click an object to list its constraints.'));
     const colours = (vault, selected) => {
       const map = {};
+      for (const r of rows) if (r.vault === vault && r.status === 'warn') for (const s of r.subjects) map[s] = YELLOW;
       for (const r of rows) if (r.vault === vault && failing(r)) for (const s of r.subjects) map[s] = RED;
-      if (hasBaseline) for (const r of rows) if (r.vault === vault && r.change === 'new') for (const s of r.subjects) map[s] = AMBER;
+      if (hasBaseline) for (const r of rows) if (r.vault === vault && r.change === 'new') for (const s of r.subjects) map[s] = ORANGE;
       if (hasBaseline) for (const r of rows) if (r.vault === vault && r.change === 'fixed') for (const s of r.subjects) if (!map[s]) map[s] = GREEN;
       if (selected) for (const s of selected.subjects) map[s] = BLUE;
       return map;
     };
     const columns = [
       { key: 'status', label: 'Status', render: (r) => chip(r.status) },
-      hasBaseline ? { key: 'change', label: 'Change', render: (r) => (r.change ? el('span', { class: `change ${r.change.replace(/ /g, '-')}` }, r.change) : '') } : null,
+      hasBaseline ? { key: 'change', label: 'Change', render: (r) => (r.change ? el('span', { class: `change ${r.change.replace(/ /g, '-')}` },
+        r.renamedFrom ? `renamed (was ${r.renamedFrom})` : r.change) : '') } : null,
       reports.length > 1 ? { key: 'vaultName', label: 'Vault' } : null,
-      { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, r.constraint), el('div', { class: 'message' }, r.message)] },
+      { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, r.constraint), el('div', { class: 'message' }, r.message),
+        r.where ? el('code', { class: 'where' }, r.where) : null] },
       { key: 'kind', label: 'Kind' },
       { key: 'severity', label: 'Severity' },
       { key: 'subjects', label: 'Objects', render: (r) => (r.subjects.length > 4
@@ -198,15 +199,18 @@
       { key: 'lhs', label: 'Value', numeric: true, render: (r) => S.num(r.lhs, r.unit) },
       { key: 'rhs', label: 'Limit', numeric: true, render: (r) => S.num(r.rhs, r.unit) },
       { key: 'margin', label: 'Margin', numeric: true, render: (r) => S.num(r.margin, r.unit) },
-      { key: 'where', label: 'Where', render: (r) => el('code', {}, r.where) },
     ].filter(Boolean);
     const table = new Table(columns, rows, {
       rowClass: (r) => r.status,
       onSelect: (r) => {
         if (!r) return;
-        if (view && r.vault === vaultShown) {
-          view.setHighlights(colours(r.vault, r));
-          if (r.subjects.length) view.frameObjects(r.subjects);
+        if (r.vault !== vaultShown) showVault(r.vault);
+        if (view) {
+          const v = view;
+          v.ready.then(() => {
+            v.setHighlights(colours(r.vault, r));
+            if (r.subjects.length) v.frameObjects(r.subjects);
+          });
         }
       },
     });
@@ -222,25 +226,40 @@
       table.setFilter({ object: name });
       view && view.setHighlights(Object.assign(colours(vaultShown), { [name]: BLUE }));
     };
-    const v = viewPanel(data.models[0], { onPick: listObject });
-    view = v.view;
-    v.panel.append(objectPanel);
-    app.append(el('main', { class: 'check' }, el('section', { class: 'table-panel' }, filters, el('div', { class: 'scroll' }, table.element)), v.panel));
-    if (view) view.ready.then(() => view.setHighlights(colours(0)));
-    return { kind: 'check', table, view, rows, listObject };
+    // One 3D view, of the vault whose rows are looked at (a check of several vaults switches).
+    const panel3d = el('section', { class: 'panel3d-holder' });
+    const vaultSelect = reports.length > 1 ? el('select', { 'data-testid': 'vault', onchange: (e) => showVault(+e.target.value) },
+      reports.map((r, i) => el('option', { value: i }, r.vault))) : null;
+    function showVault(i) {
+      if (view) view.dispose();
+      vaultShown = i;
+      if (vaultSelect) vaultSelect.value = String(i);
+      const v = viewPanel(data.models[i], { onPick: listObject });
+      view = v.view;
+      page.view = view;
+      panel3d.replaceChildren(v.panel);
+      if (vaultSelect) v.panel.prepend(el('label', { class: 'vault-choice' }, '3D view of ', vaultSelect));
+      v.panel.append(objectPanel);
+      if (view) view.ready.then(() => view.setHighlights(colours(i)));
+    }
+    const page = { kind: 'check', table, view, rows, listObject, showVault };
+    app.append(el('main', { class: 'check' }, el('section', { class: 'table-panel' }, filters, el('div', { class: 'scroll' }, table.element)), panel3d));
+    showVault(0);
+    return page;
   }
 
   function runPage(data, app) {
     const sum = data.summary;
     const events = data.events || [];
-    const steps = S.stepBreakdown(sum);
+    const steps = S.stepBreakdown(sum, events);
     const mc = sum.min_clearance;
     const statusClass = sum.status === 'ok' ? 'pass' : sum.status === 'violations' ? 'fail' : 'error';
     const timeText = el('span', { class: 'time', 'data-testid': 'time' }, '0.00 s');
     app.append(header(`sscs simulate \u2014 ${sum.scenario} (${sum.vault})`, chip(statusClass, sum.status),
       el('span', {}, `cycle time ${S.num(sum.cycle_time, 's')}`),
-      mc ? el('a', { href: '#', 'data-testid': 'min-clearance', onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
-        `minimum clearance ${S.num(mc.distance, 'm')} between ${mc.a} and ${mc.b} at ${S.num(mc.t, 's')}`) : null,
+      mc ? el('a', { href: '#', 'data-testid': 'min-clearance', title: 'between bodies not in contact (contacts are the collision events)',
+        onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
+        `minimum clearance (outside contacts) ${S.num(mc.distance, 'm')} between ${mc.a} and ${mc.b} at ${S.num(mc.t, 's')}`) : null,
       el('span', {}, `${Object.entries(sum.events || {}).map(([k, n]) => `${n} ${k}`).join(', ')}`)));
     const v = viewPanel(data.model, { onTime: (t) => onTime(t) });
     const view = v.view;
@@ -251,25 +270,32 @@
     const speed = el('select', { 'data-testid': 'speed', onchange: (e) => { if (view) view.speed = +e.target.value; } },
       [0.25, 0.5, 1, 2, 4].map((s) => el('option', { value: s, selected: s === 1 }, `${s}\u00d7`)));
     const cameraSelect = el('select', { 'data-testid': 'camera', onchange: (e) => view && view.useCamera(e.target.value) }, el('option', { value: '' }, 'free orbit'));
+    // Dragging the view leaves the camera chosen: the select says so.
+    if (view) view.controls.addEventListener('start', () => { cameraSelect.value = ''; });
     const controls = el('div', { class: 'player' }, play, scrub, timeText, el('label', {}, 'speed ', speed), el('label', {}, 'camera ', cameraSelect));
     // The timeline: steps as bands, notable events as marks; clicking jumps there.
     const W = 900, H = 46;
     const tx = S.scale(0, duration || 1, 8, W - 8);
     const timeline = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'timeline', 'data-testid': 'timeline' });
-    steps.forEach((s, i) => timeline.append(svg('rect', { x: tx(s.start), y: 4, width: Math.max(1, tx(s.end) - tx(s.start)), height: 16,
-      class: `step s${i % 6}`, onclick: () => seek(s.start) }, svg('title', {}, `${s.label}: ${S.num(s.duration, 's')}`))));
-    S.notableEvents(events).forEach((e) => timeline.append(svg('circle', { cx: tx(e.t), cy: 32, r: 5, class: `event ${e.kind}`, onclick: () => seek(e.t) },
+    steps.forEach((s, i) => {
+      if (typeof s.start !== 'number') return;  // a step the run never began
+      const end = typeof s.end === 'number' ? s.end : duration;
+      timeline.append(svg('rect', { x: tx(s.start), y: 4, width: Math.max(1, tx(end) - tx(s.start)), height: 16,
+        class: `step s${i % 6}`, onclick: () => seek(s.start) }, svg('title', {}, `${s.label}: ${S.num(s.duration, 's')}`)));
+    });
+    S.notableEvents(events).forEach((e) => timeline.append(svg('circle', { cx: tx(e.t), cy: 32, r: 5, class: `event ${e.kind}`, onclick: () => jump(e) },
       svg('title', {}, `${e.kind} at ${S.num(e.t, 's')}`))));
     const playhead = svg('line', { y1: 0, y2: H, class: 'cursor' });
     timeline.append(playhead);
     const eventList = el('table', { class: 'events', 'data-testid': 'events' }, el('thead', {}, el('tr', {}, el('th', {}, 't (s)'), el('th', {}, 'event'), el('th', {}, 'details'))),
-      el('tbody', {}, events.map((e, i) => el('tr', { 'data-event': i, class: e.kind, onclick: () => seek(e.t) }, el('td', { class: 'num' }, S.num(e.t)), el('td', {}, e.kind),
-        el('td', {}, Object.entries(e).filter(([k]) => k !== 't' && k !== 'kind').map(([k, x]) => `${k}: ${typeof x === 'object' ? JSON.stringify(x) : x}`).join(', '))))));
+      el('tbody', {}, events.map((e, i) => el('tr', { 'data-event': i, class: e.kind, onclick: () => jump(e) }, el('td', { class: 'num' }, S.num(e.t)), el('td', {}, e.kind),
+        el('td', {}, Object.entries(e).filter(([k]) => k !== 't' && k !== 'kind')
+          .map(([k, x]) => (k === 'step' && typeof x === 'number' ? `step ${x + 1}` : `${k}: ${typeof x === 'object' ? JSON.stringify(x) : x}`)).join(', '))))));
     // Cycle time per step.
-    const maxDur = Math.max(...steps.map((s) => s.duration), 1e-9);
-    const breakdown = el('table', { class: 'breakdown', 'data-testid': 'breakdown' }, steps.map((s) => el('tr', { onclick: () => seek(s.start) },
-      el('td', {}, s.label), el('td', {}, s.device), el('td', { class: 'num' }, S.num(s.duration, 's')),
-      el('td', { class: 'bar' }, el('span', { style: `width:${(100 * s.duration) / maxDur}%` })))));
+    const maxDur = Math.max(...steps.map((s) => s.duration || 0), 1e-9);
+    const breakdown = el('table', { class: 'breakdown', 'data-testid': 'breakdown' }, steps.map((s) => el('tr', { onclick: () => typeof s.start === 'number' && seek(s.start) },
+      el('td', {}, s.label), el('td', {}, s.device), el('td', { class: 'num' }, s.duration === null ? 'not finished' : S.num(s.duration, 's')),
+      el('td', { class: 'bar' }, el('span', { style: `width:${(100 * (s.duration || 0)) / maxDur}%` })))));
     // Joint position and velocity per device.
     const plots = [];
     const plotBox = el('div', { class: 'plots' });
@@ -281,7 +307,7 @@
       const pos = joints.map((j) => ({ name: j, xs, ys: t.rows.map((r) => r[t.columns.indexOf(j)]) }));
       const vel = pos.map((s) => ({ name: s.name, xs, ys: s.ys.map((y, k) => (k === 0 ? 0 : (y - s.ys[k - 1]) / ((xs[k] - xs[k - 1]) || Infinity))) }));
       const p1 = linePlot(pos, { xLabel: 't (s)', yLabel: 'position (deg | m)', onClick: seek });
-      const p2 = linePlot(vel, { xLabel: 't (s)', yLabel: 'velocity (/s)', onClick: seek });
+      const p2 = linePlot(vel, { xLabel: 't (s)', yLabel: 'velocity (deg/s | m/s)', onClick: seek });
       plots.push(p1, p2);
       plotBox.append(el('figure', { 'data-device': device }, el('figcaption', {}, `${device}: joint positions`), p1.svg),
                      el('figure', {}, el('figcaption', {}, `${device}: joint velocities`), p2.svg));
@@ -295,6 +321,12 @@
       if (view && !view.playing) play.textContent = 'play';
     }
     function seek(t) { if (view) view.setTime(t); else onTime(t); }
+    // An event: its time, and the objects it names framed (a collision's pair, a grasp's drum).
+    function jump(e) {
+      seek(e.t);
+      const named = ['a', 'b', 'object', 'device', 'on'].map((k) => e[k]).filter((x) => typeof x === 'string').map((x) => x.split('.')[0]);
+      if (view && e.kind !== 'step_start' && e.kind !== 'step_end' && named.length) view.frameObjects(named);
+    }
     v.panel.append(controls, timeline);
     app.append(el('main', { class: 'run' }, v.panel,
       el('section', { class: 'side' }, el('h2', {}, 'Cycle time by step'), breakdown, el('h2', {}, 'Events'), el('div', { class: 'scroll' }, eventList))),
@@ -303,13 +335,14 @@
       for (const c of view.cameras) cameraSelect.append(el('option', { value: c.name }, c.name === 'run' ? "the run's camera" : c.name));
       onTime(0);
     });
-    return { kind: 'run', view, seek, events, duration };
+    return { kind: 'run', view, seek, jump, events, duration };
   }
 
   function sweepPage(data, app) {
     const res = data.results;
     const rows = S.sweepRows(res).map((r) => Object.assign(r, { id: String(r.variant), subjects: [] }));
     const params = (res.parameters || []).map((p) => p.name), metrics = res.metrics || [];
+    const plotted = [...metrics, ...(res.simulated ? ['cycle_time', 'collisions'] : [])];
     const counts = {};
     for (const r of rows) counts[r.status] = (counts[r.status] || 0) + 1;
     app.append(header(`sscs sweep \u2014 ${res.sweep}`, el('span', {}, `${rows.length} variants`),
@@ -318,29 +351,36 @@
     const columns = [
       { key: 'variant', label: '#', numeric: true },
       { key: 'status', label: 'Status', render: (r) => chip(r.status) },
-      ...params.map((p) => ({ key: p, label: unitOf[p] ? `${p} (${unitOf[p]})` : p, numeric: true, render: (r) => S.num(r[p]) })),
+      ...params.map((p) => ({ key: p, label: unitOf[p] ? `${p} (${unitOf[p]})` : p, numeric: true, render: (r) => (typeof r[p] === 'string' ? r[p] : S.num(r[p])) })),
       ...metrics.map((m) => ({ key: m, label: m, numeric: true, render: (r) => S.num(r[m]) })),
+      ...(res.simulated ? [{ key: 'cycle_time', label: 'cycle time (s)', numeric: true, render: (r) => S.num(r.cycle_time) },
+                           { key: 'collisions', label: 'collisions', numeric: true }] : []),
       { key: 'failed', label: 'failed', numeric: true },
       { key: 'folder', label: 'Variant', render: (r) => el('a', { href: (data.links || {})[r.folder] || `${r.folder}/report.json` }, r.folder) },
       { key: 'message', label: 'Message' },
     ];
     let chosen = null;
-    const table = new Table(columns, rows, { rowClass: (r) => r.status, onSelect: (r) => { chosen = r; draw(); } });
+    const table = new Table(columns, rows, { rowClass: (r) => r.status, onSelect: (r) => { chosen = r; draw(); }, onFilter: () => draw() });
     const filters = table.controls([['status', 'Status']], 'search variants, messages');
-    const xSel = el('select', { 'data-testid': 'plot-x', onchange: () => draw() }, [...params, ...metrics].map((c) => el('option', { value: c }, c)));
-    const ySel = el('select', { 'data-testid': 'plot-y', onchange: () => draw() }, [...metrics, ...params].map((c) => el('option', { value: c }, c)));
+    const xSel = el('select', { 'data-testid': 'plot-x', onchange: () => draw() }, [...params, ...plotted].map((c) => el('option', { value: c }, c)));
+    const ySel = el('select', { 'data-testid': 'plot-y', onchange: () => draw() }, [...plotted, ...params].map((c) => el('option', { value: c }, c)));
     const plotBox = el('div', { class: 'scatter', 'data-testid': 'scatter' });
     function draw() {
       const xk = xSel.value, yk = ySel.value;
       const W = 640, H = 340, m = { l: 64, r: 16, t: 12, b: 40 };
-      const xe = S.extent(rows.map((r) => r[xk])), ye = S.extent(rows.map((r) => r[yk]));
-      const x = S.scale(...(xe || [0, 1]), m.l, W - m.r), y = S.scale(...(ye || [0, 1]), H - m.b, m.t);
+      // A column of words (the vault or scenario files a sweep compares) is an axis of categories.
+      // The rows the table's filters keep; failing points first, so a passing one is never hidden under one.
+      const kept = table.visible().slice().sort((a, b) => (a.status === 'pass') - (b.status === 'pass'));
+      const xa = S.axis(rows, xk), ya = S.axis(rows, yk);
+      const x = S.axisScale(xa, rows, m.l, W - m.r), y = S.axisScale(ya, rows, H - m.b, m.t);
       const g = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'plot', width: W, height: H });
       axes(g, x, y, W, H, m, xk, yk);
-      for (const r of rows) {
-        if (typeof r[xk] !== 'number' || typeof r[yk] !== 'number' || !Number.isFinite(r[xk]) || !Number.isFinite(r[yk])) continue;
-        g.append(svg('circle', { cx: x(r[xk]), cy: y(r[yk]), r: r === chosen ? 7 : 4.5, fill: STATUS_COLOUR[r.status] || '#555', class: r === chosen ? 'chosen' : '',
-          'data-variant': r.variant, onclick: () => table.select(r) }, svg('title', {}, `${r.folder}: ${xk} ${S.num(r[xk])}, ${yk} ${S.num(r[yk])} (${r.status})`)));
+      const shown = (v) => (typeof v === 'number' ? S.num(v) : String(v));
+      for (const r of kept) {
+        const xv = xa.get(r), yv = ya.get(r);
+        if (xv === undefined || yv === undefined) continue;
+        g.append(svg('circle', { cx: x(xv), cy: y(yv), r: r === chosen ? 7 : 4.5, fill: STATUS_COLOUR[r.status] || '#555', class: r === chosen ? 'chosen' : '',
+          'data-variant': r.variant, onclick: () => table.select(r) }, svg('title', {}, `${r.folder}: ${xk} ${shown(r[xk])}, ${yk} ${shown(r[yk])} (${r.status})`)));
       }
       Object.keys(counts).forEach((k, i) => {
         g.append(svg('circle', { cx: W - m.r - 90, cy: m.t + 8 + i * 14, r: 4.5, fill: STATUS_COLOUR[k] || '#555' }));

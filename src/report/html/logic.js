@@ -10,7 +10,10 @@
   function checkRows(reports) {
     const rows = [];
     reports.forEach((report, vault) => {
+      const renamed = new Map((((report.baseline || {}).renamed) || []).map((x) => [x.to, x.from]));
       (report.results || []).forEach((r, i) => {
+        let change = baselineChange(r);
+        if (renamed.has(r.constraint)) change = 'renamed';
         rows.push({
           id: `${vault}:${i}`,
           vault,
@@ -18,7 +21,9 @@
           constraint: r.constraint,
           kind: r.kind,
           severity: r.severity,
-          status: r.status,
+          // A failed warning is a warning (the text report counts it so), not a failure.
+          status: r.status === 'fail' && r.severity === 'warning' ? 'warn' : r.status,
+          renamedFrom: renamed.get(r.constraint),
           subjects: r.subject || [],
           lhs: r.lhs,
           rhs: r.rhs,
@@ -26,7 +31,7 @@
           unit: r.unit || '',
           message: r.message || '',
           where: r.location ? `${r.location.file}:${r.location.line}` : '',
-          change: baselineChange(r),
+          change,
         });
       });
       const removed = (report.baseline && report.baseline.removed) || [];
@@ -60,7 +65,7 @@
       (!f.severity || r.severity === f.severity) &&
       (!f.change || r.change === f.change) &&
       (!f.object || r.subjects.includes(f.object)) &&
-      (!text || [r.constraint, r.kind, r.message, r.where, r.subjects.join(' ')].join(' ').toLowerCase().includes(text)));
+      (!text || [r.constraint, r.kind, r.message, r.where, r.folder, (r.subjects || []).join(' ')].join(' ').toLowerCase().includes(text)));
   }
 
   /** Compares two cells: numbers numerically (absent last), statuses by gravity, else text. */
@@ -157,15 +162,21 @@
     return lo;
   }
 
-  /** Per-step durations of a run summary, in order: {label, device, start, end, duration}. */
-  function stepBreakdown(summary) {
-    return (summary.steps || []).map((s) => ({
-      label: `${s.index + 1}. ${s.action}${s.object ? ' ' + s.object : ''}`,
-      device: s.device || '',
-      start: s.start,
-      end: s.end,
-      duration: (s.end ?? s.start) - s.start,
-    }));
+  /** Per-step durations of a run summary, in order: {label, device, start, end, duration}. A
+   *  time the summary leaves null (a run that stopped) is taken from the step's events; a step
+   *  that never ended has no duration (null), never 0. */
+  function stepBreakdown(summary, events = []) {
+    const at = (kind, index) => { const e = events.find((x) => x.kind === kind && x.step === index); return e ? e.t : null; };
+    return (summary.steps || []).map((s) => {
+      const start = s.start ?? at('step_start', s.index), end = s.end ?? at('step_end', s.index);
+      return {
+        label: `${s.index + 1}. ${s.action}${s.object ? ' ' + s.object : ''}`,
+        device: s.device || '',
+        start,
+        end,
+        duration: typeof start === 'number' && typeof end === 'number' ? end - start : null,
+      };
+    });
   }
 
   /** Events worth a mark on the timeline (not every step start and end). */
@@ -180,12 +191,35 @@
                     passed: v.passed, failed: v.failed, warnings: v.warnings };
       for (const [k, x] of Object.entries(v.values || {})) row[k] = x !== '' && !isNaN(+x) ? +x : x;
       for (const [k, x] of Object.entries(v.metrics || {})) row[k] = x;
+      for (const k of ['cycle_time', 'collisions']) if (k in v) row[k] = v[k];  // a simulated sweep's columns
       return row;
     });
   }
 
+  /** How a column goes on a plot's axis: numbers as they are; a column of words (a sweep's
+   *  alternative files, an enum) as categories at 0, 1, 2, ... in natural order. */
+  function axis(rows, key) {
+    const words = rows.map((r) => r[key]).filter((v) => typeof v === 'string' && v !== '');
+    if (!words.length) return { categories: null, get: (r) => (typeof r[key] === 'number' && Number.isFinite(r[key]) ? r[key] : undefined) };
+    const categories = [...new Set(words)].sort((a, b) => a.localeCompare(b, undefined, { numeric: true }));
+    return { categories, get: (r) => { const i = categories.indexOf(String(r[key])); return i >= 0 ? i : undefined; } };
+  }
+
+  /** A scale for an axis: linear over the numbers' extent, or one step per category (ticks
+   *  at each, labelled with its name). */
+  function axisScale(ax, rows, r0, r1) {
+    if (!ax.categories) {
+      const e = extent(rows.map(ax.get)) || [0, 1];
+      return scale(e[0], e[1], r0, r1);
+    }
+    const f = scale(-0.5, ax.categories.length - 0.5, r0, r1);
+    f.ticks = () => ax.categories.map((_, i) => i);
+    f.label = (t) => ax.categories[t];
+    return f;
+  }
+
   const api = { checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, parseCsv, scale, extent,
-                indexAt, stepBreakdown, notableEvents, sweepRows };
+                indexAt, stepBreakdown, notableEvents, sweepRows, axis, axisScale };
   root.SSCS = Object.assign(root.SSCS || {}, api);
   if (typeof module === 'object' && module.exports) module.exports = api;
 })(typeof globalThis !== 'undefined' ? globalThis : this);

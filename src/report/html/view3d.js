@@ -242,15 +242,26 @@
       this.render();
     }
 
+    /** Stops drawing and removes the canvas (the page shows another vault). */
+    dispose() {
+      this.disposed = true;
+      this.playing = false;
+      this.controls.dispose();
+      this.renderer.dispose();
+      this.renderer.domElement.remove();
+    }
+
     play() { if (this.time >= this.duration) this.setTime(0); this.playing = true; this.last = null; }
     pause() { this.playing = false; }
 
     loop() {
       requestAnimationFrame((now) => {
+        if (this.disposed) return;
         if (this.playing) {
           const dt = this.last == null ? 0 : (now - this.last) / 1000;
-          this.setTime(this.time + dt * this.speed);
-          if (this.time >= this.duration) this.playing = false;
+          const next = this.time + dt * this.speed;
+          if (next >= this.duration) this.playing = false;  // before setTime: the page sees the end
+          this.setTime(next);
         }
         this.last = now;
         this.loop();
@@ -258,7 +269,7 @@
     }
 
     render() {
-      if (this.model) this.renderer.render(this.scene, this.camera());
+      if (this.model && !this.disposed) this.renderer.render(this.scene, this.camera());
     }
   }
 
