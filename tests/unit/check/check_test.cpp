@@ -1,4 +1,5 @@
 #include <cmath>
+#include <random>
 #include <set>
 #include <filesystem>
 #include <fstream>
@@ -333,6 +334,56 @@ TEST_F(Check, OnlyAContainerLeavesItsDescendantsAlone) {
   rep = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(rep.results.size(), 1u);
   EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+}
+
+TEST_F(Check, ParentingToASolidNeverChangesTheOverlapVerdict) {
+  // Over every standard type as the parent (found by listing the library, so a new type is
+  // covered) and a drum, a pallet and an AGV as the child, at random offsets around the parent:
+  // the child `parent:`-ed to a solid gets the verdict and margin it gets standing at the same
+  // world pose with no parent; only a container (a room) leaves what stands in it alone.
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int solids = 0, containers = 0, overlaps = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(SSCS_LIBRARY_DIR) + "/types")) {
+    const std::string type = entry.path().stem().string();
+    const std::string sizes = type == "room" ? ", length: 8, width: 6, height: 4" : "";
+    for (const char* child : {"drum", "us_pallet", "agv"})
+      for (int k = 0; k < 4; ++k) {
+        diag = Diagnostics{};
+        auto parent = compile_text(fmt::format("objects:\n  - {{type: {}, name: P, location: [10, 10, 0]{}}}\n", type, sizes));
+        if (!parent) break;  // a type with no defaults for what it needs (checked by LibraryProperty)
+        const Eigen::AlignedBox3d box = build_geometry(*parent, diag).objects[0].bbox_world;
+        const Eigen::Vector3d at = box.min() + (box.max() - box.min()).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng))) -
+                                   Eigen::Vector3d(10, 10, 0);
+        auto verdict = [&](bool parented) {
+          diag = Diagnostics{};
+          const Eigen::Vector3d where = parented ? at : at + Eigen::Vector3d(10, 10, 0);
+          Workcell wc = must_compile(fmt::format(
+              "objects:\n  - {{type: {}, name: P, location: [10, 10, 0]{}}}\n"
+              "  - {{type: {}, name: C, {}location: [{:.9f}, {:.9f}, {:.9f}]}}\n"
+              "constraints:\n  - {{name: apart, no_overlap: {{objects: [P, C]}}}}\n",
+              type, sizes, child, parented ? "parent: P, " : "", where.x(), where.y(), where.z()));
+          CheckReport rep = check(wc, build_geometry(wc, diag));
+          EXPECT_EQ(rep.results.size(), 1u) << type << " / " << child;
+          return rep.results.empty() ? CheckResult{} : rep.results[0];
+        };
+        const CheckResult alone = verdict(false), held = verdict(true);
+        if (parent->types[parent->objects[0].type].container) {
+          ++containers;
+          EXPECT_EQ(held.status, Status::Pass) << type << " holds " << child << ": a container's inside is a space";
+          continue;
+        }
+        ++solids;
+        overlaps += alone.status == Status::Fail;
+        EXPECT_EQ(held.status, alone.status) << type << " / " << child << " at " << at.transpose() << ": " << held.message << " | " << alone.message;
+        if (held.margin && alone.margin) {
+          EXPECT_NEAR(*held.margin, *alone.margin, 1e-6) << type << " / " << child << " at " << at.transpose();
+        }
+      }
+  }
+  EXPECT_GT(solids, 200);       // ~ 30 solid types x 3 children x 4 offsets
+  EXPECT_GT(containers, 0);     // the room
+  EXPECT_GT(overlaps, solids / 4);  // offsets inside the parent's bounds overlap often: the test sees failures
 }
 
 TEST_F(Check, BoundingBoxReferencesReadTheWorldGeometry) {
