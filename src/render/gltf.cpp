@@ -44,21 +44,9 @@ void place(json& node, const Eigen::Isometry3d& X) {
   if (!X.linear().isIdentity(0)) node["rotation"] = rotation(X);
 }
 
-/// The camera's pose: it looks down its -z with +y up on the image (glTF's camera), at `target`
-/// from `eye`, image up being world +z projected (as the renderer's view_matrix).
-Eigen::Isometry3d camera_pose(const Camera& c) {
-  Eigen::Vector3d back = c.eye - c.target;
-  back = back.norm() > 0 ? back.normalized() : Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d right = Eigen::Vector3d::UnitZ().cross(back);
-  if (right.norm() < 1e-9) right = Eigen::Vector3d::UnitY().cross(back);
-  right.normalize();
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.linear().col(0) = right;
-  X.linear().col(1) = back.cross(right);
-  X.linear().col(2) = back;
-  X.translation() = c.eye;
-  return X;
-}
+/// The camera's pose: the inverse of the renderer's view (it looks down its -z with +y up on the
+/// image, as glTF's camera does), so a file's camera films what the frames show.
+Eigen::Isometry3d camera_pose(const Camera& c) { return Eigen::Isometry3d(view_matrix(c).inverse()); }
 
 /// The binary buffer and the accessors into it.
 class Buffer {
