@@ -1,5 +1,6 @@
 #include "pipeline/html_report.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -129,8 +130,13 @@ Expected<std::string> sweep_html(const std::string& sweep_dir, const std::string
   const fs::path from = fs::absolute(fs::path(html_path)).parent_path();
   json links = json::object();
   for (const json& v : (*results)["variants"]) {
-    const std::string folder = v.value("folder", std::string());
-    if (folder.empty()) continue;
+    const std::string folder = v.is_object() && v.contains("folder") && v["folder"].is_string() ? v["folder"].get<std::string>() : "";
+    // A folder of the sweep, named as sscs names them: results.json is an artifact anyone can
+    // edit, and a `javascript:` or `../..` folder is no variant's (the page links nothing then).
+    const fs::path rel(folder);
+    if (folder.empty() || rel.is_absolute() || folder.find_first_of(":\\") != std::string::npos ||
+        std::any_of(rel.begin(), rel.end(), [](const fs::path& part) { return part == ".."; }))
+      continue;
     const fs::path variant = fs::absolute(fs::path(sweep_dir) / folder);
     fs::path target = variant / "report.json";
     if (!fs::exists(target)) target = variant / "run" / "summary.json";

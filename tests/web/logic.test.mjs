@@ -111,3 +111,31 @@ test('plot axes: numbers on a linear scale, words as categories in natural order
   assert.deepEqual(rows.map(numbers.get), [2, 1, undefined, 3]);
   assert.deepEqual(S.axisScale(numbers, rows, 0, 100).domain, [1, 3]);
 });
+
+test('relativeLink: a relative file path is a link, segment by segment encoded; a scheme, an absolute path or //host is none', () => {
+  assert.equal(S.relativeLink('v_001/report.json'), 'v_001/report.json');
+  assert.equal(S.relativeLink('../sweep/a b/#c?d'), '../sweep/a%20b/%23c%3Fd');
+  assert.equal(S.relativeLink('07-aisle=1.1m-rows=3/report.json'), '07-aisle=1.1m-rows=3/report.json');
+  assert.equal(S.relativeLink('./x'), './x');
+  for (const bad of ['javascript:window.x=99', 'JavaScript:alert(1)', 'data:text/html,x', 'http://host/x', '/etc/passwd',
+                     '//host/x', 'a//b', 'a\\b', '', 'v\n1', null, 42]) assert.equal(S.relativeLink(bad), null, String(bad));
+  // Encoded, a scheme-like first segment could not run anyway; it is refused so that nothing looks like a link.
+  assert.equal(S.relativeLink('x/javascript:y'), 'x/javascript%3Ay');
+});
+
+test('showControls: every bidirectional control becomes a visible mark; other text is untouched', () => {
+  assert.equal(S.showControls('Keg\u202e_2'), 'Keg\u27e8U+202E\u27e9_2');
+  assert.equal(S.showControls('a\u2066b\u2069c\u200fd'), 'a\u27e8U+2066\u27e9b\u27e8U+2069\u27e9c\u27e8U+200F\u27e9d');
+  assert.equal(S.showControls('שלום Drum_1 <!-- x -->'), 'שלום Drum_1 <!-- x -->');
+  assert.equal(S.showControls(1.5), '1.5');
+});
+
+test('splitNames: names found in a message, longest first, the rest kept in order', () => {
+  assert.deepEqual(S.splitNames('Keg_22 and Keg_2.height', ['Keg_2', 'Keg_22']), [{ name: 'Keg_22' }, ' and ', { name: 'Keg_2' }, '.height']);
+  assert.deepEqual(S.splitNames('nothing here', ['Keg']), ['nothing here']);
+  assert.deepEqual(S.splitNames('', ['Keg']), []);
+  // Every piece put back together is the message.
+  const text = 'A<B and B<A, A and AB';
+  const back = S.splitNames(text, ['A', 'B', 'AB']).map((p) => (typeof p === 'string' ? p : p.name)).join('');
+  assert.equal(back, text);
+});

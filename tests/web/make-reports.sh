@@ -42,4 +42,20 @@ cmp "$out/arm-bundle.glb" "$out/arm-loads-drum.glb" || { echo "the bundle's glTF
 # Still models: the vaults as sscs export writes them.
 "$sscs" export scenarios/demo/demo.yaml --out "$out/demo.glb" "${q[@]}"
 "$sscs" export scenarios/drum-store/store.yaml --out "$out/drum-store.glb" "${q[@]}"
+# Pages made of strings written to break them (reports.test.mjs, "hostile"): names with HTML
+# comment and script openers, a right-to-left override, a 2,000-character name, a --set value
+# with `<!`, a run folder named `run<!--x`, and a sweep whose results.json (an artifact anyone
+# can edit) names a variant folder `javascript:window.x=99`.
+check hostile tests/web/hostile/hostile.yaml --set 'gap=1 <!0'
+"$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --out "$out/run<!--x" --no-frames --html "$out/hostile-run.html" "${q[@]}" >/dev/null
+cp -r "$out/aisle-rows" "$out/hostile-sweep"
+python3 - "$out/hostile-sweep/results.json" <<'PY'
+import json, sys
+path = sys.argv[1]
+results = json.load(open(path))
+results["variants"][0]["folder"] = "javascript:window.x=99"
+results["variants"][1]["folder"] = "../../etc"
+json.dump(results, open(path, "w"))
+PY
+"$sscs" report "$out/hostile-sweep" --html "$out/hostile-sweep.html" "${q[@]}"
 ls "$out"/*.html "$out"/*.glb >/dev/null

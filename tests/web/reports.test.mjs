@@ -88,6 +88,10 @@ for (const file of pages) {
   });
 }
 
+/** A name as the page draws it: bidirectional controls shown as marks (logic.js showControls). */
+const shownText = (text) => text.replace(/[\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069]/g,
+  (c) => `\u27e8U+${c.charCodeAt(0).toString(16).toUpperCase().padStart(4, '0')}\u27e9`);
+
 /** The check reports and the JSON each was made with (demo-from-json.html: from demo.json). */
 const fromJson = { 'demo-from-json.html': 'demo.json', 'variant-from-json.html': 'aisle-rows/54-aisle=2m-rows=5/report.json' };
 const checks = pages.filter((f) => existsSync(join(out, f.replace('.html', '.json'))) || f in fromJson);
@@ -98,12 +102,13 @@ for (const file of checks) {
     const { page } = await open(file);
     const report = jsonOf(file);
     const reports = report.reports || [report];
-    const expected = reports.flatMap((r) => r.results.map((x) => x.constraint).concat(((r.baseline || {}).removed || []).map((x) => x.constraint)));
+    const expected = reports.flatMap((r) => r.results.map((x) => x.constraint).concat(((r.baseline || {}).removed || []).map((x) => x.constraint)))
+      .map(shownText);
     const shown = await page.$$eval('table.results tbody tr .name', (cells) => cells.map((c) => c.textContent));
     assert.deepEqual(shown, expected);
     // Filtering by status keeps exactly the failing rows (a report without one offers no such filter).
     // (a failed warning is filtered as a warning, as the text report counts it)
-    const fails = reports.flatMap((r) => r.results.filter((x) => x.status === 'fail' && x.severity !== 'warning').map((x) => x.constraint));
+    const fails = reports.flatMap((r) => r.results.filter((x) => x.status === 'fail' && x.severity !== 'warning').map((x) => shownText(x.constraint)));
     const offered = await page.$$eval('select[data-filter=status] option', (os) => os.map((o) => o.value));
     assert.equal(offered.includes('fail'), fails.length > 0, offered.join(','));
     if (fails.length) {
@@ -240,4 +245,52 @@ test('screenshots for docs/reports.md', { skip: !process.env.SSCS_UPDATE_DOCS },
   mkdirSync(docs, { recursive: true });
   for (const f of ['demo-row-selected', 'ci-branch', 'arm-loads-drum-event', 'store-drum-event', 'aisle-rows-plot'])
     copyFileSync(join(shots, `${f}.png`), join(docs, `${f}.png`));
+});
+
+test('hostile.html: names with <!--, </script>, a right-to-left override and 2,000 characters break nothing', async () => {
+  const { page, problems } = await open('hostile.html');
+  assert.deepEqual(problems, []);
+  assert.equal(await page.evaluate('window.x'), undefined, 'no script from a name ran');
+  const names = await page.$$eval('table.results tbody tr .name', (cells) => cells.map((c) => c.textContent));
+  assert.ok(names.includes('the <!-- comment --> rule'), names.join(' | '));
+  assert.ok(names.includes('a script </script><script>window.x=1</script> in a name'), names.join(' | '));
+  // The override is drawn as a mark, and isolated: the words after the name keep their order.
+  assert.ok(names.includes('Keg\u27e8U+202E\u27e9_2 stays low'), names.join(' | '));
+  const bodyText = await page.evaluate('document.body.innerText');
+  assert.ok(!bodyText.includes('\u202e'), 'no right-to-left override reaches the page');
+  // The long name wraps: the table fits its panel and every row's margin is on screen.
+  const widths = await page.evaluate(`(() => {
+    const t = document.querySelector('table.results'), p = t.closest('.scroll');
+    return { table: t.scrollWidth, panel: p.clientWidth, window: window.innerWidth };
+  })()`);
+  assert.ok(widths.table <= widths.panel + 1, `table ${widths.table} px wide in a ${widths.panel} px panel`);
+  const long = await page.$eval('table.results tbody tr .name bdi', (b) => b.getAttribute('title'));
+  assert.ok(long.length > 0);
+  // --set 'gap=1 <!0' is in the page's data as it was given.
+  assert.equal(await page.evaluate('JSON.parse(document.getElementById("sscs-data").textContent).reports[0].set.gap'), '1 <!0');
+  await shot(page, 'hostile');
+  await page.close();
+});
+
+test('hostile-run.html: a run folder named run<!--x shows its run', async () => {
+  const { page, problems } = await open('hostile-run.html');
+  assert.deepEqual(problems, []);
+  assert.equal(await kind(page), 'run');
+  assert.ok((await page.$$('table.events tbody tr')).length > 5);
+  await page.close();
+});
+
+test('hostile-sweep.html: a variant folder that is no relative path is no link, and nothing runs', async () => {
+  const { page, problems } = await open('hostile-sweep.html');
+  assert.deepEqual(problems, []);
+  const hrefs = await page.$$eval('table.results a', (as) => as.map((a) => a.getAttribute('href')));
+  assert.ok(hrefs.length > 10, hrefs.join(' '));
+  for (const h of hrefs) assert.ok(!/^[a-z][a-z0-9+.-]*:/i.test(h) && !h.startsWith('/'), `link ${h}`);
+  assert.ok(!hrefs.some((h) => h.includes('etc')), hrefs.join(' '));
+  // Clicking the cell of the javascript: folder runs nothing.
+  const cell = await page.$$eval('table.results tbody td', (tds) => tds.findIndex((td) => td.textContent.includes('javascript:')));
+  assert.ok(cell >= 0);
+  await page.evaluate((i) => document.querySelectorAll('table.results tbody td')[i].click(), cell);
+  assert.equal(await page.evaluate('window.x'), undefined);
+  await page.close();
 });

@@ -15,8 +15,16 @@
       else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
       else if (v !== undefined && v !== null && v !== false) e.setAttribute(k, v === true ? '' : v);
     }
-    for (const c of children.flat(Infinity)) if (c !== null && c !== undefined) e.append(c instanceof Node ? c : String(c));
+    for (const c of children.flat(Infinity)) if (c !== null && c !== undefined) e.append(c instanceof Node ? c : S.showControls(c));
     return e;
+  }
+  /** A name drawn apart from the text around it: its direction isolated (<bdi>), wrapped where
+   *  it is long, whole on hover. */
+  function nameEl(name) { return el('bdi', { class: 'name-text', title: S.showControls(name) }, name); }
+  /** A message with each of `names` in it isolated (a right-to-left name cannot reorder the
+   *  words after it). */
+  function withNames(text, names) {
+    return S.splitNames(text, names).map((piece) => (typeof piece === 'string' ? piece : nameEl(piece.name)));
   }
   const svgNS = 'http://www.w3.org/2000/svg';
   function svg(tag, attrs = {}, ...children) {
@@ -25,7 +33,7 @@
       if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
       else e.setAttribute(k, v);
     }
-    for (const c of children.flat(Infinity)) if (c) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
+    for (const c of children.flat(Infinity)) if (c) e.append(c instanceof Node ? c : document.createTextNode(S.showControls(c)));
     return e;
   }
   function chip(status, text) { return el('span', { class: `chip ${status}` }, text ?? status); }
@@ -189,13 +197,14 @@
       hasBaseline ? { key: 'change', label: 'Change', render: (r) => (r.change ? el('span', { class: `change ${r.change.replace(/ /g, '-')}` },
         r.renamedFrom ? `renamed (was ${r.renamedFrom})` : r.change) : '') } : null,
       reports.length > 1 ? { key: 'vaultName', label: 'Vault' } : null,
-      { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, r.constraint), el('div', { class: 'message' }, r.message),
+      { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, nameEl(r.constraint)),
+        el('div', { class: 'message' }, withNames(r.message, [...r.subjects, r.constraint])),
         r.where ? el('code', { class: 'where' }, r.where) : null] },
       { key: 'kind', label: 'Kind' },
       { key: 'severity', label: 'Severity' },
       { key: 'subjects', label: 'Objects', render: (r) => (r.subjects.length > 4
-        ? el('span', { title: r.subjects.join(', ') }, `${r.subjects.slice(0, 3).join(', ')} and ${r.subjects.length - 3} more`)
-        : r.subjects.join(', ')) },
+        ? el('span', { title: r.subjects.join(', ') }, r.subjects.slice(0, 3).flatMap((n, i) => (i ? [', ', nameEl(n)] : [nameEl(n)])), ` and ${r.subjects.length - 3} more`)
+        : r.subjects.flatMap((n, i) => (i ? [', ', nameEl(n)] : [nameEl(n)]))) },
       { key: 'lhs', label: 'Value', numeric: true, render: (r) => S.num(r.lhs, r.unit) },
       { key: 'rhs', label: 'Limit', numeric: true, render: (r) => S.num(r.rhs, r.unit) },
       { key: 'margin', label: 'Margin', numeric: true, render: (r) => S.num(r.margin, r.unit) },
@@ -219,8 +228,8 @@
       objectPanel.replaceChildren();
       if (!name) { objectPanel.append(el('p', { class: 'note' }, 'Nothing there: click an object.')); table.setFilter({ object: '' }); return; }
       const own = rows.filter((r) => r.vault === vaultShown && r.subjects.includes(name));
-      objectPanel.append(el('h3', {}, name), own.length
-        ? el('ul', {}, own.map((r) => el('li', {}, chip(r.status), ' ', el('a', { href: '#', onclick: (e) => { e.preventDefault(); table.select(r); } }, r.constraint), ` \u2014 ${r.message}`)))
+      objectPanel.append(el('h3', {}, nameEl(name)), own.length
+        ? el('ul', {}, own.map((r) => el('li', {}, chip(r.status), ' ', el('a', { href: '#', onclick: (e) => { e.preventDefault(); table.select(r); } }, nameEl(r.constraint)), ' \u2014 ', withNames(r.message, [...r.subjects, r.constraint]))))
         : el('p', { class: 'note' }, 'No constraint names it.'),
         el('button', { onclick: () => { table.setFilter({ object: '' }); objectPanel.replaceChildren(el('p', { class: 'note' }, 'Click an object to list its constraints.')); } }, 'show every row'));
       table.setFilter({ object: name });
@@ -257,9 +266,13 @@
     const timeText = el('span', { class: 'time', 'data-testid': 'time' }, '0.00 s');
     app.append(header(`sscs simulate \u2014 ${sum.scenario} (${sum.vault})`, chip(statusClass, sum.status),
       el('span', {}, `cycle time ${S.num(sum.cycle_time, 's')}`),
-      mc ? el('a', { href: '#', 'data-testid': 'min-clearance', title: 'between bodies not in contact (contacts are the collision events)',
+      // As summary.json defines it: every pair but a load and what it stands on while it stands
+      // there, and a tool and what it holds; below zero it is how deep they went into each other.
+      mc ? el('a', { href: '#', 'data-testid': 'min-clearance',
+        title: 'closest approach over the run; not counted: a load and what it stands on while it stands there, a tool and the load it grasps',
         onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
-        `minimum clearance (outside contacts) ${S.num(mc.distance, 'm')} between ${mc.a} and ${mc.b} at ${S.num(mc.t, 's')}`) : null,
+        mc.distance < 0 ? `penetration ${S.num(-mc.distance, 'm')} between ` : `minimum clearance ${S.num(mc.distance, 'm')} between `,
+        nameEl(mc.a), ' and ', nameEl(mc.b), ` at ${S.num(mc.t, 's')}`) : null,
       el('span', {}, `${Object.entries(sum.events || {}).map(([k, n]) => `${n} ${k}`).join(', ')}`)));
     const v = viewPanel(data.model, { onTime: (t) => onTime(t) });
     const view = v.view;
@@ -356,7 +369,12 @@
       ...(res.simulated ? [{ key: 'cycle_time', label: 'cycle time (s)', numeric: true, render: (r) => S.num(r.cycle_time) },
                            { key: 'collisions', label: 'collisions', numeric: true }] : []),
       { key: 'failed', label: 'failed', numeric: true },
-      { key: 'folder', label: 'Variant', render: (r) => el('a', { href: (data.links || {})[r.folder] || `${r.folder}/report.json` }, r.folder) },
+      { key: 'folder', label: 'Variant', render: (r) => {
+        // Only a relative file path is a link (results.json is an artifact anyone can edit).
+        // sscs wrote a link for each folder it found in the sweep; none for any other.
+        const href = Object.prototype.hasOwnProperty.call(data.links || {}, r.folder) ? S.relativeLink(data.links[r.folder]) : null;
+        return href ? el('a', { href }, nameEl(r.folder)) : nameEl(r.folder);
+      } },
       { key: 'message', label: 'Message' },
     ];
     let chosen = null;

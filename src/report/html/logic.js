@@ -218,7 +218,48 @@
     return f;
   }
 
-  const api = { checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, parseCsv, scale, extent,
+  /** A link to `path` only when it is a relative file path: no scheme (`javascript:`, `data:`,
+   *  `http:`), no leading `/` or `\\`, no empty segment (`//host`); what a URL would read
+   *  otherwise escaped (a folder named `a?b#c` is a folder). Else null: no link at all. A sweep's results.json is an
+   *  artifact anyone can edit. */
+  function relativeLink(path) {
+    if (typeof path !== 'string' || path === '' || /[\u0000-\u001f\\]/.test(path)) return null;
+    const parts = path.split('/');
+    if (parts[0] === '' || /^[a-z][a-z0-9+.-]*:/i.test(parts[0])) return null;
+    if (parts.some((p) => p === '')) return null;
+    // Only what a URL reads otherwise (%, #, ?, :, spaces, quotes, brackets) is escaped.
+    return parts.map((p) => p.replace(/[%#?:\s"'<>\\^`{|}]/g, (c) => encodeURIComponent(c))).join('/');
+  }
+
+  // Bidirectional controls (embeddings, overrides, isolates, marks): a name holding one could
+  // reorder the text drawn after it. Shown as visible marks instead, like a code review shows them.
+  const BIDI_CONTROLS = /[\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069]/g;
+  /** `text` with every bidirectional control character replaced by a visible ⟨U+XXXX⟩. */
+  function showControls(text) {
+    return String(text).replace(BIDI_CONTROLS, (c) => `\u27e8U+${c.charCodeAt(0).toString(16).toUpperCase().padStart(4, '0')}\u27e9`);
+  }
+
+  /** `text` cut into pieces, each a plain string or {name} where one of `names` occurs (longest
+   *  first), so that the page can isolate each name's direction (<bdi>) from the words around it. */
+  function splitNames(text, names) {
+    const wanted = [...new Set((names || []).filter((n) => typeof n === 'string' && n !== ''))].sort((a, b) => b.length - a.length);
+    const out = [];
+    let rest = String(text ?? '');
+    while (rest !== '') {
+      let at = -1, found = null;
+      for (const n of wanted) {
+        const i = rest.indexOf(n);
+        if (i >= 0 && (at < 0 || i < at || (i === at && n.length > found.length))) { at = i; found = n; }
+      }
+      if (at < 0) { out.push(rest); break; }
+      if (at > 0) out.push(rest.slice(0, at));
+      out.push({ name: found });
+      rest = rest.slice(at + found.length);
+    }
+    return out;
+  }
+
+  const api = { relativeLink, showControls, splitNames, checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, parseCsv, scale, extent,
                 indexAt, stepBreakdown, notableEvents, sweepRows, axis, axisScale };
   root.SSCS = Object.assign(root.SSCS || {}, api);
   if (typeof module === 'object' && module.exports) module.exports = api;

@@ -138,10 +138,11 @@
     /** Frames the named objects (those the model has), with some of what is around them. */
     frameObjects(names) {
       const box = new THREE.Box3();
-      for (const n of names) {
-        const node = this.objects.get(n);
-        if (node) box.expandByObject(node);
-      }
+      // A room named with what it holds (an `inside` failure) is the frame of reference, not
+      // the subject: the view frames the member (a drum in a hall was a 3-pixel dot).
+      const nodes = names.map((n) => this.objects.get(n)).filter(Boolean);
+      const members = nodes.filter((node) => !node.userData.sscs.container);
+      for (const node of members.length ? members : nodes) box.expandByObject(node);
       if (box.isEmpty()) return;
       const c = box.getCenter(new THREE.Vector3());
       box.expandByPoint(c.clone().addScalar(2.5)).expandByPoint(c.clone().addScalar(-2.5));
