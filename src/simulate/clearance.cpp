@@ -1,5 +1,6 @@
 #include "simulate/clearance.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -30,28 +31,45 @@ std::vector<int> ClearanceTracker::within(int object, const Eigen::Isometry3d& X
   return out;
 }
 
+bool ClearanceTracker::Pair::is_excused(double t) const {
+  return std::any_of(excused.begin(), excused.end(), [t](const auto& w) { return t >= w.first && t <= w.second; });
+}
+
+void ClearanceTracker::keep(Pair& pair, Seen seen) {
+  if (seen.distance >= pair.closest()) return;
+  if (seen.distance >= -kContact && pair.is_excused(seen.t)) return;
+  pair.records.push_back(std::move(seen));
+}
+
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
   // Only closer approaches than seen so far are news: the search skips pairs that cannot be.
   auto closest_seen = [this, moving](int other) {
-    auto it = seen_.find({moving, other});
-    return it == seen_.end() ? INFINITY : it->second.distance;
+    auto it = pairs_.find(key(moving, other));
+    return it == pairs_.end() ? INFINITY : it->second.closest();
   };
-  for (const Proximity& p : nearby_.proximity(moving, skip, kClearanceReach, closest_seen, parts)) {
-    auto key = std::make_pair(moving, p.other);
-    auto it = seen_.find(key);
-    if (it != seen_.end() && it->second.distance <= p.distance) continue;
-    seen_[key] = {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)};
-  }
+  for (const Proximity& p : nearby_.proximity(moving, skip, kClearanceReach, closest_seen, parts))
+    keep(pairs_[key(moving, p.other)],
+         {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
 }
 
-std::optional<RunSummaryFile::Clearance> ClearanceTracker::closest(const std::set<std::pair<int, int>>& supports) const {
-  const std::pair<const std::pair<int, int>, Seen>* best = nullptr;
-  for (const auto& entry : seen_) {
-    if (supports.count(entry.first)) continue;
-    if (!best || entry.second.distance < best->second.distance) best = &entry;
-  }
+void ClearanceTracker::measure_penetration(double t, int a, int b) {
+  const std::optional<double> d = nearby_.distance(a, b);
+  if (!d || *d >= -kContact) return;
+  keep(pairs_[key(a, b)], {*d, t, run_part_name(wc_, geometry_, a, -1), run_part_name(wc_, geometry_, b, -1)});
+}
+
+void ClearanceTracker::excuse(int a, int b, double from, double to) {
+  Pair& pair = pairs_[key(a, b)];
+  pair.excused.emplace_back(from, to);
+  std::erase_if(pair.records, [&](const Seen& s) { return s.distance >= -kContact && s.t >= from && s.t <= to; });
+}
+
+std::optional<RunSummaryFile::Clearance> ClearanceTracker::closest() const {
+  const Seen* best = nullptr;
+  for (const auto& [k, pair] : pairs_)
+    if (!pair.records.empty() && (!best || pair.records.back().distance < best->distance)) best = &pair.records.back();
   if (!best) return std::nullopt;
-  return RunSummaryFile::Clearance{r9(best->second.distance), best->second.a, best->second.b, r9(best->second.t)};
+  return RunSummaryFile::Clearance{r9(best->distance), best->a, best->b, r9(best->t)};
 }
 
 }  // namespace sscs

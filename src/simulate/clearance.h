@@ -1,10 +1,12 @@
 #pragma once
 /// A run's clearance tracker: the closest approach, over the run, of each object that moves to
-/// each other object within reach, with when and which parts. What a load was lifted from or set
-/// on is the job, not a clearance: the summary leaves those pairs out.
+/// each other object within reach, with when and which parts. Lifting a load off what it stands
+/// on and setting it down on what it lands on are the job, not a clearance: the moves that do it
+/// are excused for that pair alone (the move after the grasp, the move that ended at the
+/// release), never for the run, and never a penetration deeper than a contact (a drum lowered
+/// through the drum it then landed on is -0.57 m, not the 0.02 m of some other pair).
 #include <map>
 #include <optional>
-#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +23,9 @@ std::string run_part_name(const Workcell& wc, const GeometryModel& geometry, int
 
 class ClearanceTracker {
  public:
+  /// Deeper than this into each other is no contact but a penetration, never excused (m).
+  static constexpr double kContact = 0.005;
+
   ClearanceTracker(const Workcell& wc, const GeometryModel& geometry);
   /// Places a device's parts, or a free object, where the motion has them now.
   void move_parts(int device, const std::vector<Eigen::Isometry3d>& X_world_part) { nearby_.move_parts(device, X_world_part); }
@@ -34,23 +39,46 @@ class ClearanceTracker {
     nearby_.move(object, X_world_object);
     return nearby_.distance_to_point(object, p_world).value_or(INFINITY);
   }
+  /// The signed distance of two objects where they are now (minus the depth when they
+  /// interpenetrate); nullopt when one has no solid.
+  std::optional<double> distance(int a, int b) { return nearby_.distance(a, b); }
+
   /// Measures at time `t` how close `moving` (its `parts` only, when given) comes to every other
-  /// object within reach but `skip`; keeps each pair's closest.
+  /// object within reach but `skip`; keeps each pair's closest approaches.
   void measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts = {});
-  /// The closest approach of the run, leaving out the `supports` pairs (load, what it was lifted
-  /// from or landed on); none when nothing came within reach.
-  std::optional<RunSummaryFile::Clearance> closest(const std::set<std::pair<int, int>>& supports) const;
+  /// Measures at time `t` how deep `a` goes into `b` (a device into the load it takes or let
+  /// go, which it may touch): only a penetration deeper than a contact is kept.
+  void measure_penetration(double t, int a, int b);
+  /// The pair's approaches from `from` to `to` are the job (a load's set-down on what it landed
+  /// on, its lift off what it stood on): not counted, but for penetrations. `to` may lie ahead.
+  void excuse(int a, int b, double from, double to);
+
+  /// The closest approach of the run: the smallest distance of any pair outside the moves
+  /// excused, negative for the deepest penetration; none when nothing came within reach.
+  std::optional<RunSummaryFile::Clearance> closest() const;
 
  private:
   struct Seen {
-    double distance;
-    double t;
+    double distance = INFINITY;
+    double t = 0;
     std::string a, b;  ///< `Object` or `Device.part`
   };
+  struct Pair {
+    /// Each sample closer than every earlier one still counted, in time order: excusing a
+    /// stretch of time drops its records and leaves the closest before it.
+    std::vector<Seen> records;
+    std::vector<std::pair<double, double>> excused;  ///< (from, to) stretches ahead or under way
+    double closest() const { return records.empty() ? INFINITY : records.back().distance; }
+    bool is_excused(double t) const;
+  };
+  using Key = std::pair<int, int>;  ///< (lower object, higher object)
+  static Key key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+  void keep(Pair& pair, Seen seen);
+
   const Workcell& wc_;
   const GeometryModel& geometry_;
   CollisionWorld nearby_;
-  std::map<std::pair<int, int>, Seen> seen_;  ///< (moving, other) -> closest
+  std::map<Key, Pair> pairs_;
 };
 
 }  // namespace sscs

@@ -45,14 +45,17 @@ class Planner {
     plan_.settings = scenario.settings;
     double t = 0;
     for (const StepCommand& step : scenario.steps) {
-      if (plan_.failure) break;
+      if (plan_.failure) {
+        not_begun(step);
+        continue;
+      }
       if (step.kind == StepKind::Parallel) {
         plan_.steps.push_back({step.index, StepKind::Parallel, step.mark, -1, -1, t, t});
         size_t group = plan_.steps.size() - 1;
         double end = t;
         for (const StepCommand& member : step.members) {
-          end = std::max(end, step_at(member, t));
-          if (plan_.failure) break;
+          if (plan_.failure) not_begun(member);
+          else end = std::max(end, step_at(member, t));
         }
         plan_.steps[group].end = end;
         t = end;
@@ -159,6 +162,13 @@ class Planner {
 
   Eigen::Isometry3d tool_world(int d, const Eigen::VectorXd& q) const {
     return geometry_.objects[d].X_world_object * model(d).tool_pose(q);
+  }
+
+  /// A step after the failure: listed, never begun (a group with its members).
+  void not_begun(const StepCommand& step) {
+    PlannedStep ps{step.index, step.kind, step.mark, step.device, step.object, 0, 0};
+    plan_.not_begun.push_back(ps);
+    for (const StepCommand& member : step.members) not_begun(member);
   }
 
   void fail(double t, EventKind kind, size_t step, int d, std::string message, double error = 0) {

@@ -126,8 +126,14 @@ struct Plan {
   std::vector<Track> tracks;          ///< one per device that moves or acts
   std::vector<PlannedStep> steps;     ///< in order of start
   std::optional<PlanFailure> failure; ///< planning stopped here
+  /// The steps after the failure, never begun (times unset): the run's summary lists them too.
+  std::vector<PlannedStep> not_begun;
   double end = 0;                     ///< when the last step ends (or the failure)
   const Track* track(int object) const;
+  /// Whether `ps` is the step the plan failed at (it began and never finished), or its group.
+  bool failed_at(const PlannedStep& ps) const {
+    return failure && ps.index == failure->step && ps.end >= failure->t - 1e-12;
+  }
 };
 
 /// Plans a compiled scenario. Returns nullopt when an input error was reported (here or in `diag`

@@ -66,6 +66,15 @@ std::string work_dir(const RunOptions& options) {
 
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
 
+/// A collision from its first contact to its last, as the run keeps it.
+struct CollisionEpisode {
+  int a = -1, b = -1;  ///< the objects
+  size_t event = 0;    ///< its collision event
+  double depth = 0;    ///< unrounded deepest
+  bool measured = false;  ///< the solids' penetration was measured (else: the physics' contacts)
+  RunSummaryFile::CollisionEpisode file;
+};
+
 class Run {
  public:
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
@@ -89,12 +98,14 @@ class Run {
     ended_.assign(plan_.steps.size(), 0);
     wall_start_ = std::chrono::steady_clock::now();
     long k = 0;
+    double observed_at = -1;
     for (;; ++k) {
       const double t = k * dt;
       if (!begin_and_end_steps(t)) break;  // a grasp missed
       if (k % every == 0) {
         recorder_.record(t);
         observe(t);
+        observed_at = t;
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
       if (plan_failed(t) || settled(t) || out_of_time(t, k)) break;
@@ -108,6 +119,12 @@ class Run {
       after_step(world_.time());
     }
     if (options_.progress == RunOptions::Progress::Live && options_.progress_to) *options_.progress_to << "\r\x1b[K" << std::flush;
+    // A row at the run's last instant, off the log rate or not: the logs, the glTF animation and
+    // the page's player end where the run does (they stopped at 2.78 s of a 2.796 s run).
+    if (observed_at < k * dt - dt / 2 && !interrupted_) {
+      recorder_.record(k * dt);
+      observe(k * dt);
+    }
     return finish(k * dt);
   }
 
@@ -127,7 +144,8 @@ class Run {
         if (ps.kind == StepKind::Grasp && !grasp(t, ps)) return false;
         if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) release(t, ps);
       }
-      if (started_[i] && !ended_[i] && ps.end <= t + dt / 2) {
+      // The step the plan failed at began and never ended (its step_end was logged at the failure).
+      if (started_[i] && !ended_[i] && ps.end <= t + dt / 2 && !plan_.failed_at(ps)) {
         ended_[i] = 1;
         step_event(t, EventKind::StepEnd, ps);
         if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
@@ -171,17 +189,12 @@ class Run {
     // (Its bounds reach the load's bottom and lie under its footprint: a rack whose deck
     // the drum stands on rises far above the drum's bottom, and lifting the drum off
     // the deck was a collision.)
-    const Eigen::AlignedBox3d& load_box = live_.objects[ps.object].bbox_world;
-    const double bottom = load_box.min().z();
-    for (int other : clearances_.within(ps.object, world_.pose(ps.object), chain(ps.object), kSupportGap)) {
-      const Eigen::AlignedBox3d& box = live_.objects[other].bbox_world;
-      const Eigen::AlignedBox2d under = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())
-                                            .intersection(Eigen::AlignedBox2d(load_box.min().head<2>(), load_box.max().head<2>()));
-      if (box.min().z() <= bottom + kSupportGap && box.max().z() >= bottom - kSupportGap && !under.isEmpty() &&
-          (under.sizes().array() > 0).all())
-        supports_.insert({ps.object, other});
+    for (int other : stands_on(ps.object)) {
+      supports_.insert({ps.object, other});
+      clearances_.excuse(ps.object, other, t, lift_end(ps.device, t));  // the lift off it
     }
-    if (bottom <= floor_under(wc_, live_, ps.object) + kSupportGap) supports_.insert({ps.object, -1});  // the floor
+    if (live_.objects[ps.object].bbox_world.min().z() <= floor_under(wc_, live_, ps.object) + kSupportGap)
+      supports_.insert({ps.object, -1});  // the floor
     // What stands on the load rides with it as free bodies: drums on a pallet a forklift
     // lifts (they stood still in the air).
     for (int k : riders(ps.object)) {
@@ -193,11 +206,57 @@ class Run {
     return true;
   }
 
+  /// What object `o` stands on where it is now: near it, and below its bottom (a drum resting on
+  /// the pallet is no support of the pallet: lifting the pallet 4 mm into it was excused). (Its
+  /// bounds reach the load's bottom and lie under its footprint: a rack whose deck the drum
+  /// stands on rises far above the drum's bottom, and lifting the drum off the deck was a
+  /// collision.)
+  std::vector<int> stands_on(int o) {
+    const Eigen::AlignedBox3d& load_box = live_.objects[o].bbox_world;
+    const double bottom = load_box.min().z();
+    std::vector<int> out;
+    auto under_footprint = [&](const Eigen::AlignedBox3d& box) {
+      const Eigen::AlignedBox2d under = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>())
+                                            .intersection(Eigen::AlignedBox2d(load_box.min().head<2>(), load_box.max().head<2>()));
+      return !under.isEmpty() && (under.sizes().array() > 0).all();
+    };
+    for (int other : clearances_.within(o, world_.pose(o), chain(o), kSupportGap)) {
+      const ObjectGeometry& g = live_.objects[other];
+      if (g.device) {
+        // A device holds it up only with a part whose top is at its bottom (an AGV's deck), not
+        // by reaching round it (the fingers of the gripper letting go).
+        for (const Shape& sh : g.shapes) {
+          const Eigen::AlignedBox3d box = shape_bounds(sh, g.X_world_object * sh.X_object_shape);
+          if (std::abs(box.max().z() - bottom) <= kSupportGap && under_footprint(box)) {
+            out.push_back(other);
+            break;
+          }
+        }
+        continue;
+      }
+      const Eigen::AlignedBox3d& box = g.bbox_world;
+      if (box.min().z() <= bottom + kSupportGap && box.max().z() >= bottom - kSupportGap && under_footprint(box)) out.push_back(other);
+    }
+    return out;
+  }
+
   /// A release step: the held object (and what rode on it) is let go, watched until it rests.
   void release(double t, const PlannedStep& ps) {
     int o = world_.held(ps.device);
     world_.release(ps.device);
     released_[o] = false;
+    released_when_[o] = t;
+    released_by_[o] = ps.device;
+    // Set down on a device's deck (a pallet an AGV carried and keeps): it has landed there, on
+    // the device, and is watched for rest (it never landed: the deck is a device's part, whose
+    // contacts are collisions or the tool's own).
+    for (int other : stands_on(o))
+      if (geometry_.objects[other].device && !released_[o]) {
+        released_[o] = true;
+        events_.add(t, EventKind::Landed, {{"object", wc_.objects[o].name}, {"on", wc_.objects[other].name}});
+        supports_.insert({o, other});
+        clearances_.excuse(o, other, set_down_from(o), t);
+      }
     released_at_[o] = world_.pose(o).translation();
     set_down_at_[o] = {released_at_[o], bottom_of(o)};
     // Its riders stay where they are, on it: free bodies, watched until they rest.
@@ -423,6 +482,8 @@ class Run {
       set_down_at_.erase(o);  // it rides on the load from here: where it rests is the load's doing
       supports_.insert({load, o});  // what it landed on, and what landed on the load: no clearances
       supports_.insert({o, other});
+      clearances_.excuse(o, other, set_down_from(o), t);
+      clearances_.excuse(o, load, set_down_from(o), t);
       rider_of_[o] = load;
       rode_on_[o] = load;
       X_load_rider_[o] = world_.pose(load).inverse() * world_.pose(o);
@@ -535,14 +596,32 @@ class Run {
       auto last = last_contact_.find(key);
       bool ongoing = last != last_contact_.end() && t - last->second <= kApart;
       last_contact_[key] = t;
-      if (ongoing) continue;
       bool device_part = (c.a >= 0 && c.part_a >= 0) || (c.b >= 0 && c.part_b >= 0);
       bool carried = load_a >= 0 || load_b >= 0;
       if (device_part || carried) {
-        events_.add(t, EventKind::Collision, {{"a", part_name(c.a, c.part_a)}, {"b", part_name(c.b, c.part_b)},
-                               {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)}});
+        // An episode from its first contact to its last: its event grows with it (the first
+        // contact's depth was all it said while a forklift drove 1.4 m through a drum). Once
+        // the load is let go the pair's contact is no collision any more: it lands.
+        if (ongoing) {
+          if (auto ep = collision_of_.find(key); ep != collision_of_.end()) grow_collision(collisions_[ep->second], t, c.depth, &c.point);
+          continue;
+        }
+        CollisionEpisode ep;
+        ep.a = c.a;
+        ep.b = c.b;
+        ep.file = {part_name(c.a, c.part_a), part_name(c.b, c.part_b), r9(t), r9(t), r9(c.depth), r9(t),
+                   std::vector<double>{r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}};
+        ep.event = events_.add(t, EventKind::Collision, {{"a", ep.file.a}, {"b", ep.file.b},
+                               {"point", {r9(c.point.x()), r9(c.point.y()), r9(c.point.z())}}, {"depth", r9(c.depth)},
+                               {"end", r9(t)}, {"deepest_at", r9(t)}});
+        ep.depth = c.depth;
+        collision_of_[key] = collisions_.size();
+        collisions_.push_back(std::move(ep));
         continue;
       }
+      // A released object's touch of anything but a device is its landing, also one that began
+      // before the release (a drum let go while pressed into another never landed, rested or
+      // was judged displaced).
       if (one_stack(c.a, c.b)) continue;  // a released pallet touching its own drum has not landed
       for (int o : {c.a, c.b}) {
         auto it = released_.find(o);
@@ -551,6 +630,7 @@ class Run {
           int other = o == c.a ? c.b : c.a;
           events_.add(t, EventKind::Landed, {{"object", wc_.objects[o].name}, {"on", part_name(other, -1)}});
           supports_.insert({o, other});
+          if (other >= 0) clearances_.excuse(o, other, set_down_from(o), t);  // the move that set it down
         }
       }
     }
@@ -590,6 +670,65 @@ class Run {
       }
     }
   }
+
+  /// A collision episode's physics contact at t, `depth` deep at `point`: the episode lasts to
+  /// t, and until the solids were measured its deepest is the physics' deepest contact.
+  void grow_collision(CollisionEpisode& ep, double t, double depth, const Eigen::Vector3d* point) {
+    ep.file.end = r9(t);
+    events_.update(ep.event, "end", ep.file.end);
+    if (ep.measured || depth <= ep.depth) return;
+    deepest(ep, t, depth, point);
+  }
+
+  void deepest(CollisionEpisode& ep, double t, double depth, const Eigen::Vector3d* point) {
+    ep.depth = depth;
+    ep.file.depth = r9(depth);
+    ep.file.deepest_at = r9(t);
+    events_.update(ep.event, "depth", ep.file.depth);
+    events_.update(ep.event, "deepest_at", ep.file.deepest_at);
+    if (point) ep.file.point = std::vector<double>{r9(point->x()), r9(point->y()), r9(point->z())};
+    else ep.file.point.reset();
+    events_.update(ep.event, "deepest_point", ep.file.point ? nlohmann::ordered_json(*ep.file.point) : nlohmann::ordered_json(nullptr));
+  }
+
+  /// At the trajectory rate: each collision still going on, as deep as the two objects' solids
+  /// are into each other now: the length of the shortest push that separates them. Once measured
+  /// this is the episode's depth (a physics contact's depth is one contact's, along its normal:
+  /// ODE said 0.8 mm at a forklift's first touch of a drum, and 1.38 m for a drum wholly inside
+  /// its body that a 0.80 m push frees).
+  void grow_collisions_by_distance(double t) {
+    for (CollisionEpisode& ep : collisions_) {
+      if (ep.a < 0 || ep.b < 0 || t - ep.file.end > kApart) continue;
+      const std::optional<double> d = clearances_.distance(ep.a, ep.b);
+      if (!d || *d >= 0) continue;
+      if (!ep.measured || -*d > ep.depth) deepest(ep, t, -*d, nullptr);
+      ep.measured = true;
+    }
+  }
+
+  /// When the move that set released object `o` down began: the last move of the device that
+  /// released it, up to the release (it was lowered onto what it lands on while still held).
+  double set_down_from(int o) const {
+    auto when = released_when_.find(o);
+    auto by = released_by_.find(o);
+    if (when == released_when_.end() || by == released_by_.end()) return 0;
+    double from = when->second;
+    for (const PlannedStep& ps : plan_.steps) {
+      if (ps.kind == StepKind::Release && ps.device == by->second && std::abs(ps.start - when->second) <= plan_.settings.timestep / 2)
+        break;  // the moves after it start at the same instant
+      if (ps.device == by->second && is_move(ps.kind)) from = ps.start;
+    }
+    return from;
+  }
+
+  /// When the move that lifts what device `d` grasps at `t` ends: its first move from then on.
+  double lift_end(int d, double t) const {
+    for (const PlannedStep& ps : plan_.steps)
+      if (ps.device == d && is_move(ps.kind) && ps.start >= t - plan_.settings.timestep / 2) return ps.end;
+    return t;
+  }
+
+  static bool is_move(StepKind kind) { return kind == StepKind::MoveTo || kind == StepKind::MoveJoints; }
 
   /// At the trajectory rate: a tool that lags its plan by more than kTrackingTolerance is an
   /// event, once an episode (until it is back within half of it), at its start; its `deviation`
@@ -687,14 +826,22 @@ class Run {
         live_values_[obj.first_slot + kOrientationSlot + k] = rpy[k];
       }
     }
+    // Each device's moving parts against everything but the loads it handles (the one it holds,
+    // the next it takes, the last it let go): those it may touch, not go into.
     for (const DeviceRun& dr : devices_) {
       std::vector<int> skip = chain(dr.object);
-      for (int o : handled(dr.object, t)) skip.push_back(o);
+      for (int o : handled(dr.object, t)) {
+        skip.push_back(o);
+        if (o != world_.held(dr.object)) clearances_.measure_penetration(t, dr.object, o);
+      }
       clearances_.measure(t, dr.object, skip, dr.moving_parts);
     }
     // Each carried load and what rides on it, against everything but the stack itself (a drum
     // resting on its pallet is no clearance: the summary said -1.6e-6 m for every lifted pallet
-    // and hid a drum passing 55 mm under a beam).
+    // and hid a drum passing 55 mm under a beam), the device holding it, and the devices about
+    // to take or just letting go of one of them (measured from their side, tool included). What
+    // it was lifted from is measured: excused from the grasp until they part, and never again
+    // (a drum lowered through the drum it then landed on said 0.02 m).
     for (int o : loads) {
       std::vector<int> stack = {o};
       for (const auto& [rider, load] : rider_of_)
@@ -702,13 +849,15 @@ class Run {
       for (int moving : stack) {
         std::vector<int> skip = chain(moving);
         skip.insert(skip.end(), stack.begin(), stack.end());
-        for (const DeviceRun& dr : devices_)
-          if (world_.held(dr.object) == o) skip.push_back(dr.object);
-        for (auto [load, support] : supports_)
-          if (load == o) skip.push_back(support);
+        for (const DeviceRun& dr : devices_) {
+          const std::vector<int> loads_of = handled(dr.object, t);
+          if (world_.held(dr.object) == o || std::find(loads_of.begin(), loads_of.end(), moving) != loads_of.end())
+            skip.push_back(dr.object);
+        }
         clearances_.measure(t, moving, skip);
       }
     }
+    grow_collisions_by_distance(t);
     check_tracking(t);
     check_riders(t);
     if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
@@ -750,12 +899,15 @@ class Run {
     if (at == set_down_at_.end()) return;
     const Eigen::Vector3d move = p - at->second.position;
     const double fall = std::max(0.0, at->second.bottom - bottom_of(o));
-    if (move.head<2>().norm() <= kGraspReach && fall <= kSetDownDrop) return;
+    // Higher than it was set down is off its target too: pushed out of what it was lowered
+    // into, it rested on top of another drum 0.85 m up and the run said nothing.
+    const double rise = std::max(0.0, bottom_of(o) - at->second.bottom);
+    if (move.head<2>().norm() <= kGraspReach && fall <= kSetDownDrop && rise <= kGraspReach) return;
     if (!displaced_.insert(o).second) return;  // once an object
     const Eigen::Vector3d& from = at->second.position;
     events_.add(t, EventKind::Displaced, {{"object", wc_.objects[o].name}, {"from", {r9(from.x()), r9(from.y()), r9(from.z())}},
                                           {"to", {r9(p.x()), r9(p.y()), r9(p.z())}}, {"distance", r9(move.norm())},
-                                          {"fall", r9(fall)}});
+                                          {"fall", r9(fall)}, {"rise", r9(rise)}});
   }
 
   /// At the end of the run, a released object that a device's part still holds up (pushes
@@ -767,11 +919,28 @@ class Run {
       // Pressing it down holds nothing up: only the sideways and upward push counts.
       Eigen::Vector3d F = world_.device_force(o);
       F.z() = std::max(F.z(), 0.0);
+      // Held up from below by a device that cannot lower it (an AGV's deck, a cart's bed) is
+      // where it was set down, not propped: such a device carries what it carries.
+      if (world_.device_pushing(o) >= 0 && !can_lower(world_.device_pushing(o))) F.z() = 0;
       const double weight = world_.mass(o) * kGravity;
       if (world_.device_pushing(o) < 0 || F.norm() <= kProppedShare * weight) continue;
       events_.add(t, EventKind::Propped, {{"object", wc_.objects[o].name}, {"by", wc_.objects[world_.device_pushing(o)].name},
                                           {"force", r9(F.norm())}, {"share", r9(F.norm() / weight)}});
     }
+  }
+
+  /// Whether some joint of device `d` moves its tool up or down where it is now (a lift, a
+  /// hoist, an arm), unlike an AGV or a cart whose joints only drive and turn it.
+  bool can_lower(int d) const {
+    const Device& m = *geometry_.objects[d].device;
+    const Eigen::VectorXd q = world_.joints(d);
+    const double z = m.tool_pose(q).translation().z();
+    for (int j = 0; j < m.dof(); ++j) {
+      Eigen::VectorXd q1 = q;
+      q1[j] += 1e-3;
+      if (std::abs(m.tool_pose(q1).translation().z() - z) > 1e-9) return true;
+    }
+    return false;
   }
 
   /// The height of an object's lowest point where the physics has it now.
@@ -826,7 +995,15 @@ class Run {
       if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
       if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
       st.start = when(ps.start);
-      st.end = when(ps.end);
+      st.end = plan_.failed_at(ps) ? std::nullopt : when(ps.end);  // it began and never finished
+      f.steps.push_back(std::move(st));
+    }
+    for (const PlannedStep& ps : plan_.not_begun) {  // after the failure
+      RunSummaryFile::Step st;
+      st.index = ps.index;
+      st.action = step_kind_name(ps.kind);
+      if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
+      if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
       f.steps.push_back(std::move(st));
     }
     for (const DeviceRun& dr : devices_) {
@@ -846,7 +1023,14 @@ class Run {
       d.tool_path_length = r9(dr.path);
       f.devices.emplace_back(wc_.objects[dr.object].name, std::move(d));
     }
-    f.min_clearance = clearances_.closest(supports_);
+    // The closest approach, or the deepest penetration of any collision: negative whenever
+    // something went into something.
+    f.min_clearance = clearances_.closest();
+    for (const CollisionEpisode& ep : collisions_) {
+      f.collisions.push_back(ep.file);
+      if (!f.min_clearance || -ep.file.depth < f.min_clearance->distance)
+        f.min_clearance = RunSummaryFile::Clearance{-ep.file.depth, ep.file.a, ep.file.b, ep.file.deepest_at};
+    }
     for (size_t k = 0; k < kEventKindNames.size(); ++k)
       if (size_t n = events_.count(static_cast<EventKind>(k))) f.events.emplace_back(std::string(kEventKindNames[k]), n);
     if (options_.inputs) {
@@ -869,6 +1053,10 @@ class Run {
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
   std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
+  std::map<int, double> released_when_;         // and when
+  std::map<int, int> released_by_;              // and by which device
+  std::vector<CollisionEpisode> collisions_;
+  std::map<std::tuple<int, int, int, int>, size_t> collision_of_;  // contact key -> its episode
   struct SetDown {
     Eigen::Vector3d position;  // its origin
     double bottom = 0;         // the height of its lowest point

@@ -102,6 +102,13 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
   j["min_clearance"] = min_clearance ? json{{"distance", min_clearance->distance}, {"a", min_clearance->a}, {"b", min_clearance->b},
                                             {"t", min_clearance->t}}
                                      : json(nullptr);
+  json episodes = json::array();
+  for (const CollisionEpisode& c : collisions) {
+    json e = {{"a", c.a}, {"b", c.b}, {"start", c.start}, {"end", c.end}, {"depth", c.depth}, {"deepest_at", c.deepest_at}};
+    if (c.point) e["point"] = *c.point;
+    episodes.push_back(std::move(e));
+  }
+  j["collisions"] = std::move(episodes);
   json counts = json::object();
   for (const auto& [kind, n] : events) counts[kind] = n;
   j["events"] = std::move(counts);
@@ -157,6 +164,18 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
   if (const json* mc = r.member(j, "min_clearance", "summary", false); mc && !mc->is_null())
     s.min_clearance = Clearance{r.number(*mc, "distance", "min_clearance"), r.text(*mc, "a", "min_clearance"),
                                 r.text(*mc, "b", "min_clearance"), r.number(*mc, "t", "min_clearance")};
+  if (const json* list = r.array(j, "collisions", "summary", false))  // absent before episodes were kept
+    for (const json& e : *list) {
+      CollisionEpisode c{r.text(e, "a", "collisions[]"), r.text(e, "b", "collisions[]"), r.number(e, "start", "collisions[]"),
+                         r.number(e, "end", "collisions[]"), r.number(e, "depth", "collisions[]"),
+                         r.number(e, "deepest_at", "collisions[]"), std::nullopt};
+      if (const json* p = r.array(e, "point", "collisions[]", false)) {
+        std::vector<double> xyz;
+        for (const json& x : *p) xyz.push_back(r.number_of(&x, "collisions[].point"));
+        c.point = std::move(xyz);
+      }
+      s.collisions.push_back(std::move(c));
+    }
   if (const json* events = r.object(j, "events", "summary"))
     for (const auto& [kind, n] : events->items()) {
       if (!n.is_number_unsigned() && !(n.is_number_integer() && n.get<long long>() >= 0)) {

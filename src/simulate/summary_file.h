@@ -40,6 +40,16 @@ struct RunSummaryFile {
     double t = 0;
   };
   std::optional<Clearance> min_clearance;  ///< none: nothing came within the tracked range
+  /// A collision from its first contact to its last (contacts apart less than 0.1 s are one):
+  /// the deepest the two went into each other, when and where.
+  struct CollisionEpisode {
+    std::string a, b;  ///< `Object` or `Device.part`, as the first contact named them
+    double start = 0, end = 0;
+    double depth = 0;  ///< m, the deepest penetration of the episode
+    double deepest_at = 0;
+    std::optional<std::vector<double>> point;  ///< where the deepest contact was, when the physics placed it
+  };
+  std::vector<CollisionEpisode> collisions;
   std::vector<std::pair<std::string, size_t>> events;  ///< counts by kind
   std::vector<std::pair<std::string, std::string>> inputs;  ///< path, sha256
   std::vector<std::string> inputs_not_in_resolved;

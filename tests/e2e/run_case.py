@@ -456,9 +456,11 @@ def simulate(sscs, root):
                            ("eur_pallet.obj", "library/meshes/eur_pallet.obj"), ("arm6.yaml", "library/types/arm6.yaml")]:
             if inputs.get(name) != hashlib.sha256(open(os.path.join(root, path), "rb").read()).hexdigest():
                 fail(f"sha256 of {name} in summary.json: {inputs.get(name)}")
-        # The closest approach: the arm passes the rack's upright; nothing it handles counts.
+        # The closest approach: the carried drum swinging past the rack's end, 95 mm, at 4.88 s
+        # (the rack it is set down on later counts outside the move that sets it down: the whole
+        # run's approaches to it were left out, and the arm's 0.2 m to an upright was reported).
         mc = summary["min_clearance"]
-        if not (0.05 < mc["distance"] < 1.0) or mc["b"] != "Rack_A" or not mc["a"].startswith("Robot."):
+        if not (0.09 < mc["distance"] < 0.1) or (mc["a"], mc["b"]) != ("Drum_1", "Rack_A") or abs(mc["t"] - 4.88) > 0.05:
             fail(f"min_clearance {mc}")
         # --bundle: the same tree in one zip, byte-identical across runs; compare reads it.
         bundles = [os.path.join(tmp, f"b{i}.zip") for i in (1, 2)]
@@ -2092,7 +2094,14 @@ def sweep_reuse(sscs, root):
     print("ok sweep_reuse")
 
 
-MODES = {"catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+def run_truth(sscs, root):
+    """What a run says is what happened: tests/e2e/run_truth.py over tests/data/run-truth."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import run_truth as truth
+    truth.run_truth(sscs, root, run, fail)
+
+
+MODES = {"run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 
