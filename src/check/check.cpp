@@ -2,6 +2,7 @@
 
 #include "geometry/collision.h"
 #include "core/selection_calls.h"
+#include "kinematics/closest.h"
 #include "kinematics/ik.h"
 
 #include <algorithm>
@@ -505,7 +506,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       return !c;
     };
     IkResult ik;
-    if (std::optional<Collision> stuck = clearance.of_parts(world, q0, t.object, unmoved)) {
+    const std::optional<Collision> stuck = clearance.of_parts(world, q0, t.object, unmoved);
+    if (stuck) {
       // Reached or not within the joint limits decides the message; every pose that reaches it
       // has this collision.
       ik = solve_ik(chain, X_root_world * X_world_target, seed, opt);
@@ -518,6 +520,27 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       if (ik.status == IkResult::Status::Rejected && !rc.match_orientation)
         ik = reach_by_approach(chain, X_root_world * X_world_target, seed, opt, accept, ik);
       if (ik.status == IkResult::Status::Rejected && hit) hit = collision_at(hit_q, false);
+    }
+    // Not reached: the margin is minus the closest the device comes, over every configuration
+    // within its limits free of collision (vault-format.md), found by a global search, not where
+    // the solver stopped (mirror-image targets differed by 0.8 m, a crane's hook clamped 2 m
+    // off read 2.00015). The search may also find the target reached after all.
+    bool beyond = false;
+    if (ik.status == IkResult::Status::Unreachable) {
+      const Eigen::Isometry3d X_root_target = X_root_world * X_world_target;
+      beyond = (X_root_target.translation() - chain.base_point()).norm() > chain.reach_bound() + rc.position_tol_si;
+      // (When a part no joint moves collides, every pose does: the collision says nothing of
+      // how close the tool comes, and no pose is free to measure it at.)
+      const ClosestReach closest = closest_reach(chain, X_root_target, rc.match_orientation, ik.q,
+                                                 stuck ? std::function<bool(const Eigen::VectorXd&)>() : [&](const Eigen::VectorXd& q) {
+                                                   return !collision_at(q, true);
+                                                 });
+      if (closest.found) {
+        ik.q = closest.q;
+        ik.position_error = closest.position_error;
+        ik.angle_error = closest.angle_error;
+        if (closest.position_error <= rc.position_tol_si && closest.angle_error <= rc.angle_tol_si) ik.status = IkResult::Status::Reached;
+      }
     }
     if (ik.ok() && ik.position_error < 1e-9) ik.position_error = 0;  // rounding: keep reports stable
     CheckResult r;
@@ -545,8 +568,10 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       case IkResult::Status::Unreachable:
         r.status = Status::Fail;
         r.margin = -ik.position_error;
-        r.message = fmt::format("{} cannot reach {} within its joint limits: best position error {:g} m{}", o.name, t.text,
-                                stable(ik.position_error), angle);
+        r.message = beyond ? fmt::format("{} cannot reach {}: it lies beyond the device's reach; the closest its tool comes is {:g} m{}",
+                                         o.name, t.text, stable(ik.position_error), angle)
+                           : fmt::format("{} cannot reach {} within its joint limits: the closest its tool comes is {:g} m{}", o.name,
+                                         t.text, stable(ik.position_error), angle);
         break;
       case IkResult::Status::Rejected:
         r.status = Status::Fail;

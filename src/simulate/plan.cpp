@@ -1,5 +1,7 @@
 #include "simulate/plan.h"
 
+#include "kinematics/closest.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -14,6 +16,7 @@
 #include "core/names.h"
 #include "core/pose.h"
 #include "geometry/collision.h"
+#include "kinematics/closest.h"
 #include "kinematics/ik.h"
 #include "simulate/world.h"
 
@@ -259,6 +262,26 @@ class Planner {
     return opt;
   }
 
+  /// A target the solver did not reach: the closest the device comes to it over its whole joint
+  /// range (kinematics/closest.h), as `reach` measures it, into `r`. True when that reaches it
+  /// after all (r then holds the solution).
+  bool closest_instead(const Chain& chain, const Eigen::Isometry3d& target, IkResult& r) const {
+    const IkOptions opt = ik_options();
+    const ClosestReach c = closest_reach(chain, target, opt.orientation, r.q);
+    if (!c.found) return false;
+    r.q = c.q;
+    r.position_error = c.position_error;
+    r.angle_error = c.angle_error;
+    if (c.position_error > opt.position_tol || c.angle_error > opt.angle_tol) return false;
+    r.status = IkResult::Status::Reached;
+    return true;
+  }
+
+  std::string unreachable_message(int d, const IkResult& r) const {
+    return fmt::format("{} cannot reach the move_to target: the closest its tool comes is {:g} m{}", wc_.objects[d].name,
+                       stable(r.position_error), r.angle_error > 1e-9 ? fmt::format(" (turned {:g} deg off)", stable(r.angle_error * 180 / kPi)) : "");
+  }
+
   /// The guard behind the solver: the joint values a move ends at put the tool on its target
   /// (a solver that returned shifted values once sent a crane to 5.7 m instead of 12 m, and the
   /// run said ok). A miss beyond 1 mm fails the plan; it never runs silently elsewhere.
@@ -313,10 +336,8 @@ class Planner {
     };
     IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options(), free);
     if (r.status == IkResult::Status::Rejected) r = solve_ik(chain, target, chain.from_device(st.q), ik_options());
-    if (!r.ok()) {
-      fail(start, EventKind::Unreachable, index, d,
-           fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name, stable(r.position_error)),
-           r.position_error);
+    if (!r.ok() && !closest_instead(chain, target, r)) {
+      fail(start, EventKind::Unreachable, index, d, unreachable_message(d, r), r.position_error);
       return start;
     }
     if (!ends_at_target(chain, r.q, target, index, d, start)) return start;
@@ -333,10 +354,8 @@ class Planner {
     Eigen::Isometry3d T0 = chain.forward(chain.from_device(st.q)), T1 = X_root * X_world;
     // The end must be reachable at all, else the failure is "unreachable", not a path problem.
     IkResult end_ik = solve_ik(chain, T1, chain.from_device(st.q), ik_options());
-    if (!end_ik.ok()) {
-      fail(start, EventKind::Unreachable, index, d,
-           fmt::format("{} cannot reach the move_to target: best position error {:g} m", wc_.objects[d].name,
-                       stable(end_ik.position_error)), end_ik.position_error);
+    if (!end_ik.ok() && !closest_instead(chain, T1, end_ik)) {
+      fail(start, EventKind::Unreachable, index, d, unreachable_message(d, end_ik), end_ik.position_error);
       return start;
     }
     if (!ends_at_target(chain, end_ik.q, T1, index, d, start)) return start;

@@ -462,6 +462,12 @@ def simulate(sscs, root):
         mc = summary["min_clearance"]
         if not (0.09 < mc["distance"] < 0.1) or (mc["a"], mc["b"]) != ("Drum_1", "Rack_A") or abs(mc["t"] - 4.88) > 0.05:
             fail(f"min_clearance {mc}")
+        # The logs end where the run does, off the 50 Hz rate or not (10.001 s): the glTF
+        # animation and the page's player are made from them (they stopped at the last 20 ms).
+        for f in ["trajectories/Robot.csv", "objects.csv"]:
+            last_t = float(open(os.path.join(out, f)).read().splitlines()[-1].split(",")[0])
+            if abs(last_t - summary["simulated_time"]) > 1e-9 or abs(last_t - 10.001) > 1e-9:
+                fail(f"{f} ends at {last_t}, the run at {summary['simulated_time']}")
         # --bundle: the same tree in one zip, byte-identical across runs; compare reads it.
         bundles = [os.path.join(tmp, f"b{i}.zip") for i in (1, 2)]
         for b in bundles:

@@ -151,6 +151,46 @@ TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
   EXPECT_EQ(rep.failed, 2u);
 }
 
+TEST_F(Check, AnUnreachableTargetsMarginIsTheClosestTheDeviceComesNotWhereASearchStopped) {
+  // A bridge crane's hook travels y in [1, 9] m (span 10, hook approach 1): a target 2 m past the
+  // trolley's travel is exactly 2 m from anything the hook reaches (it said 2.00015, and 27
+  // identical targets of one sweep variant read 3.63509 to 3.64455).
+  Workcell wc = must_compile(
+      "objects:\n  - {type: bridge_crane, name: Crane}\n"
+      "  - {type: drum, array: {name: \"D_{i}_{j}\", count: [3, 9], pitch: [4, 0.4, 0]}, location: [2, 10.8, 1]}\n"
+      "constraints:\n  - {name: far, reach: {device: Crane, targets: [{xyz: [5, 11, 3]}, {xyz: [5, -1, 3]}, {xyz: [7.25, 12.635, 2]}]}}\n"
+      "  - {name: same, reach: {device: Crane, targets: \"D_*\", frame: origin}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 30u);
+  EXPECT_EQ(*rep.results[0].margin, -2.0);
+  EXPECT_EQ(*rep.results[1].margin, -2.0);
+  EXPECT_NEAR(*rep.results[2].margin, -3.635, 1e-12);
+  EXPECT_EQ(rep.results[2].message, "Crane cannot reach [7.25, 12.635, 2] within its joint limits: the closest its tool comes is 3.635 m");
+  // A drum j steps of 0.4 m along y from 10.8 (clear of the runway's columns): 1.8 + 0.4 (j - 1)
+  // m past the travel, whatever i.
+  for (size_t k = 3; k < 30; ++k) {
+    const int j = static_cast<int>((k - 3) % 9) + 1;
+    EXPECT_NEAR(*rep.results[k].margin, -(1.8 + 0.4 * (j - 1)), 1e-12) << rep.results[k].message;
+  }
+}
+
+TEST_F(Check, MirrorImageReachTargetsOfAnArmFailByTheSameMargin) {
+  // arm6 at [6, 6.9, 0.8], the tool pointing down at [5.43, 8.8, 1.837] and at its mirror image
+  // in the arm's plane x = 6: -1.30694 and -0.48459 before (where the solver stopped).
+  Workcell wc = must_compile(
+      "objects:\n  - {type: arm6, name: Arm, location: [6, 6.9, 0.8]}\n"
+      "constraints:\n  - {name: down, reach: {device: Arm, targets: [{xyz: [5.43, 8.8, 1.837]}, {xyz: [6.57, 8.8, 1.837]}], "
+      "orientation: match, offset: {rpy: [180, 0, 0]}}}\n"
+      "  - {name: free, reach: {device: Arm, targets: [{xyz: [5.43, 8.8, 1.837]}, {xyz: [6.57, 8.8, 1.837]}]}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 4u);
+  EXPECT_NEAR(*rep.results[0].margin, *rep.results[1].margin, 1e-6);
+  EXPECT_LE(*rep.results[0].margin, -0.1886 + 1e-4);
+  EXPECT_GE(*rep.results[0].margin, -0.5083 - 1e-4);
+  EXPECT_NEAR(*rep.results[2].margin, -0.18858, 5e-5);
+  EXPECT_NEAR(*rep.results[3].margin, -0.18858, 5e-5);
+}
+
 TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
   // The tool may touch its target, but a point inside the target's solid is reached only by a
   // tool buried in it: that was a pass. A frame on the surface passes; a container (a type with
@@ -236,7 +276,7 @@ TEST_F(Check, ADevicesUnmovedPartInCollisionFailsEveryTargetAtOnce) {
   EXPECT_EQ(rep.results[0].message, "S reaches K.top only in collision: part base hits Wall by 0.1 m");
   EXPECT_NEAR(*rep.results[0].margin, -0.1, 1e-9);
   EXPECT_EQ(rep.results[1].status, Status::Fail);
-  EXPECT_EQ(rep.results[1].message, "S cannot reach [9, 0, 0.5] within its joint limits: best position error 5 m");
+  EXPECT_EQ(rep.results[1].message, "S cannot reach [9, 0, 0.5]: it lies beyond the device's reach; the closest its tool comes is 5 m");
   // Moved clear, the same target passes: the collision was the base's, not the search's.
   wc = must_compile("objects:\n  - {type: slider, name: S}\n  - {type: block, name: Wall, location: [0, 0.8, 0]}\n"
                     "  - {type: block, name: K, location: [2, 0, 0.1]}\n"

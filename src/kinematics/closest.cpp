@@ -1,0 +1,175 @@
+#include "kinematics/closest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace sscs {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+/// Metres of position error a radian of rotation error weighs: orientation comes first.
+constexpr double kAngleWeight = 1000;
+/// Starts over the joint box per joint of the chain, and how many of the best are refined.
+constexpr int kStartsPerJoint = 96;
+constexpr int kRefined = 16;
+constexpr int kIterations = 200;
+
+/// The i-th point of the Halton sequence in dimension `dim` (prime bases): evenly spread,
+/// deterministic starts over the joint box.
+double halton(int i, int dim) {
+  static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+  const int base = kPrimes[dim % 16];
+  double f = 1, r = 0;
+  for (int n = i + 1; n > 0; n /= base) {
+    f /= base;
+    r += f * (n % base);
+  }
+  return r;
+}
+
+/// The searched range of chain joint k: its limits, an unlimited revolute joint a turn either
+/// way, an unlimited prismatic one 50 m either way.
+std::pair<double, double> range(const Chain& chain, int k) {
+  const double span = chain.revolute(k) ? kPi : 50.0;
+  return {std::isfinite(chain.lower(k)) ? chain.lower(k) : -span, std::isfinite(chain.upper(k)) ? chain.upper(k) : span};
+}
+
+struct Residual {
+  Eigen::Matrix<double, 6, 1> e;  ///< position error, then the weighted rotation error
+  double cost = 0;                ///< 0.5 |e|^2
+};
+
+class Search {
+ public:
+  Search(const Chain& chain, const Eigen::Isometry3d& target, bool orientation)
+      : chain_(chain), target_(target), rows_(orientation ? 6 : 3), n_(chain.size()), J_(6, chain.size()) {}
+
+  Residual residual(const Eigen::VectorXd& q, bool jacobian) {
+    const Eigen::Isometry3d T = jacobian ? chain_.forward(q, J_) : chain_.forward(q);
+    Residual r;
+    r.e = pose_error(T, target_);
+    r.e.tail<3>() *= kAngleWeight;
+    r.cost = 0.5 * r.e.head(rows_).squaredNorm();
+    return r;
+  }
+
+  /// Bound-constrained Levenberg-Marquardt from q to a local minimum of the cost: a joint at a
+  /// limit the gradient pushes it past is held there, the others take the step.
+  Eigen::VectorXd refine(Eigen::VectorXd q) {
+    Residual r = residual(q, true);
+    double damping = 1e-3;
+    for (int it = 0; it < kIterations && n_ > 0; ++it) {
+      Eigen::MatrixXd Jr = J_.topRows(rows_);
+      Jr.bottomRows(rows_ - 3) *= kAngleWeight;
+      const Eigen::VectorXd g = Jr.transpose() * r.e.head(rows_);  // the descent direction's sign: dq ~ +g
+      std::vector<int> free;
+      for (int k = 0; k < n_; ++k) {
+        auto [lo, hi] = range(chain_, k);
+        const bool held = (q[k] <= lo + 1e-12 && g[k] < 0) || (q[k] >= hi - 1e-12 && g[k] > 0);
+        if (!held) free.push_back(k);
+      }
+      if (free.empty()) break;
+      Eigen::MatrixXd Jf(rows_, free.size());
+      for (size_t i = 0; i < free.size(); ++i) Jf.col(i) = Jr.col(free[i]);
+      Eigen::MatrixXd H = Jf.transpose() * Jf;
+      const Eigen::VectorXd gf = Jf.transpose() * r.e.head(rows_);
+      const double scale = std::max(1e-12, H.diagonal().maxCoeff());
+      bool stepped = false;
+      while (damping < 1e6) {
+        Eigen::MatrixXd Hd = H;
+        Hd.diagonal().array() += damping * scale;
+        const Eigen::VectorXd dq = Hd.ldlt().solve(gf);
+        Eigen::VectorXd next = q;
+        for (size_t i = 0; i < free.size(); ++i) {
+          auto [lo, hi] = range(chain_, free[i]);
+          next[free[i]] = std::clamp(q[free[i]] + dq[i], lo, hi);
+        }
+        const Residual rn = residual(next, true);
+        if (rn.cost < r.cost) {
+          const double gain = r.cost - rn.cost;
+          q = next;
+          r = rn;
+          damping = std::max(1e-12, damping * 0.2);
+          stepped = true;
+          if (gain <= 1e-20 + 1e-14 * r.cost) return q;  // converged
+          break;
+        }
+        damping *= 8;
+      }
+      if (!stepped) {
+        residual(q, true);  // J_ of q again
+        break;
+      }
+    }
+    return q;
+  }
+
+  int size() const { return n_; }
+  int rows() const { return rows_; }
+
+ private:
+  const Chain& chain_;
+  const Eigen::Isometry3d target_;
+  const int rows_, n_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J_;
+};
+
+}  // namespace
+
+ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
+                           const std::function<bool(const Eigen::VectorXd&)>& accept) {
+  Search search(chain, target, orientation);
+  const int n = chain.size();
+  // Starts: the seed, the middle of the box, and a Halton set over it; the best by cost go on.
+  std::vector<Eigen::VectorXd> starts;
+  Eigen::VectorXd mid(n);
+  for (int k = 0; k < n; ++k) {
+    auto [lo, hi] = range(chain, k);
+    mid[k] = (lo + hi) / 2;
+  }
+  starts.push_back(mid);
+  if (seed.size() == n) {
+    Eigen::VectorXd s = seed;
+    for (int k = 0; k < n; ++k) s[k] = std::clamp(s[k], range(chain, k).first, range(chain, k).second);
+    starts.push_back(s);
+  }
+  for (int i = 0; i < kStartsPerJoint * std::max(1, n); ++i) {
+    Eigen::VectorXd q(n);
+    for (int k = 0; k < n; ++k) {
+      auto [lo, hi] = range(chain, k);
+      q[k] = lo + (hi - lo) * halton(i, k);
+    }
+    starts.push_back(q);
+  }
+  std::vector<std::pair<double, size_t>> ranked;
+  for (size_t i = 0; i < starts.size(); ++i) ranked.emplace_back(search.residual(starts[i], false).cost, i);
+  std::stable_sort(ranked.begin(), ranked.end());
+  // Refined, the best of them: by cost, then (ties: mirror images) by the joint vector, so the
+  // answer does not depend on the order of the starts.
+  struct Candidate {
+    double cost;
+    Eigen::VectorXd q;
+  };
+  std::vector<Candidate> refined;
+  for (size_t i = 0; i < ranked.size() && static_cast<int>(i) < kRefined; ++i) {
+    Eigen::VectorXd q = search.refine(starts[ranked[i].second]);
+    refined.push_back({search.residual(q, false).cost, q});
+  }
+  std::stable_sort(refined.begin(), refined.end(), [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  ClosestReach out;
+  for (const Candidate& c : refined) {
+    if (accept && !accept(c.q)) continue;
+    const Residual r = search.residual(c.q, false);
+    out.found = true;
+    out.q = c.q;
+    out.position_error = r.e.head<3>().norm();
+    out.angle_error = orientation ? r.e.tail<3>().norm() / kAngleWeight : 0.0;
+    break;
+  }
+  return out;
+}
+
+}  // namespace sscs
