@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git python3 python3-jsonschema python3-yaml python3-matplotlib jq
+  build-essential cmake ninja-build pkg-config git python3 python3-jsonschema python3-yaml python3-matplotlib jq
   libyaml-cpp-dev libeigen3-dev libode-dev libfcl-dev libassimp-dev libzip-dev libssl-dev libfmt-dev
   libgtest-dev libgmock-dev libosmesa6-dev libgl-dev libpng-dev libjpeg-dev libfreetype-dev fonts-dejavu-core libcli11-dev nlohmann-json3-dev libmuparser-dev
   libbenchmark-dev liburdfdom-dev libtinyxml-dev  # tinyxml: SRDF files (urdfdom uses it too)
