@@ -331,10 +331,12 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
         note(margin, o, sc.container);
         if (margin >= 0) continue;
         // Sticking out (through any face) or only too near a counted face?
-        double out_by = -inside_margin(geometry, o, sc.container, &why).value_or(0);
+        std::string through;
+        double out_by = -inside_margin(geometry, o, sc.container, &why, SpatialCheck::All, 0, &through).value_or(0);
         result({o, sc.container}, Status::Fail, {}, {}, margin,
                out_by > eps
-                   ? fmt::format("{} sticks out of {} by {:g} m", wc.objects[o].name, wc.objects[sc.container].name, stable(out_by))
+                   ? fmt::format("{} sticks out of {} by {:g} m{}", wc.objects[o].name, wc.objects[sc.container].name, stable(out_by),
+                                 through.empty() ? "" : " through " + through)
                    : fmt::format("{} is {:g} m from a face of {}, min {:g} m", wc.objects[o].name, stable(sc.min_si + margin),
                                  wc.objects[sc.container].name, stable(sc.min_si)));
       }

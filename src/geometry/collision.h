@@ -141,8 +141,10 @@ class CollisionWorld {
 /// z- and z+ its ends; a mesh counts as one face, all) minus `min` when inside, and minus the
 /// largest protrusion through any face, counted or not, when not. nullopt (with `why`) when the
 /// container is not such a shape, the faces do not apply to it, or the object has no geometry.
+/// `through` (when given) names the face it sticks out through farthest ("its floor", "its x+
+/// face", "its round side"; a box's z- face is its floor), "" for a mesh or when inside.
 std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
-                                    uint8_t faces = SpatialCheck::All, double min = 0);
+                                    uint8_t faces = SpatialCheck::All, double min = 0, std::string* through = nullptr);
 
 /// How a device's configuration is judged free, the same for `reach` and for the joint values a
 /// scenario's move_to plans (a run's physics has it so): containers (rooms) are spaces; what the

@@ -601,7 +601,18 @@ TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
   ASSERT_EQ(ro.results.size(), 1u);
   EXPECT_EQ(ro.results[0].status, Status::Fail);
   EXPECT_NEAR(*ro.results[0].margin, -0.5, 1e-12);
-  EXPECT_NE(ro.results[0].message.find("sticks out of R by 0.5 m"), std::string::npos) << ro.results[0].message;
+  EXPECT_NE(ro.results[0].message.find("sticks out of R by 0.5 m through its top"), std::string::npos) << ro.results[0].message;
+  // The message names the face it sticks out through, the floor by that name.
+  CheckReport faces = check_vault(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: block, name: East, parent: R, location: [9.3, 2, 0]}\n"
+      "  - {type: block, name: South, parent: R, location: [2, -0.3, 0]}\n"
+      "  - {type: block, name: Sunk, parent: R, location: [5, 3, -0.25]}\n"
+      "constraints:\n  - {name: in, inside: {objects: [East, South, Sunk], container: R}}\n");
+  ASSERT_EQ(faces.results.size(), 3u);
+  EXPECT_NE(faces.results[0].message.find("sticks out of R by 0.3 m through its x+ face"), std::string::npos) << faces.results[0].message;
+  EXPECT_NE(faces.results[1].message.find("sticks out of R by 0.3 m through its y- face"), std::string::npos) << faces.results[1].message;
+  EXPECT_NE(faces.results[2].message.find("sticks out of R by 0.25 m through its floor"), std::string::npos) << faces.results[2].message;
 }
 
 TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
