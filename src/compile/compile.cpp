@@ -129,6 +129,28 @@ bool Workcell::related(int a, int b) const {
 
 // ---- CompileState helpers -----------------------------------------------------------------------
 
+bool CompileState::is_unbuilt(std::string_view name) const {
+  if (unbuilt.count(std::string(name))) return true;
+  // An instance name of a dropped array: the pattern with each {i} {j} {k} a run of digits.
+  for (const std::string& pattern : unbuilt_arrays) {
+    size_t p = 0, n = 0;
+    bool match = true;
+    while (match && p < pattern.size()) {
+      if (pattern.compare(p, 3, "{i}") == 0 || pattern.compare(p, 3, "{j}") == 0 || pattern.compare(p, 3, "{k}") == 0) {
+        const size_t digits = n;
+        while (n < name.size() && name[n] >= '0' && name[n] <= '9') ++n;
+        match = n > digits;
+        p += 3;
+      } else {
+        match = n < name.size() && name[n] == pattern[p];
+        ++n, ++p;
+      }
+    }
+    if (match && n == name.size()) return true;
+  }
+  return false;
+}
+
 uint32_t CompileState::new_slots(size_t n) {
   auto first = static_cast<uint32_t>(wc.values.size());
   wc.values.resize(wc.values.size() + n, 0.0);
@@ -220,7 +242,7 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
   std::string_view object_name = ref.substr(0, dot);
   std::string_view member = ref.substr(dot + 1);
   int obj = wc.find_object(object_name);
-  if (obj < 0 && unbuilt.count(std::string(object_name))) return std::nullopt;  // already reported
+  if (obj < 0 && is_unbuilt(object_name)) return std::nullopt;  // already reported
   if (obj < 0) {
     diag.error(mark, fmt::format("unknown object '{}' in reference '{}'{}", object_name, ref,
                                  did_you_mean(object_name, object_names())));
@@ -618,9 +640,13 @@ void expand_objects(CompileState& st) {
                                                        pattern, "ijk"[d], a.count.size()));
         ok = false;
       }
-    if (!ok) continue;
+    if (!ok) {
+      st.unbuilt_arrays.push_back(pattern);
+      continue;
+    }
     if (static_cast<double>(count[0]) * count[1] * count[2] + st.wc.objects.size() > kMaxObjects) {
       st.diag.error(a.mark, fmt::format("array makes more than {} objects", kMaxObjects));
+      st.unbuilt_arrays.push_back(pattern);
       continue;
     }
     // skip: index tuples (as many indices as counts, each within its count) and name globs.
@@ -718,7 +744,7 @@ void place_at(CompileState& st, int i, std::vector<std::string>& names) {
   const std::string target = text.substr(0, dot);
   obj.parent = st.wc.find_object(target);
   obj.at = text.substr(dot + 1);
-  if (obj.parent < 0 && !st.unbuilt.count(target)) {
+  if (obj.parent < 0 && !st.is_unbuilt(target)) {
     if (names.empty()) names = st.object_names();
     st.diag.error(o.at.mark, fmt::format("'at' names unknown object '{}'{}", target, did_you_mean(target, names)));
   } else if (obj.parent == i) {
@@ -771,7 +797,7 @@ void resolve_object_links(CompileState& st) {
     const ObjectSpec& o = *st.object_spec[i];
     if (o.parent.present && !o.parent.null) {
       obj.parent = st.wc.find_object(o.parent.text);
-      if (obj.parent < 0 && !st.unbuilt.count(o.parent.text)) {
+      if (obj.parent < 0 && !st.is_unbuilt(o.parent.text)) {
         if (names.empty()) names = st.object_names();
         st.diag.error(o.parent.mark, fmt::format("unknown parent object '{}'{}", o.parent.text, did_you_mean(o.parent.text, names)));
       } else if (obj.parent == static_cast<int>(i)) {

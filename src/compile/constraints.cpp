@@ -63,7 +63,7 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
       std::vector<std::string> types;
       for (const ObjectType& x : st.wc.types) types.push_back(x.name);
       st.diag.error(item.mark, fmt::format("unknown type '{}' in selector{}", type, did_you_mean(type, types)));
-    } else if (!st.unbuilt.count(t)) {
+    } else if (!st.is_unbuilt(t)) {
       if (names.empty()) names = st.object_names();
       st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
     }
@@ -110,7 +110,7 @@ std::vector<Scalar> plugin_references(CompileState& st, const Scalar& s) {
 int object_ref(CompileState& st, const Scalar& s, std::string_view what) {
   if (!s.present || s.null) return -1;
   int o = st.wc.find_object(s.text);
-  if (o < 0 && !st.unbuilt.count(s.text)) st.diag.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, st.object_names())));
+  if (o < 0 && !st.is_unbuilt(s.text)) st.diag.error(s.mark, fmt::format("unknown object '{}' for {}{}", s.text, what, did_you_mean(s.text, st.object_names())));
   return o;
 }
 

@@ -44,6 +44,10 @@ struct CompileState {
   std::vector<std::array<int, 3>> array_index;           ///< per object, {0,0,0} when not in an array
   std::vector<std::array<double, 3>> array_offset;       ///< per object, SI
   std::unordered_set<std::string> unbuilt;  ///< objects dropped by an earlier error: no second error for them
+  std::vector<std::string> unbuilt_arrays;  ///< name patterns of arrays dropped by an error (`Row_{i}`)
+  /// Whether `name` is an object an earlier error dropped (one named so, or an instance of a
+  /// dropped array: one wrong pitch gave one error and then 243 "'at' names unknown object").
+  bool is_unbuilt(std::string_view name) const;
   std::set<int> reported_types;  ///< types whose problems (ObjectType::problems) were reported
   std::vector<PendingValue> pending;
   std::vector<int> slot_pending;

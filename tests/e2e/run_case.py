@@ -108,6 +108,9 @@ def bad(sscs, root, expect):
         for fragment in fields["stderr"]:
             if fragment not in proc.stderr:
                 fail(f"stderr lacks {fragment!r}", proc)
+        # errors: N (optional): exactly N errors, none that follow from another
+        if "errors" in fields and proc.stderr.count(": error: ") != int(fields["errors"]):
+            fail(f"{proc.stderr.count(': error: ')} errors, expected {fields['errors']}", proc)
         if proc.stdout.strip():
             fail("an input error must print nothing on stdout", proc)
         if os.listdir(tmp):
