@@ -78,6 +78,33 @@ int Workcell::find_type(std::string_view n) const {
 
 std::optional<std::vector<int>> Workcell::select(std::string_view item) const {
   std::vector<int> out;
+  if (item.size() >= 2 && item.front() == '[' && item.back() == ']') {
+    std::vector<int> removed;
+    for (std::string_view piece : split_selector_list(item)) {
+      const bool remove = piece.starts_with('!');
+      auto found = select(remove ? piece.substr(1) : piece);
+      if (!found) return std::nullopt;
+      (remove ? removed : out).insert((remove ? removed : out).end(), found->begin(), found->end());
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::erase_if(out, [&](int o) { return std::find(removed.begin(), removed.end(), o) != removed.end(); });
+    return out;
+  }
+  if (item.starts_with("at:")) {
+    // at:OBJECT.FRAME: what stands at those frames (placed `at:` one of them).
+    const std::string_view frames = item.substr(3);
+    const size_t dot = frames.find('.');
+    if (dot == std::string_view::npos) return std::nullopt;
+    const std::string_view object_glob = frames.substr(0, dot), frame_glob = frames.substr(dot + 1);
+    if (object_glob.find_first_of("*?") == std::string_view::npos && find_object(object_glob) < 0) return std::nullopt;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      const Object& o = objects[i];
+      if (o.parent >= 0 && !o.at.empty() && glob_match(object_glob, objects[o.parent].name) && glob_match(frame_glob, o.at))
+        out.push_back(static_cast<int>(i));
+    }
+    return out;
+  }
   if (item.starts_with("type:")) {
     int t = find_type(item.substr(5));
     if (t < 0) return std::nullopt;
@@ -128,6 +155,22 @@ bool Workcell::related(int a, int b) const {
 }
 
 // ---- CompileState helpers -----------------------------------------------------------------------
+
+std::vector<std::string_view> split_selector_list(std::string_view list) {
+  std::vector<std::string_view> out;
+  if (list.size() < 2 || list.front() != '[' || list.back() != ']') return {list};
+  std::string_view inner = list.substr(1, list.size() - 2);
+  for (size_t start = 0; start <= inner.size();) {
+    size_t comma = inner.find(',', start);
+    if (comma == std::string_view::npos) comma = inner.size();
+    std::string_view piece = inner.substr(start, comma - start);
+    while (!piece.empty() && piece.front() == ' ') piece.remove_prefix(1);
+    while (!piece.empty() && piece.back() == ' ') piece.remove_suffix(1);
+    if (!piece.empty()) out.push_back(piece);
+    start = comma + 1;
+  }
+  return out;
+}
 
 bool CompileState::is_unbuilt(std::string_view name) const {
   if (unbuilt.count(std::string(name))) return true;

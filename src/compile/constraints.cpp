@@ -52,12 +52,32 @@ std::optional<Operand> bound_operand(CompileState& st, const Scalar& s, std::str
 }
 
 std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_view what) {
-  std::vector<int> out;
+  std::vector<int> out, removed;
   std::vector<std::string> names;
-  for (const Scalar& item : sel.items) {
-    const std::string& t = item.text;
+  // The items, a list's (`[A, B, !C]`, as aggregates write one) each with its own mark.
+  std::vector<Scalar> items;
+  for (const Scalar& item : sel.items)
+    for (std::string_view piece : split_selector_list(item.text)) {
+      Scalar one = item;
+      one.text = std::string(piece);
+      if (piece.data() != item.text.data()) {
+        one.mark = mark_at(item, static_cast<size_t>(piece.data() - item.text.data()));
+        one.quoted = false;
+      }
+      items.push_back(std::move(one));
+    }
+  for (const Scalar& item : items) {
+    // `!SEL` removes what SEL selects (`["*", "!type:keepout_zone"]`).
+    const bool remove = item.text.starts_with('!');
+    const std::string t = remove ? item.text.substr(1) : item.text;
     if (auto found = st.wc.select(t)) {
-      out.insert(out.end(), found->begin(), found->end());
+      (remove ? removed : out).insert((remove ? removed : out).end(), found->begin(), found->end());
+    } else if (t.starts_with("at:")) {
+      if (names.empty()) names = st.object_names();
+      const std::string object = t.substr(3, t.find('.') == std::string::npos ? std::string::npos : t.find('.') - 3);
+      st.diag.error(item.mark, t.find('.') == std::string::npos
+                                   ? fmt::format("expected at:OBJECT.FRAME (globs allowed, as at:Row_1.slot_*_5_*), found '{}'", t)
+                                   : fmt::format("unknown object '{}' in selector '{}'{}", object, t, did_you_mean(object, names)));
     } else if (t.starts_with("type:")) {
       std::string type = t.substr(5);
       std::vector<std::string> types;
@@ -70,6 +90,7 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  std::erase_if(out, [&](int o) { return std::find(removed.begin(), removed.end(), o) != removed.end(); });
   if (out.empty() && !sel.allow_empty && !st.diag.has_errors())
     st.diag.error(sel.mark, fmt::format("{} selects no objects (add allow_empty: true if that is intended)", what));
   return out;
@@ -214,6 +235,7 @@ std::optional<Operand> aggregate_operand(CompileState& st, const SelectionCall& 
   sel.items.push_back(whole);
   sel.items.back().text = call.selector;
   sel.items.back().mark = mark_at(whole, call.arg_position);
+  sel.items.back().quoted = false;  // its mark is at the selector itself
   sel.mark = sel.items.back().mark;
   sel.allow_empty = true;  // reported below, naming the call
   size_t errors = st.diag.count();

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -224,8 +225,10 @@ struct Workcell {
   /// Index of the type named `name`, or -1.
   int find_type(std::string_view name) const;
   /// The objects a selector item names, in index order: `*`, `type:T` (T and the types extending
-  /// it), a glob (`Rack_*`) or an object's name. nullopt when it names a type or an object that
-  /// does not exist (a glob that matches nothing selects nothing).
+  /// it), a glob (`Rack_*`), an object's name, `at:OBJECT.FRAME` (globs both: the objects placed
+  /// `at:` one of those frames) or a list `[A, B, !C]` of these (`!` removes what its item
+  /// selects). nullopt when it names a type or an object that does not exist (a glob that
+  /// matches nothing selects nothing).
   std::optional<std::vector<int>> select(std::string_view item) const;
   /// Whether type `t` is `ancestor` or derives from it.
   /// Type `t`, then the type it extends, and so on up to `object` (the one walk of the
@@ -240,5 +243,8 @@ struct Workcell {
   /// them (a pallet on a rack, a drum run through by the beam above it).
   bool nested(int a, int b) const;
 };
+
+/// The items of a selector list `[A, B, !C]` (trimmed; `!` kept), or the selector itself.
+std::vector<std::string_view> split_selector_list(std::string_view list);
 
 }  // namespace sscs

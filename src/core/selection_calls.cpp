@@ -114,11 +114,12 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
       i = end;
       continue;
     }
-    int depth = 0;
+    int depth = 0, brackets = 0;  // a list's commas (`[A, B].x`) separate no arguments
     size_t close = open, comma = std::string_view::npos;
     for (; close < text.size(); ++close) {
       depth += text[close] == '(' ? 1 : text[close] == ')' ? -1 : 0;
-      if (depth == 1 && text[close] == ',' && comma == std::string_view::npos) comma = close;
+      brackets += text[close] == '[' ? 1 : text[close] == ']' ? -1 : 0;
+      if (depth == 1 && brackets == 0 && text[close] == ',' && comma == std::string_view::npos) comma = close;
       if (depth == 0) break;
     }
     SelectionCall::Kind kind = named->second;
@@ -149,14 +150,22 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
         break;
       case SelectionCall::Kind::Count:
         if (arg.empty()) return fail(call.arg_position, "count() needs a selector, as count(type:drum)");
-        if (arg.find('.') != std::string::npos)
+        if (arg.find('.') != std::string::npos && !arg.starts_with("at:") && !arg.starts_with('['))
           return fail(call.arg_position, fmt::format("count() takes a selector without an attribute, as count(type:drum); found '{}'", arg));
         call.selector = arg;
         break;
       default: {
         // The selector holds no '.': the attribute is everything after the first one
-        // (`Rack_*.location.z`, `type:drum.bbox.max.z`).
+        // (`Rack_*.location.z`, `type:drum.bbox.max.z`); a list's after its `]`
+        // (`[Drum_1, Drum_2].gross_mass`); `at:OBJECT.FRAME`'s after the frame.
         size_t dot = arg.find('.');
+        if (arg.starts_with('[')) {
+          const size_t close = arg.find(']');
+          dot = close == std::string::npos ? std::string::npos : arg.find('.', close);
+          if (close == std::string::npos) return fail(call.arg_position, fmt::format("'[' of the selector list in {}() is never closed", word));
+        } else if (arg.starts_with("at:") && dot != std::string::npos) {
+          dot = arg.find('.', dot + 1);
+        }
         if (dot == std::string::npos || dot == 0 || dot + 1 == arg.size())
           return fail(call.arg_position, fmt::format("{}() needs SELECTOR.attribute, as {}(type:drum.fill_mass), found '{}'", word,
                                                      word, arg));

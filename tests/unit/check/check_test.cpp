@@ -108,6 +108,41 @@ TEST_F(Check, ExprResultsCarryMargins) {
   EXPECT_EQ(rep.failed, 1u);
 }
 
+TEST_F(Check, SelectorsTakeListsExclusionsAndWhatStandsAtFrames) {
+  // vault-format.md: `at:FRAMEGLOB` selects what stands at those frames, `!SEL` in a list removes
+  // what SEL selects, and a list works in aggregates (`sum([Drum_1, Drum_2].gross_mass)` was refused).
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: Hall, length: 30 m, width: 12 m, height: 8 m}\n"
+      "  - {type: drum_rack, name: Row_1, parent: Hall, location: [2, 2, 0], levels: 2, bays: 2}\n"
+      "  - {type: drum, array: {name: \"Top_{i}\", count: [6]}, at: \"Row_1.top_{i}\", fill_mass: 100 kg}\n"
+      "  - {type: drum, name: Loose, parent: Hall, location: [20, 8, 0], fill_mass: 50 kg}\n"
+      "  - {type: keepout_zone, name: Walkway, parent: Hall, location: [20, 1, 0]}\n"
+      "constraints:\n"
+      "  - {name: top drums, expr: \"count(at:Row_1.top_*) == 6\"}\n"
+      "  - {name: every top, expr: \"count(at:Row_*.top_?) == 6 && sum(at:Row_1.top_*.fill_mass) == 600\"}\n"
+      "  - {name: two drums, expr: \"sum([Top_1, Loose].fill_mass) == 150\"}\n"
+      "  - {name: but the zone, expr: \"count([*, !type:keepout_zone, !Hall]) == 8\"}\n"
+      "  - {name: min of a list, expr: \"min([Top_2, Loose].fill_mass) == 50\"}\n"
+      "  - {name: no overlap but the zone, no_overlap: {objects: [\"*\", \"!type:keepout_zone\"]}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  for (const CheckResult& r : rep.results) EXPECT_EQ(r.status, Status::Pass) << wc.constraints[r.constraint].name << ": " << r.message;
+  // The zone is left out: its selection holds every object but it.
+  const auto& no_overlap = std::get<SpatialCheck>(wc.constraints.back().body);
+  EXPECT_EQ(no_overlap.objects.size(), 9u);
+  EXPECT_EQ(std::count(no_overlap.objects.begin(), no_overlap.objects.end(), wc.find_object("Walkway")), 0);
+}
+
+TEST_F(Check, AnUnknownObjectInASelectorListIsReportedAtItsItem) {
+  EXPECT_EQ(first_error("objects:\n  - {type: drum, name: Drum_1}\n"
+                        "constraints:\n  - {name: s, expr: \"sum([Drum_1, Drum_9].fill_mass) < 1\"}\n"),
+            "unknown object 'Drum_9' in selector (did you mean 'Drum_1'?)");
+  EXPECT_NE(diag.format(sources).find("vault.yaml:6:35: error"), std::string::npos) << diag.format(sources);  // at Drum_9
+  diag = Diagnostics{};
+  EXPECT_EQ(first_error("objects:\n  - {type: drum, name: Drum_1}\n"
+                        "constraints:\n  - {name: s, expr: \"count(at:Rack_9.top_*) == 0\"}\n"),
+            "unknown object 'Rack_9' in selector 'at:Rack_9.top_*'");
+}
+
 TEST_F(Check, WarningsAreCountedApart) {
   Workcell wc = must_compile(
       "objects:\n  - {type: drum, name: A}\n"
