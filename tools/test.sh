@@ -71,6 +71,11 @@ if [[ $mode == all ]]; then
   # slurm, tutorials, plugins, and the random overlap property tests (3 minutes alone under ASan).
   skip+='|^e2e\.(simulate|agreement|loads|run_truth|drum_store|catalogue|schemas|sweep|render|slurm|tutorials|plugins|ci|ci_recipes|install|disk_full)$'
   skip+='|^(MeshOverlap|MeshSolid)\.'
+  # The randomized property tests repeat, hundreds of times, code the unit tests run under the
+  # sanitizers once: whole they run in stage 1 (and under `--sanitize`). Under ASan they took
+  # 16 minutes of CPU (a parenting sweep 230 s, random library configurations 210 s).
+  skip+='|^Check\.ParentingToASolidNeverChangesTheOverlapVerdict$|^LibraryProperty\.EveryTypeIsSoundInRandomConfigurations'
+  skip+='|^PrimitiveDepth\.RandomPairs|^(ReachMargin|ReachReplay|ActionCamera|Physics)\.|^e2e\.sweep_reuse$'
 fi
 took "the sanitizer build" $t
 cd "$san"

@@ -166,6 +166,10 @@ std::vector<std::string_view> split_selector_list(std::string_view list) {
     std::string_view piece = inner.substr(start, comma - start);
     while (!piece.empty() && piece.front() == ' ') piece.remove_prefix(1);
     while (!piece.empty() && piece.back() == ' ') piece.remove_suffix(1);
+    // An item may be quoted as a YAML list's is (`["*", "!Hall"]`): the quotes are no part of it
+    // (a quoted "!..." was taken for an object name and removed nothing).
+    if (piece.size() >= 2 && (piece.front() == '"' || piece.front() == '\'') && piece.back() == piece.front())
+      piece = piece.substr(1, piece.size() - 2);
     if (!piece.empty()) out.push_back(piece);
     start = comma + 1;
   }

@@ -122,6 +122,7 @@ TEST_F(Check, SelectorsTakeListsExclusionsAndWhatStandsAtFrames) {
       "  - {name: every top, expr: \"count(at:Row_*.top_?) == 6 && sum(at:Row_1.top_*.fill_mass) == 600\"}\n"
       "  - {name: two drums, expr: \"sum([Top_1, Loose].fill_mass) == 150\"}\n"
       "  - {name: but the zone, expr: \"count([*, !type:keepout_zone, !Hall]) == 8\"}\n"
+      "  - {name: quoted as in YAML, expr: 'count([\"*\", \"!type:keepout_zone\", \"!at:Row_1.top_*\"]) == 3'}\n"
       "  - {name: min of a list, expr: \"min([Top_2, Loose].fill_mass) == 50\"}\n"
       "  - {name: no overlap but the zone, no_overlap: {objects: [\"*\", \"!type:keepout_zone\"]}}\n");
   CheckReport rep = check(wc, build_geometry(wc, diag));
