@@ -12,6 +12,18 @@ std::string printable(std::string_view line, bool keep_newlines) {
     size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
     bool ok = len != 0 && i + len <= out.size() && c != 0x7F && (c >= 0x20 || c == '\t' || (keep_newlines && c == '\n'));
     for (size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
+    // Bidirectional controls reorder what a terminal draws after them (a constraint named with a
+    // right-to-left override printed the rest of its line backwards): U+061C, U+200E/F,
+    // U+202A..E, U+2066..9 become '?' too.
+    if (ok && len == 2 && c == 0xD8 && s[i + 1] == 0x9C) ok = false;
+    if (ok && len == 3 && c == 0xE2 && s[i + 1] == 0x80 && (s[i + 2] == 0x8E || s[i + 2] == 0x8F || (s[i + 2] >= 0xAA && s[i + 2] <= 0xAE)))
+      ok = false;
+    if (ok && len == 3 && c == 0xE2 && s[i + 1] == 0x81 && s[i + 2] >= 0xA6 && s[i + 2] <= 0xA9) ok = false;
+    if (!ok && len > 1 && i + len <= out.size()) {
+      for (size_t k = 0; k < len; ++k) s[i + k] = '?';  // one '?' a byte: columns stay
+      i += len;
+      continue;
+    }
     if (!ok) {
       s[i++] = '?';
       continue;

@@ -8,8 +8,8 @@
 namespace sscs {
 
 /// Text from input as it may be shown on a terminal, in a log or in XML: control bytes (escape
-/// sequences, NUL, DEL; newlines unless kept) and bytes that are not UTF-8 become '?'. Column
-/// positions stay (one byte, one '?').
+/// sequences, NUL, DEL; newlines unless kept), bidirectional control characters (a right-to-left
+/// override) and bytes that are not UTF-8 become '?'. Column positions stay (one byte, one '?').
 std::string printable(std::string_view text, bool keep_newlines = false);
 /// Text of at most about `max` bytes: a long expression quoted in an error shows its start and
 /// end around "… (N bytes not shown) …".

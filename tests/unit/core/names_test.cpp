@@ -53,6 +53,9 @@ TEST(Printable, ControlCharactersAndLongTextNeverReachATerminalWhole) {
   EXPECT_EQ(printable("a\nb\tc\x7f"), "a?b\tc?");
   EXPECT_EQ(printable("a\nb", true), "a\nb");
   EXPECT_EQ(printable("caf\xc3\xa9 \xff"), "caf\xc3\xa9 ?");  // UTF-8 kept, a stray byte replaced
+  // A right-to-left override (U+202E), an isolate (U+2066) and a mark (U+200F): one '?' a byte.
+  EXPECT_EQ(printable("Keg\xe2\x80\xae_2 \xe2\x81\xa6x\xe2\x80\x8f"), "Keg???_2 ???x???");
+  EXPECT_EQ(printable("\xd7\xa9\xd7\x9c\xd7\x95\xd7\x9d \xe2\x80\x94"), "\xd7\xa9\xd7\x9c\xd7\x95\xd7\x9d \xe2\x80\x94");  // Hebrew, a dash kept
   const std::string expr(1'000'000, 'x');
   std::string shown = within_window(expr);
   EXPECT_LT(shown.size(), 2100u);
