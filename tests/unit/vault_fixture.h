@@ -6,12 +6,29 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "check/check.h"
 #include "compile/compile.h"
 #include "load/load.h"
 
 namespace sscs::testing {
+
+/// Every device type of the standard library (found by reading the files, so a new device is
+/// covered without editing a test), sorted.
+inline std::vector<std::string> standard_devices() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SSCS_TEST_DATA) / "../../library/types")) {
+    std::ifstream in(e.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    if (text.str().find("\nkind: device") != std::string::npos) out.push_back(e.path().stem().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 /// Fails the running test when `diag` holds an error or warning no assertion looked at (its
 /// message compared, or shown on a failure): a diagnostic nobody checked is behaviour no test pins.

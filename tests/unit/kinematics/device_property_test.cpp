@@ -17,20 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kPi = std::numbers::pi;
 
-/// Every device type of the standard library (found by reading the files, so a new device is
-/// covered without editing this test), and the URDF examples of the test data.
-std::vector<std::string> standard_devices() {
-  std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(fs::path(SSCS_TEST_DATA) / "../../library/types")) {
-    std::ifstream in(e.path());
-    std::stringstream text;
-    text << in.rdbuf();
-    if (text.str().find("\nkind: device") != std::string::npos) out.push_back(e.path().stem().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 class DeviceProperty : public VaultTest {
  public:
   void SetUp() override {
