@@ -493,6 +493,7 @@ void assign(CompileState& st, uint32_t slot, const Scalar& s, const AttributeDef
   pv.expr = expr;
   pv.add = add;
   if (!st.resolve_inputs(*expr, s, scope, pv.inputs)) return;
+  if (!check_expression_dimensions(*expr, pv.inputs, s, dim, what, st.diag)) return;
   st.slot_pending[slot] = static_cast<int>(st.pending.size());
   st.pending.push_back(std::move(pv));
 }
@@ -592,6 +593,7 @@ std::optional<double> CompileState::number_now(const Scalar& s, Dim dim, std::st
   } else {
     std::vector<Operand> inputs;
     if (!resolve_inputs(*expr, s, {}, inputs)) return std::nullopt;
+    if (!check_expression_dimensions(*expr, inputs, s, dim, what, diag)) return std::nullopt;
     for (const Operand& op : inputs) values.push_back(op.kind == Operand::Kind::Slot ? wc.values[op.slot] : op.constant_si);
   }
   double r = expr->evaluate(values.data());

@@ -369,6 +369,9 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
   check.text = e.expr.text;
   check.expr = expr;
   if (!resolve_expr_inputs(st, *expr, src, 0, check.inputs)) return;
+  if (!check_expression_dimensions(*expr, check.inputs, e.expr, Dim::None, "an expr constraint", st.diag,
+                                   [&](size_t pos) { return src.rewritten.original(pos); }))
+    return;
   add_subjects(c.subjects, check.inputs);
   if (auto tree = split_for_margin(src.rewritten.text)) check.margin = compile_margin(st, *tree, src);
   c.body = std::move(check);

@@ -178,6 +178,11 @@ ValueRef compile_value(const Scalar& v, Dim dim, const ObjectType& type, std::st
     }
     out.attributes.push_back(a);
   }
+  check_expression_dimensions(*expr, [&](std::string_view n) -> std::optional<Dim> {
+    int a = type.find_attribute(n);
+    if (a < 0 || type.attributes[a].dim == Dim::None) return std::nullopt;  // a counter, a plain number
+    return type.attributes[a].dim;
+  }, v, dim, what, diag);
   out.expr = std::make_shared<const Expression>(std::move(*expr));
   return out;
 }

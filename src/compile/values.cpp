@@ -1,6 +1,9 @@
 #include "compile/values.h"
 
 #include "core/pose.h"
+#include "core/selection_calls.h"
+
+#include <algorithm>
 
 #include <fmt/format.h>
 
@@ -71,6 +74,45 @@ Eigen::Isometry3d literal_pose(const PoseSpec& p, std::string_view what, Diagnos
     if (p.rpy[k].present) rpy[k] = literal_si(p.rpy[k], Dim::Angle, fmt::format("{} rpy", what), diag).value_or(0);
   }
   return make_pose(xyz, rpy);
+}
+
+std::optional<Dim> operand_dim(const Operand& op) {
+  if (op.kind == Operand::Kind::Aggregate && static_cast<SelectionCall::Kind>(op.aggregate) == SelectionCall::Kind::Count)
+    return Dim::None;
+  if (op.dim == Dim::None || op.dim == Dim::Fraction) return std::nullopt;
+  return op.dim;
+}
+
+bool check_expression_dimensions(const Expression& e, const Expression::DimOf& dim_of, const Scalar& s, Dim expected,
+                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column) {
+  Expression::Excerpt excerpt;
+  if (column)
+    excerpt = [&](size_t begin, size_t end) {
+      const size_t b = std::min(column(begin), s.text.size()), n = std::min(column(end), s.text.size());
+      return s.text.substr(b, n > b ? n - b : 0);
+    };
+  Expression::Dimensions d = e.check_dimensions(dim_of, excerpt);
+  if (d.error) {
+    diag.error(mark_at(s, column ? column(d.error->position) : d.error->position),
+               fmt::format("{} in '{}' for {}", d.error->message, s.text, what));
+    return false;
+  }
+  if (expected != Dim::None && expected != Dim::Fraction && d.known && d.dim != expected) {
+    diag.error(s.mark, fmt::format("expected {} for {}, found '{}', which is {}", a_dim(expected), what, s.text, d.described));
+    return false;
+  }
+  return true;
+}
+
+bool check_expression_dimensions(const Expression& e, const std::vector<Operand>& inputs, const Scalar& s, Dim expected,
+                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column) {
+  const std::vector<std::string>& names = e.names();
+  auto dim_of = [&](std::string_view name) -> std::optional<Dim> {
+    auto it = std::lower_bound(names.begin(), names.end(), name);
+    if (it == names.end() || *it != name || static_cast<size_t>(it - names.begin()) >= inputs.size()) return std::nullopt;
+    return operand_dim(inputs[it - names.begin()]);
+  };
+  return check_expression_dimensions(e, dim_of, s, expected, what, diag, column);
 }
 
 }  // namespace sscs

@@ -3,9 +3,13 @@
 /// dimension check, or expressions (parsed later in dependency order). Internal to compile.
 #include <Eigen/Geometry>
 
+#include <functional>
+#include <optional>
 #include <string_view>
 
+#include "compile/workcell.h"
 #include "core/diagnostics.h"
+#include "core/expr.h"
 #include "core/units.h"
 #include "load/spec.h"
 
@@ -33,5 +37,20 @@ Eigen::Isometry3d literal_pose(const PoseSpec& p, std::string_view what, Diagnos
 /// Where an expression's column `pos` lands in the file: the scalar's mark plus the offset,
 /// plus one for the opening quote.
 SourceMark mark_at(const Scalar& s, size_t pos);
+
+/// What a compiled operand is to the dimension check: its dimension, Dim::None for a count,
+/// nullopt for a value written without a unit (a plain parameter, an array index), which fits any.
+std::optional<Dim> operand_dim(const Operand& op);
+
+/// Runs the dimension check of `e` (Expression::check_dimensions) and reports a mismatch at its
+/// column in `s`; when `expected` is a dimension (not Dim::None), a result of another dimension
+/// is an error too ("expected a length for X, found ..., which is a mass"). `column` maps a
+/// position of the text `e` was parsed from to one of `s` (identity when empty). True when clean.
+bool check_expression_dimensions(const Expression& e, const Expression::DimOf& dim_of, const Scalar& s, Dim expected,
+                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column = {});
+
+/// check_expression_dimensions with the dimensions of `inputs`, one per `e.names()`.
+bool check_expression_dimensions(const Expression& e, const std::vector<Operand>& inputs, const Scalar& s, Dim expected,
+                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column = {});
 
 }  // namespace sscs

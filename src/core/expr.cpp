@@ -8,6 +8,9 @@
 #include <initializer_list>
 #include <limits>
 #include <numbers>
+#include <string>
+
+#include <fmt/format.h>
 
 namespace sscs {
 
@@ -105,6 +108,399 @@ double* new_slot(const char*, void* user) {
 }
 }  // namespace
 
+// ---- tokens: unit literals and the dimension check -----------------------------------------
+
+namespace {
+
+bool name_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+bool name_char(char c) { return name_start(c) || (c >= '0' && c <= '9') || c == '.'; }
+bool digit(char c) { return c >= '0' && c <= '9'; }
+
+struct Token {
+  enum class Kind : uint8_t { Number, Name, Op, Open, Close, Comma, Question, Colon, Other } kind = Kind::Other;
+  size_t pos = 0, len = 0;  // in the text as written
+  double value = 0;         // Number: as written, without its unit
+  std::optional<UnitWord> unit;
+  int power = 1;            // of the unit: 2 m^2
+  DimExponents dims() const {
+    DimExponents e = exponents(unit->dim);
+    for (int8_t& x : e) x = static_cast<int8_t>(x * power);
+    return e;
+  }
+  /// The value in SI, or in file units: the unit to its power.
+  double converted(Expression::Literals literals) const {
+    double one = std::pow(unit->to_si, power);
+    if (literals == Expression::Literals::FileUnits) one /= std::pow(file_unit_to_si(unit->dim), power);
+    return value * one;
+  }
+};
+
+/// The tokens of an expression as written. A number may carry a unit word after it (`0.3 m`,
+/// `90deg`): a word sscs knows, not followed by a name's character or a call's '('.
+std::vector<Token> tokenize(std::string_view s) {
+  std::vector<Token> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    const char c = s[i];
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+      ++i;
+      continue;
+    }
+    Token t;
+    t.pos = i;
+    if (digit(c) || (c == '.' && i + 1 < s.size() && digit(s[i + 1]))) {
+      size_t j = i;
+      while (j < s.size() && (digit(s[j]) || s[j] == '.')) ++j;
+      if (j < s.size() && (s[j] == 'e' || s[j] == 'E')) {
+        size_t k = j + 1;
+        if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+        if (k < s.size() && digit(s[k])) {
+          j = k;
+          while (j < s.size() && digit(s[j])) ++j;
+        }
+      }
+      t.kind = Token::Kind::Number;
+      t.value = std::strtod(std::string(s.substr(i, j - i)).c_str(), nullptr);
+      size_t k = j;
+      while (k < s.size() && (s[k] == ' ' || s[k] == '\t')) ++k;
+      if (auto u = unit_word_at(s.substr(k))) {
+        size_t end = k + u->word.size();
+        bool whole = end >= s.size() || !(name_char(s[end]) || s[end] == '(');
+        // "%" needs no blank; a word does not run into the number's name ("2x" is no unit "x").
+        if (whole) {
+          t.unit = u;
+          j = end;
+          // A power of the unit belongs to it: `2 m^2` is two square metres, not (2 m)^2.
+          size_t p = end;
+          if (p < s.size() && s[p] == '^') {
+            ++p;
+            bool minus = p < s.size() && s[p] == '-';
+            if (minus) ++p;
+            size_t q = p;
+            while (q < s.size() && digit(s[q])) ++q;
+            if (q > p && q - p < 3 && (q >= s.size() || !name_char(s[q]))) {
+              t.power = std::stoi(std::string(s.substr(p, q - p))) * (minus ? -1 : 1);
+              j = q;
+            }
+          }
+        }
+      }
+      t.len = j - i;
+      i = j;
+    } else if (name_start(c)) {
+      size_t j = i;
+      while (j < s.size() && name_char(s[j])) ++j;
+      t.kind = Token::Kind::Name;
+      t.len = j - i;
+      i = j;
+    } else {
+      static constexpr std::string_view kOps[] = {"&&", "||", "<=", ">=", "==", "!=", "<", ">", "+", "-", "*", "/", "^", "!"};
+      t.len = 1;
+      t.kind = c == '(' ? Token::Kind::Open : c == ')' ? Token::Kind::Close : c == ',' ? Token::Kind::Comma
+               : c == '?' ? Token::Kind::Question : c == ':' ? Token::Kind::Colon : Token::Kind::Other;
+      if (t.kind == Token::Kind::Other)
+        for (std::string_view op : kOps)
+          if (s.substr(i).starts_with(op)) {
+            t.kind = Token::Kind::Op;
+            t.len = op.size();
+            break;
+          }
+      i += t.len;
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+/// The text muparser reads: each number with a unit replaced by its value (SI or file units),
+/// and where each replacement ends in both texts, to map error positions back.
+struct Internal {
+  std::string text;
+  std::vector<std::pair<size_t, size_t>> anchors;  // (offset in text, offset as written) after each literal
+  size_t written(size_t pos) const {
+    size_t t = 0, o = 0;
+    for (const auto& [a, b] : anchors) {
+      if (a > pos) break;
+      t = a;
+      o = b;
+    }
+    return o + (pos - t);
+  }
+};
+
+Internal with_literals_converted(std::string_view s, Expression::Literals literals) {
+  Internal out;
+  size_t copied = 0;
+  for (const Token& t : tokenize(s)) {
+    if (t.kind != Token::Kind::Number || !t.unit) continue;
+    out.text.append(s.substr(copied, t.pos - copied));
+    // Parenthesised: `-2 m^2`'s sign applies to the whole quantity, whatever follows.
+    out.text += fmt::format("({:.17g})", t.converted(literals));
+    copied = t.pos + t.len;
+    out.anchors.emplace_back(out.text.size(), copied);
+  }
+  out.text.append(s.substr(copied));
+  return out;
+}
+
+/// The dimension of a sub-expression: plain (a number without a unit, which fits any), known
+/// (its exponents), or unknown (what the check cannot follow: a product with a plain number,
+/// which may carry any unit, a power of a variable). Plain and unknown fit any dimension.
+struct Dimension {
+  enum class Kind : uint8_t { Plain, Known, Unknown } kind = Kind::Plain;
+  DimExponents e{0, 0, 0, 0};
+  size_t begin = 0, end = 0;  // its text as written
+
+  static Dimension known(DimExponents e) { return {Kind::Known, e}; }
+  static Dimension of(Dim d) { return known(exponents(d)); }
+};
+
+std::string describe(const Dimension& d) {
+  if (d.kind != Dimension::Kind::Known) return "a plain number";
+  if (auto named = dim_with(d.e)) return *named == Dim::None ? "a pure number" : a_dim(*named);
+  static constexpr const char* kBase[] = {"m", "kg", "s", "rad"};
+  std::string up, down;
+  for (int k = 0; k < 4; ++k) {
+    if (d.e[k] == 0) continue;
+    std::string& part = d.e[k] > 0 ? up : down;
+    if (!part.empty()) part += "·";
+    part += kBase[k];
+    if (std::abs(d.e[k]) != 1) part += fmt::format("^{}", std::abs(d.e[k]));
+  }
+  return fmt::format("a quantity in {}{}{}", up.empty() ? "1" : up, down.empty() ? "" : "/", down);
+}
+
+/// A recursive-descent reading of the tokens, with muparser's precedences (?:, ||, &&,
+/// comparisons, + -, * /, unary - + !, ^), that computes dimensions. It reads only text muparser
+/// accepted; what it does not follow gives up quietly (no dimension error).
+class DimensionReader {
+ public:
+  DimensionReader(std::string_view text, const std::vector<Token>& tokens, const Expression::DimOf& dim_of,
+                  const Expression::Excerpt& excerpt)
+      : text_(text), t_(tokens), dim_of_(dim_of), excerpt_(excerpt) {}
+
+  Expression::Dimensions read() {
+    Expression::Dimensions out;
+    try {
+      Dimension d = ternary();
+      if (i_ != t_.size()) return out;  // not followed to the end: no verdict
+      if (error_) {
+        out.error = error_;
+        return out;
+      }
+      out.known = d.kind == Dimension::Kind::Known;
+      if (out.known) out.dim = dim_with(d.e);
+      out.described = describe(d);
+    } catch (const GiveUp&) {
+      out.error = error_;
+    }
+    return out;
+  }
+
+ private:
+  struct GiveUp {};
+  std::string_view text_;
+  const std::vector<Token>& t_;
+  const Expression::DimOf& dim_of_;
+  const Expression::Excerpt& excerpt_;
+  size_t i_ = 0;
+  std::optional<Expression::Error> error_;
+
+  const Token* peek() const { return i_ < t_.size() ? &t_[i_] : nullptr; }
+  bool at(Token::Kind k, std::string_view op = {}) const {
+    const Token* t = peek();
+    return t && t->kind == k && (op.empty() || text_.substr(t->pos, t->len) == op);
+  }
+  const Token& take() {
+    if (i_ >= t_.size()) throw GiveUp{};
+    return t_[i_++];
+  }
+  std::string written(const Dimension& d) const {
+    if (excerpt_) return excerpt_(d.begin, d.end);
+    return std::string(text_.substr(d.begin, d.end - d.begin));
+  }
+
+  /// The sides of `op` must agree: the result is the known one (either, when they agree).
+  Dimension same(const Dimension& a, const Dimension& b, std::string_view what) {
+    Dimension r = a.kind == Dimension::Kind::Known ? a : b.kind == Dimension::Kind::Known ? b
+                  : a.kind == Dimension::Kind::Unknown ? a : b;
+    if (a.kind == Dimension::Kind::Known && b.kind == Dimension::Kind::Known && a.e != b.e && !error_)
+      error_ = Expression::Error{fmt::format("{} differ in dimension: '{}' is {}, '{}' is {}", what, written(a), describe(a),
+                                             written(b), describe(b)),
+                                 b.begin};
+    r.begin = a.begin;
+    r.end = b.end;
+    return r;
+  }
+  static Dimension plain(size_t begin, size_t end) { return {Dimension::Kind::Plain, {0, 0, 0, 0}, begin, end}; }
+
+  Dimension ternary() {
+    Dimension c = binary(0);
+    if (!at(Token::Kind::Question)) return c;
+    take();
+    Dimension a = ternary();
+    if (!at(Token::Kind::Colon)) throw GiveUp{};
+    take();
+    Dimension b = ternary();
+    Dimension r = same(a, b, "the two branches of '?:'");
+    r.begin = c.begin;
+    return r;
+  }
+
+  // Levels: 0 ||, 1 &&, 2 comparisons, 3 + -, 4 * /.
+  Dimension binary(int level) {
+    static const std::vector<std::vector<std::string_view>> kLevels = {
+        {"||"}, {"&&"}, {"<", ">", "<=", ">=", "==", "!="}, {"+", "-"}, {"*", "/"}};
+    if (level == 5) return unary();
+    Dimension lhs = binary(level + 1);
+    for (;;) {
+      const Token* t = peek();
+      if (!t || t->kind != Token::Kind::Op) return lhs;
+      std::string_view op = text_.substr(t->pos, t->len);
+      if (std::find(kLevels[level].begin(), kLevels[level].end(), op) == kLevels[level].end()) return lhs;
+      take();
+      Dimension rhs = binary(level + 1);
+      if (level <= 1) {
+        lhs = plain(lhs.begin, rhs.end);  // a truth value
+      } else if (level == 2) {
+        same(lhs, rhs, fmt::format("the two sides of '{}'", op));
+        lhs = plain(lhs.begin, rhs.end);
+      } else if (level == 3) {
+        lhs = same(lhs, rhs, fmt::format("the two sides of '{}'", op));
+      } else {
+        lhs = product(lhs, rhs, op == "*" ? 1 : -1);
+      }
+    }
+  }
+
+  static Dimension product(const Dimension& a, const Dimension& b, int sign) {
+    Dimension r;
+    r.begin = a.begin;
+    r.end = b.end;
+    if (a.kind == Dimension::Kind::Unknown || b.kind == Dimension::Kind::Unknown) {
+      r.kind = Dimension::Kind::Unknown;
+      return r;
+    }
+    if (a.kind == Dimension::Kind::Plain && b.kind == Dimension::Kind::Plain) return r;
+    // A plain factor may carry any unit (the library's `300 + 100 * (stroke + 1)` is kg and
+    // kg/m): its product is of no dimension the check can know.
+    if (a.kind == Dimension::Kind::Plain || b.kind == Dimension::Kind::Plain) {
+      r.kind = Dimension::Kind::Unknown;
+      return r;
+    }
+    r.kind = Dimension::Kind::Known;
+    for (int k = 0; k < 4; ++k) r.e[k] = static_cast<int8_t>(a.e[k] + sign * b.e[k]);
+    return r;
+  }
+
+  Dimension unary() {
+    if (at(Token::Kind::Op, "-") || at(Token::Kind::Op, "+") || at(Token::Kind::Op, "!")) {
+      const Token& t = take();
+      bool negation = text_.substr(t.pos, t.len) == "!";
+      Dimension d = unary();
+      if (negation) d = plain(d.begin, d.end);
+      d.begin = t.pos;
+      return d;
+    }
+    return power();
+  }
+
+  Dimension power() {
+    Dimension base = primary();
+    if (!at(Token::Kind::Op, "^")) return base;
+    take();
+    const size_t exponent_at = i_;
+    Dimension exponent = unary();
+    Dimension r = base;
+    r.end = exponent.end;
+    if (base.kind != Dimension::Kind::Known || base.e == DimExponents{0, 0, 0, 0}) return r;
+    // A known dimension to a whole power written as a number: m^2. Anything else is not followed.
+    const Token& e = t_[exponent_at];
+    if (i_ == exponent_at + 1 && e.kind == Token::Kind::Number && !e.unit && e.value == std::floor(e.value) && std::abs(e.value) < 8) {
+      for (int k = 0; k < 4; ++k) r.e[k] = static_cast<int8_t>(r.e[k] * static_cast<int>(e.value));
+      return r;
+    }
+    r.kind = Dimension::Kind::Unknown;
+    return r;
+  }
+
+  Dimension primary() {
+    const Token& t = take();
+    Dimension d;
+    d.begin = t.pos;
+    d.end = t.pos + t.len;
+    switch (t.kind) {
+      case Token::Kind::Number:
+        if (t.unit) {
+          d.kind = Dimension::Kind::Known;
+          d.e = t.dims();
+        }
+        return d;
+      case Token::Kind::Open: {
+        Dimension inner = ternary();
+        if (!at(Token::Kind::Close)) throw GiveUp{};
+        d.kind = inner.kind;
+        d.e = inner.e;
+        d.end = take().pos + 1;
+        return d;
+      }
+      case Token::Kind::Name: {
+        std::string_view name = text_.substr(t.pos, t.len);
+        if (at(Token::Kind::Open)) return call(name, d);
+        if (name == "pi") return d;
+        if (auto dim = dim_of_(name)) {
+          d.kind = Dimension::Kind::Known;
+          d.e = exponents(*dim);
+        }
+        return d;
+      }
+      default: throw GiveUp{};
+    }
+  }
+
+  Dimension call(std::string_view name, Dimension d) {
+    take();  // (
+    std::vector<Dimension> args;
+    if (!at(Token::Kind::Close)) {
+      for (;;) {
+        args.push_back(ternary());
+        if (!at(Token::Kind::Comma)) break;
+        take();
+      }
+    }
+    if (!at(Token::Kind::Close)) throw GiveUp{};
+    d.end = take().pos + 1;
+    if (args.empty()) throw GiveUp{};
+    auto result = [&](Dimension r) {
+      r.begin = d.begin;
+      r.end = d.end;
+      return r;
+    };
+    const std::string what = fmt::format("the arguments of {}()", name);
+    if (name == "min" || name == "max" || name == "sum" || name == "avg" || name == "atan2") {
+      Dimension r = args[0];
+      for (size_t k = 1; k < args.size(); ++k) r = same(r, args[k], what);
+      return name == "atan2" ? result(Dimension::of(Dim::Angle)) : result(r);
+    }
+    if (name == "abs" || name == "floor" || name == "ceil" || name == "rint") return result(args[0]);
+    if (name == "sqrt") {
+      Dimension r = args[0];
+      if (r.kind != Dimension::Kind::Known) return result(r);
+      for (int k = 0; k < 4; ++k) {
+        if (r.e[k] % 2 != 0) return result({Dimension::Kind::Unknown});
+        r.e[k] = static_cast<int8_t>(r.e[k] / 2);
+      }
+      return result(r);
+    }
+    if (name == "asin" || name == "acos" || name == "atan" || name == "rad") return result(Dimension::of(Dim::Angle));
+    if (name == "deg") return result(Dimension{});  // degrees, as a plain number
+    // sin, cos, tan, exp, logarithms, sign: pure numbers.
+    return result(Dimension::of(Dim::None));
+  }
+};
+
+}  // namespace
+
 struct Expression::Impl {
   mu::Parser parser;
   std::deque<double> slots;  // deque: pointers stay valid as it grows
@@ -116,9 +512,10 @@ Expression::Expression(Expression&&) noexcept = default;
 Expression& Expression::operator=(Expression&&) noexcept = default;
 Expression::~Expression() = default;
 
-std::optional<Expression> Expression::parse(std::string_view text, Error* error) {
+std::optional<Expression> Expression::parse(std::string_view text, Error* error, Literals literals) {
   Expression e;
   e.text_ = std::string(text);
+  const Internal internal = with_literals_converted(text, literals);
   mu::Parser& p = e.impl_->parser;
   try {
     p.DefineNameChars("0123456789_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ.");
@@ -134,7 +531,7 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
     p.DefineFun("avg", fn_avg, false);
     p.DefineConst("pi", std::numbers::pi);
     p.SetVarFactory(new_slot, &e.impl_->slots);
-    p.SetExpr(e.text_);
+    p.SetExpr(internal.text);
     // GetUsedVar parses the whole expression, so syntax errors surface here.
     const mu::varmap_type& used = p.GetUsedVar();
     for (const auto& [name, ptr] : used) {  // std::map: sorted by name
@@ -145,7 +542,7 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error)
   } catch (const mu::Parser::exception_type& ex) {
     if (error) {
       error->message = ex.GetMsg();
-      error->position = static_cast<size_t>(std::max(0, ex.GetPos()));
+      error->position = internal.written(static_cast<size_t>(std::max(0, ex.GetPos())));
     }
     return std::nullopt;
   }
@@ -167,6 +564,11 @@ double Expression::evaluate(const double* values) const {
   } catch (const mu::Parser::exception_type&) {
     return std::nan("");
   }
+}
+
+Expression::Dimensions Expression::check_dimensions(const DimOf& dim_of, const Excerpt& excerpt) const {
+  const std::vector<Token> tokens = tokenize(text_);
+  return DimensionReader(text_, tokens, dim_of, excerpt).read();
 }
 
 // ---- margin splitting ----------------------------------------------------------------------

@@ -1,16 +1,23 @@
 #pragma once
-/// Expressions over named values ("Room1.height - 0.5", "a > b ? c : d"), evaluated by muparser.
+/// Expressions over named values ("Room1.height - 0.5", "a > b ? c : d", "yaw + 90 deg"),
+/// evaluated by muparser, with a dimension check of what they add and compare.
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/units.h"
+
 namespace sscs {
 
 /// A parsed expression. Names may contain '.', so references such as `Room1.height` are single
 /// variables. Operators: + - * / ^, comparisons, && || !, ?:; functions min max abs sqrt sin cos tan
 /// atan2 floor ceil, deg(x) (radians to degrees) and rad(x) (degrees to radians); constant pi.
+/// A number followed by a unit (`0.3 m`, `90 deg`, `2 t`, `1.5 m/s`) is that quantity in SI (or,
+/// with Literals::FileUnits, in the file unit of its dimension: what sweep metrics compute in).
 /// Movable, not copyable (it owns a muparser instance bound to its own variable slots).
 class Expression {
  public:
@@ -18,9 +25,29 @@ class Expression {
     std::string message;
     size_t position = 0;  ///< 0-based offset into the text
   };
+  enum class Literals : uint8_t { Si, FileUnits };
 
   /// Parses `text`; on failure fills `error` and returns nullopt.
-  static std::optional<Expression> parse(std::string_view text, Error* error);
+  static std::optional<Expression> parse(std::string_view text, Error* error, Literals literals = Literals::Si);
+
+  /// The dimension of a name the expression reads: nullopt for one that takes the dimension of
+  /// what it meets, as a plain number does (a parameter written without a unit); Dim::None for a
+  /// count or another pure number.
+  using DimOf = std::function<std::optional<Dim>(std::string_view name)>;
+  /// What the dimension check found.
+  struct Dimensions {
+    std::optional<Error> error;  ///< the first mismatch, at the token that does not fit
+    bool known = false;          ///< the result has a dimension (it is not a plain number)
+    std::optional<Dim> dim;      ///< the result's dimension, when it is one sscs names
+    std::string described;       ///< "a length", "a quantity in m^2": for messages
+  };
+  /// Checks that the sides of `+ - < <= == != >= >` and `?:`, and the arguments of min, max,
+  /// sum, avg and atan2, have one dimension; a plain number fits any. Products and quotients
+  /// combine dimensions (m / s is a velocity). A mismatch is an error at the token that does not fit.
+  /// `excerpt(begin, end)` quotes a span of text() in messages (for a text rewritten before it
+  /// was parsed: the span as written); by default the span itself.
+  using Excerpt = std::function<std::string(size_t begin, size_t end)>;
+  Dimensions check_dimensions(const DimOf& dim_of, const Excerpt& excerpt = {}) const;
 
   Expression(Expression&&) noexcept;
   Expression& operator=(Expression&&) noexcept;

@@ -168,6 +168,36 @@ double stable(double v) {
   return r == 0 ? 0.0 : r;  // no "-0"
 }
 
+std::optional<UnitWord> unit_word_at(std::string_view text) {
+  std::optional<UnitWord> best;
+  for (const Unit& u : kUnits) {
+    std::string_view w = u.word;
+    if (text.starts_with(w) && (!best || w.size() > best->word.size())) best = UnitWord{w, u.dim, u.to_si};
+  }
+  return best;
+}
+
+DimExponents exponents(Dim dim) {
+  switch (dim) {
+    case Dim::Length: return {1, 0, 0, 0};
+    case Dim::Mass: return {0, 1, 0, 0};
+    case Dim::Time: return {0, 0, 1, 0};
+    case Dim::Angle: return {0, 0, 0, 1};
+    case Dim::Velocity: return {1, 0, -1, 0};
+    case Dim::AngularVelocity: return {0, 0, -1, 1};
+    case Dim::Frequency: return {0, 0, -1, 0};
+    case Dim::None:
+    case Dim::Fraction: return {0, 0, 0, 0};
+  }
+  return {0, 0, 0, 0};
+}
+
+std::optional<Dim> dim_with(const DimExponents& e) {
+  for (Dim d : {Dim::None, Dim::Length, Dim::Mass, Dim::Time, Dim::Angle, Dim::Velocity, Dim::AngularVelocity, Dim::Frequency})
+    if (exponents(d) == e) return d;
+  return std::nullopt;
+}
+
 std::string known_units(Dim dim) {
   std::string out;
   for (const Unit& u : kUnits)

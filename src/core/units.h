@@ -1,5 +1,7 @@
 #pragma once
 /// Physical dimensions, unit literals ("300 mm", "90 deg") and conversion to SI.
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -54,6 +56,22 @@ std::string nonfinite_number(std::string_view text);
 /// the caller converts it with file_unit_to_si once it knows the dimension. nullopt when the text
 /// is neither; *unknown_unit is set when it is a number followed by a word that is no unit.
 std::optional<Quantity> parse_quantity(std::string_view text, std::string* unknown_unit = nullptr);
+
+/// A unit word at the start of `text` ("m/s" before "m"), as it would stand after a number: the
+/// longest known word there, with its dimension and the SI value of one of it; nullopt for none.
+struct UnitWord {
+  std::string_view word;
+  Dim dim = Dim::None;
+  double to_si = 1;
+};
+std::optional<UnitWord> unit_word_at(std::string_view text);
+
+/// The exponents of a dimension in the base quantities length, mass, time and angle (a velocity
+/// is {1, 0, -1, 0}); an angle counts as its own base so that `yaw + 0.3 m` is refused.
+using DimExponents = std::array<int8_t, 4>;
+DimExponents exponents(Dim dim);
+/// The Dim with these exponents, if sscs names one (Dim::None for all zero).
+std::optional<Dim> dim_with(const DimExponents& e);
 
 /// The unit words sscs knows, for messages.
 std::string known_units(Dim dim);
