@@ -1033,6 +1033,8 @@ class Run {
     }
     for (size_t k = 0; k < kEventKindNames.size(); ++k)
       if (size_t n = events_.count(static_cast<EventKind>(k))) f.events.emplace_back(std::string(kEventKindNames[k]), n);
+    if (const SolverMessages& m = world_.solver_messages(); m.count > 0)
+      f.physics_messages = RunSummaryFile::PhysicsMessages{m.count, r9(m.first_at), m.first};
     if (options_.inputs) {
       for (const InputFile& in : options_.inputs->files) f.inputs.emplace_back(in.path, in.sha256);
       f.inputs_not_in_resolved = options_.inputs->not_copied;

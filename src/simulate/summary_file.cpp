@@ -65,6 +65,12 @@ class Reader {
 
 }  // namespace
 
+/// What an ODE solver message means for the run's numbers (docs/simulation.md).
+constexpr const char* kPhysicsMessagesMeaning =
+    "on these steps ODE's contact solver stopped early and left the remaining contact forces at zero: bodies "
+    "in contact then may have moved (sunk, slid or been thrown) where they would not; poses, clearances and "
+    "events after the first such step are less certain than the run's other figures";
+
 nlohmann::ordered_json RunSummaryFile::to_json() const {
   json j;
   j["sscs"] = 1;
@@ -112,6 +118,9 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
   json counts = json::object();
   for (const auto& [kind, n] : events) counts[kind] = n;
   j["events"] = std::move(counts);
+  if (physics_messages)
+    j["physics_messages"] = {{"steps", physics_messages->steps}, {"first_at", physics_messages->first_at},
+                             {"first", physics_messages->first}, {"meaning", kPhysicsMessagesMeaning}};
   if (!inputs.empty()) {
     json in = json::array();
     for (const auto& [path, sha] : inputs) in.push_back({{"path", path}, {"sha256", sha}});
@@ -184,6 +193,9 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
       }
       s.events.emplace_back(kind, n.get<size_t>());
     }
+  if (const json* pm = r.object(j, "physics_messages", "summary", false))
+    s.physics_messages = PhysicsMessages{static_cast<size_t>(r.number(*pm, "steps", "physics_messages")),
+                                         r.number(*pm, "first_at", "physics_messages"), r.text(*pm, "first", "physics_messages")};
   if (const json* inputs = r.array(j, "inputs", "summary", false))
     for (const json& e : *inputs) s.inputs.emplace_back(r.text(e, "path", "inputs[]"), r.text(e, "sha256", "inputs[]"));
   if (const json* left = r.array(j, "inputs_not_in_resolved", "summary", false))

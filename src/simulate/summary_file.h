@@ -51,6 +51,13 @@ struct RunSummaryFile {
   };
   std::vector<CollisionEpisode> collisions;
   std::vector<std::pair<std::string, size_t>> events;  ///< counts by kind
+  /// ODE's solver messages, when there were any: on how many steps, the first and when.
+  struct PhysicsMessages {
+    size_t steps = 0;
+    double first_at = 0;
+    std::string first;
+  };
+  std::optional<PhysicsMessages> physics_messages;
   std::vector<std::pair<std::string, std::string>> inputs;  ///< path, sha256
   std::vector<std::string> inputs_not_in_resolved;
   std::string sscs_version;

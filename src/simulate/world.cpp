@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstring>
 #include <cstdarg>
-#include <atomic>
 #include <cmath>
 #include <map>
 #include <deque>
@@ -37,20 +36,28 @@ constexpr double kRestWindow = 0.02;                                      // s
 // Rolling and spinning resistance (m: the torque is at most this times the normal force): a
 // drum landed tilted spun and wobbled on its rim for ever (5 deg/s, never at rest), for ODE's
 // point contacts have no torsion of a contact patch. Steel on concrete rolls with about 1 mm.
-constexpr double kRollingResistance = 0.001, kSpinResistance = 0.01;
+// One value about every axis: ODE reads rho2 and rhoN only with dContactAxisDep, which sscs
+// does not set (a 1 cm spin resistance stated here and in the docs was never applied).
+constexpr double kRollingResistance = 0.001;
 constexpr double kMaxCorrectingVel = 1.0;  // m/s: how fast a contact may push bodies apart to undo a penetration
 constexpr double kStopMargin = 2e-3;    // rad or m: joint stops lie this far beyond the limits
 
 /// ODE's messages (not its errors): "LCP internal error" when a step's solver gives up on a
-/// contact, printed for every step (592 lines for a 1 mg drum in a gripper). Shown once a run.
-std::atomic<bool> ode_message_shown{false};
+/// contact, printed for every step (592 lines for a 1 mg drum in a gripper). Counted per world
+/// (the one stepping on this thread) and said once a run on stderr, with the simulated time.
+thread_local SolverMessages* g_messages = nullptr;
+thread_local double g_message_time = 0;
 void ode_message(int num, const char* msg, va_list ap) {
-  if (ode_message_shown.exchange(true)) return;
-  std::fprintf(stderr, "warning: ODE message %d: ", num);
-  std::vfprintf(stderr, msg, ap);
-  const bool solver = std::strstr(msg, "LCP") != nullptr;
-  std::fprintf(stderr, " (%sfurther ODE messages of this run are not shown)\n",
-               solver ? "the physics solver struggled with a contact, usually a body far lighter than what touches it; " : "");
+  char text[512];
+  std::vsnprintf(text, sizeof text, msg, ap);
+  if (g_messages && g_messages->count++ > 0) return;
+  if (g_messages) {
+    g_messages->first_at = g_message_time;
+    g_messages->first = fmt::format("ODE message {}: {}", num, text);
+  }
+  const bool solver = std::strstr(text, "LCP") != nullptr;
+  std::fprintf(stderr, "warning: at %.3f s: ODE message %d: %s (%sthe run's summary.json counts them)\n", g_message_time, num, text,
+               solver ? "the physics solver stopped early on a step's contacts, leaving their remaining forces at zero; " : "");
 }
 
 /// ODE's errors and internal assertions ("d != 0" in its cylinder collider) abort the process:
@@ -70,7 +77,6 @@ void init_ode() {
     dSetErrorHandler(ode_failure);
     dSetDebugHandler(ode_failure);
   });
-  ode_message_shown = false;
 }
 
 void to_ode(const Eigen::Matrix3d& R, dMatrix3 out) {
@@ -193,6 +199,7 @@ struct PhysicsWorld::Impl {
   dJointGroupID contact_group = nullptr;
   double floor = 0;
   double time = 0;
+  SolverMessages messages;
   std::vector<std::vector<dGeomID>> geoms;  // per object
   std::vector<dBodyID> bodies;              // per object; null when static
   std::vector<Eigen::Isometry3d> X_body_object;
@@ -372,7 +379,11 @@ struct PhysicsWorld::Impl {
         deepest = found[i].depth;
         deepest_at = {found[i].pos[0], found[i].pos[1], found[i].pos[2]};
       }
-    const int n = in_zone ? 0 : spread_contacts(found.data(), all, kMaxContacts);
+    // Neither side can move (a kinematic device's part against scenery or another kinematic
+    // part): a contact joint between them would be a row of the solver with no mass behind it,
+    // held only by its softness. The contact is recorded (a collision), no joint made.
+    const bool movable = (b1 && !dBodyIsKinematic(b1)) || (b2 && !dBodyIsKinematic(b2));
+    const int n = in_zone || !movable ? 0 : spread_contacts(found.data(), all, kMaxContacts);
     // A device's part against a free body (not one it holds: that is no contact).
     int pushed = -1, pusher = -1;
     if (t1.part >= 0 && t2.part < 0 && b2) pushed = o2, pusher = o1;
@@ -381,8 +392,7 @@ struct PhysicsWorld::Impl {
       dContact c{};
       c.geom = found[i];
       c.surface.mode = dContactBounce | dContactSoftCFM | dContactApprox1 | dContactRolling;
-      c.surface.rho = c.surface.rho2 = kRollingResistance;
-      c.surface.rhoN = kSpinResistance;
+      c.surface.rho = kRollingResistance;
       c.surface.mu = options.friction;
       c.surface.bounce = options.restitution;
       c.surface.bounce_vel = 0.1;
@@ -754,6 +764,8 @@ void PhysicsWorld::step() {
   Impl& w = *impl_;
   w.contacts.clear();
   w.contact_index.clear();
+  g_messages = &w.messages;
+  g_message_time = w.time;
   try {
     dSpaceCollide(w.space, &w, &Impl::near_callback);
     w.wake_unsupported();
@@ -761,8 +773,10 @@ void PhysicsWorld::step() {
     w.sum_device_forces();
   } catch (const PhysicsFailure&) {
     w.broken = true;
+    g_messages = nullptr;
     throw;
   }
+  g_messages = nullptr;
   dJointGroupEmpty(w.contact_group);
   for (auto& [o, db] : w.devices)
     for (auto& rec : db.joints) {
@@ -794,6 +808,8 @@ void PhysicsWorld::step() {
   }
   w.time += w.options.timestep;
 }
+
+const SolverMessages& PhysicsWorld::solver_messages() const { return impl_->messages; }
 
 double PhysicsWorld::time() const { return impl_->time; }
 double PhysicsWorld::floor_z() const { return impl_->floor; }

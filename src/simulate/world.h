@@ -57,6 +57,14 @@ struct PhysicsOptions {
   double restitution = 0.1; ///< bounce; contacts slower than 0.1 m/s do not bounce
 };
 
+/// What ODE's solver said during a run ("LCP internal error, s <= 0": on that step it stopped
+/// solving the contacts early and left the rest of their forces at zero).
+struct SolverMessages {
+  size_t count = 0;       ///< steps with a message
+  double first_at = 0;    ///< simulated s of the first
+  std::string first;      ///< its text
+};
+
 struct PhysicsContact {
   int a = -1, b = -1;       ///< objects (a <= b); -1 is the floor; a == b: a device with itself
   int part_a = -1, part_b = -1;  ///< device parts, -1 for other objects
@@ -99,6 +107,8 @@ class PhysicsWorld {
   /// Advances one timestep: contacts, then the ODE step.
   void step();
   double time() const;
+  /// ODE's messages of this world's steps so far.
+  const SolverMessages& solver_messages() const;
   /// Where the floor is: the plane z = floor_z() (the bottom of the containers, or 0).
   double floor_z() const;
 

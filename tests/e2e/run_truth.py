@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What a run says is what happened (tests/data/run-truth): six operations a designer writes,
+"""What a run says is what happened (tests/data/run-truth): seven operations a designer writes,
 from a bug report where the run's verdict and numbers were not the truth.
 
   crane-onto-occupied   a crane lowers a drum 0.8 m into the drum standing on the position and
@@ -14,6 +14,9 @@ from a bug report where the run's verdict and numbers were not the truth.
                         have no times.
   released-on-top       a drum released 40 mm into the one below is pushed up onto it: `displaced`
                         with its `rise`.
+  feather-pallet        a 0.1 g pallet under four drums on an AGV: ODE's solver gives up on steps
+                        ("LCP internal error"); summary.json says on how many, from when, and what
+                        it means for the numbers. The clean runs above have no physics_messages.
 
 Every expectation is checked and every one that fails is listed (not only the first), each
 saying what a designer expects and what the run gave; RUN_TRUTH_VERBOSE=1 lists those that hold.
@@ -28,7 +31,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 DATA = "tests/data/run-truth"
 SCENARIOS = ["crane-onto-occupied", "agv-pallet-arm-pick", "forklift-through-drum", "agv-set-down-on-deck",
-             "crane-beyond-travel", "released-on-top"]
+             "crane-beyond-travel", "released-on-top", "feather-pallet"]
 
 
 def collisions_between(events, a, b):
@@ -127,6 +130,20 @@ def run_truth(sscs, root, run, fail):
                f"grasps, nor the pallet the drum leaves); got {mc}")
         expect("LCP internal error" not in p.stderr, name,
                f"ODE prints no 'LCP internal error'; got stderr {p.stderr[-2000:]!r}")
+
+        # 2b. The same with a pallet of 0.1 g: the solver gives up on steps, and the run says so.
+        name = "feather-pallet"
+        p, summary, events, out = runs[name]
+        pm = summary.get("physics_messages")
+        expect(pm is not None and pm["steps"] >= 1 and "LCP" in pm["first"] and 0 < pm["first_at"] < summary["simulated_time"]
+               and "forces" in pm["meaning"], name,
+               f"summary.json's physics_messages counts the steps ODE's solver gave up on, the first and when, and what "
+               f"that means; got {pm}")
+        expect(pm is not None and f"at {pm['first_at']:.3f} s" in p.stderr, name,
+               f"stderr says when the first solver message came; got {p.stderr[-1000:]!r}")
+        for clean in ["agv-pallet-arm-pick", "agv-set-down-on-deck", "crane-beyond-travel"]:
+            expect("physics_messages" not in runs[clean][1], clean,
+                   f"a run ODE had nothing to say about has no physics_messages; got {runs[clean][1].get('physics_messages')}")
 
         # 3. The forklift drives its body 1.4 m through the drum.
         name = "forklift-through-drum"
