@@ -26,6 +26,30 @@ const char* status_name(Status s) {
   return "?";
 }
 
+double operand_value(const Operand& op, const std::vector<double>& values, const GeometryModel& geometry) {
+  switch (op.kind) {
+    case Operand::Kind::Slot: return values[op.slot];
+    case Operand::Kind::BoundingBox: return bbox_value(geometry, op.object, op.slot);
+    case Operand::Kind::Aggregate: {
+      using K = SelectionCall::Kind;
+      const std::vector<Operand>& members = *op.members;
+      const auto kind = static_cast<K>(op.aggregate);
+      if (kind == K::Count) return static_cast<double>(members.size());
+      // The min, max or mean of nothing is undefined: NaN, which the check reports as an error.
+      if (members.empty()) return kind == K::Sum ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+      double total = 0, lo = INFINITY, hi = -INFINITY;
+      for (const Operand& m : members) {
+        double x = operand_value(m, values, geometry);
+        total += x;
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      return kind == K::Min ? lo : kind == K::Max ? hi : kind == K::Avg ? total / static_cast<double>(members.size()) : total;
+    }
+    default: return op.constant_si;
+  }
+}
+
 namespace {
 
 /// What the checker reads: slot values and geometry of one state of the workcell.
@@ -36,29 +60,7 @@ struct State {
   const CheckOptions& options;
 };
 
-double read(const Operand& op, const State& st) {
-  switch (op.kind) {
-    case Operand::Kind::Slot: return st.values[op.slot];
-    case Operand::Kind::BoundingBox: return bbox_value(st.geometry, op.object, op.slot);
-    case Operand::Kind::Aggregate: {
-      using K = SelectionCall::Kind;
-      const std::vector<Operand>& members = *op.members;
-      const auto kind = static_cast<K>(op.aggregate);
-      if (kind == K::Count) return static_cast<double>(members.size());
-      // The min, max or mean of nothing is undefined: NaN, which the check reports as an error.
-      if (members.empty()) return kind == K::Sum ? 0.0 : std::numeric_limits<double>::quiet_NaN();
-      double total = 0, lo = INFINITY, hi = -INFINITY;
-      for (const Operand& m : members) {
-        double x = read(m, st);
-        total += x;
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-      }
-      return kind == K::Min ? lo : kind == K::Max ? hi : kind == K::Avg ? total / static_cast<double>(members.size()) : total;
-    }
-    default: return op.constant_si;
-  }
-}
+double read(const Operand& op, const State& st) { return operand_value(op, st.values, st.geometry); }
 
 /// The rounding a difference of values of magnitude `scale` may carry (a few ulps).
 double rounding_slack(double scale) { return 8 * std::numeric_limits<double>::epsilon() * std::max(scale, 1e-300); }

@@ -55,6 +55,10 @@ struct CheckOptions {
 };
 
 /// Checks every constraint at the workcell's values and geometry.
+/// The value (SI) of a compiled operand in workcell values `values`: a slot, a bounding box
+/// of `geometry`, an aggregate of its members (NaN for min, max or avg of none).
+double operand_value(const Operand& op, const std::vector<double>& values, const GeometryModel& geometry);
+
 CheckReport check(const Workcell& wc, const GeometryModel& geometry, const CheckOptions& options = {});
 
 /// Checks with another set of slot values (same layout as wc.values), e.g. during a motion.

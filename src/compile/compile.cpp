@@ -246,6 +246,74 @@ std::shared_ptr<const Expression> CompileState::parse_expression(const Scalar& s
   return shared;
 }
 
+std::optional<Operand> member_operand(const Workcell& wc, int obj, std::string_view member, bool allow_bbox, std::string* why) {
+  const Object& o = wc.objects[obj];
+  const ObjectType& type = wc.types[o.type];
+  Operand op;
+  op.text = fmt::format("{}.{}", o.name, member);
+  op.object = obj;
+  op.kind = Operand::Kind::Slot;
+  auto component = [&](std::string_view prefix, std::initializer_list<const char*> names, uint32_t base,
+                       Dim dim) -> std::optional<Operand> {
+    std::string_view rest = member.substr(prefix.size());
+    int k = 0;
+    for (const char* n : names) {
+      if (rest == n) {
+        op.slot = o.first_slot + base + k;
+        op.dim = dim;
+        return op;
+      }
+      ++k;
+    }
+    *why = fmt::format("expected {}{} in reference '{}'", prefix, fmt::join(names, fmt::format(" or {}", prefix)), op.text);
+    return std::nullopt;
+  };
+  if (member.starts_with("location.")) return component("location.", {"x", "y", "z"}, kLocationSlot, Dim::Length);
+  if (member.starts_with("orientation."))
+    return component("orientation.", {"roll", "pitch", "yaw"}, kOrientationSlot, Dim::Angle);
+  if (member.starts_with("bbox.")) {
+    std::string_view rest = member.substr(5);
+    bool ok = false;
+    uint32_t code = 0;
+    for (const char* corner : {"min.", "max.", "size."})
+      for (const char* axis : {"x", "y", "z"}) {
+        if (rest == fmt::format("{}{}", corner, axis)) {
+          ok = true;
+          op.slot = code;  // corner * 3 + axis, read by the checker from the geometry
+        }
+        ++code;
+      }
+    if (!ok) {
+      *why = fmt::format("expected bbox.min|max|size.x|y|z in reference '{}'", op.text);
+      return std::nullopt;
+    }
+    if (!allow_bbox) {
+      *why = fmt::format("'{}': bounding boxes come from geometry, which is evaluated after attribute values; use them "
+                         "in constraints, not in attribute values", op.text);
+      return std::nullopt;
+    }
+    op.kind = Operand::Kind::BoundingBox;
+    op.dim = Dim::Length;
+    return op;
+  }
+  int a = type.find_attribute(member);
+  if (a < 0) {
+    std::vector<std::string> names(kPoseSlotNames.begin(), kPoseSlotNames.end());
+    for (const AttributeDef& def : type.attributes) names.push_back(def.name);
+    *why = fmt::format("'{}' (a {}) has no attribute '{}'{}", o.name, type.name, member, did_you_mean(member, names));
+    return std::nullopt;
+  }
+  const AttributeDef& def = type.attributes[a];
+  if (def.type == AttrType::String || def.type == AttrType::Enum) {
+    *why = fmt::format("'{}' is {} attribute; expressions and bounds take numeric values", op.text,
+                       def.type == AttrType::Enum ? "an enum" : "a string");
+    return std::nullopt;
+  }
+  op.slot = o.first_slot + kFirstAttributeSlot + a;
+  op.dim = def.dim;
+  return op;
+}
+
 std::optional<Operand> CompileState::resolve_reference(std::string_view ref, SourceMark mark, const ExprScope& scope,
                                                        bool allow_bbox) {
   Operand op;
@@ -295,70 +363,14 @@ std::optional<Operand> CompileState::resolve_reference(std::string_view ref, Sou
                                  did_you_mean(object_name, object_names())));
     return std::nullopt;
   }
-  const Object& o = wc.objects[obj];
-  const ObjectType& type = wc.types[o.type];
-  op.object = obj;
-  op.kind = Operand::Kind::Slot;
-  auto component = [&](std::string_view prefix, std::initializer_list<const char*> names, uint32_t base,
-                       Dim dim) -> std::optional<Operand> {
-    std::string_view rest = member.substr(prefix.size());
-    int k = 0;
-    for (const char* n : names) {
-      if (rest == n) {
-        op.slot = o.first_slot + base + k;
-        op.dim = dim;
-        return op;
-      }
-      ++k;
-    }
-    diag.error(mark, fmt::format("expected {}{} in reference '{}'", prefix, fmt::join(names, fmt::format(" or {}", prefix)), ref));
-    return std::nullopt;
-  };
-  if (member.starts_with("location.")) return component("location.", {"x", "y", "z"}, kLocationSlot, Dim::Length);
-  if (member.starts_with("orientation."))
-    return component("orientation.", {"roll", "pitch", "yaw"}, kOrientationSlot, Dim::Angle);
-  if (member.starts_with("bbox.")) {
-    std::string_view rest = member.substr(5);
-    bool ok = false;
-    uint32_t code = 0;
-    for (const char* corner : {"min.", "max.", "size."})
-      for (const char* axis : {"x", "y", "z"}) {
-        if (rest == fmt::format("{}{}", corner, axis)) {
-          ok = true;
-          op.slot = code;  // corner * 3 + axis, read by the checker from the geometry
-        }
-        ++code;
-      }
-    if (!ok) {
-      diag.error(mark, fmt::format("expected bbox.min|max|size.x|y|z in reference '{}'", ref));
-      return std::nullopt;
-    }
-    if (!allow_bbox) {
-      diag.error(mark, fmt::format("'{}': bounding boxes come from geometry, which is evaluated after attribute "
-                                   "values; use them in constraints, not in attribute values",
-                                   ref));
-      return std::nullopt;
-    }
-    op.kind = Operand::Kind::BoundingBox;
-    op.dim = Dim::Length;
-    return op;
-  }
-  int a = type.find_attribute(member);
-  if (a < 0) {
-    std::vector<std::string> names(kPoseSlotNames.begin(), kPoseSlotNames.end());
-    for (const AttributeDef& def : type.attributes) names.push_back(def.name);
-    diag.error(mark, fmt::format("'{}' (a {}) has no attribute '{}'{}", o.name, type.name, member, did_you_mean(member, names)));
+  std::string why;
+  auto member_op = member_operand(wc, obj, member, allow_bbox, &why);
+  if (!member_op) {
+    diag.error(mark, why);
     return std::nullopt;
   }
-  const AttributeDef& def = type.attributes[a];
-  if (def.type == AttrType::String || def.type == AttrType::Enum) {
-    diag.error(mark, fmt::format("'{}' is {} attribute; expressions and bounds take numeric values", ref,
-                                 def.type == AttrType::Enum ? "an enum" : "a string"));
-    return std::nullopt;
-  }
-  op.slot = o.first_slot + kFirstAttributeSlot + a;
-  op.dim = def.dim;
-  return op;
+  member_op->text = op.text;
+  return member_op;
 }
 
 bool CompileState::resolve_inputs(const Expression& expr, const Scalar& s, const ExprScope& scope,

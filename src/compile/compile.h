@@ -41,6 +41,11 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
 std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources,
                                 Diagnostics& diag);
 
+/// What `OBJECT.member` reads of a compiled object (`height`, `location.x`, `orientation.yaw`,
+/// `bbox.max.y`): the operand a check or a sweep metric evaluates, or nullopt with `why` (the
+/// message, naming the reference). Bounding boxes only when `allow_bbox` (not in attribute values).
+std::optional<Operand> member_operand(const Workcell& wc, int object, std::string_view member, bool allow_bbox, std::string* why);
+
 /// Loads and compiles the vault file at `path`.
 std::optional<Workcell> compile_file(const std::string& path, const CompileOptions& options, Sources& sources,
                                      Diagnostics& diag);

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "check/check.h"
+#include "compile/compile.h"
 #include "compile/values.h"
 #include "core/names.h"
 #include "core/selection_calls.h"
@@ -17,6 +19,17 @@ namespace {
 const std::vector<std::string> kCounts = {"passed", "failed", "warnings"};
 
 }  // namespace
+
+/// The dimension of `member` on the workcell's objects: of the first type with such an attribute,
+/// or of a pose or bounding-box member; nullopt when no type has it.
+std::optional<Dim> member_dim(const Workcell& wc, const std::string& member) {
+  for (const ObjectType& t : wc.types)
+    if (int a = t.find_attribute(member); a >= 0) return t.attributes[a].dim;
+  std::string why;
+  if (!wc.objects.empty())
+    if (auto op = member_operand(wc, 0, member, /*allow_bbox=*/true, &why)) return op->dim;
+  return std::nullopt;
+}
 
 const std::vector<std::string>& run_fields() {
   static const std::vector<std::string> fields = {"cycle_time", "simulated", "collisions", "events"};
@@ -34,13 +47,14 @@ std::optional<Metric> Metric::parse(const MetricSpec& spec, Diagnostics& diag) {
     diag.error(mark_at(spec.expr, err.position), fmt::format("metric '{}': {}", spec.name, err.message));
     return std::nullopt;
   }
-  auto expr = Expression::parse(rewritten->text, &err);
+  auto expr = Expression::parse(rewritten->text, &err, Expression::Literals::FileUnits);
   if (!expr) {
     diag.error(mark_at(spec.expr, rewritten->original(err.position)),
                fmt::format("metric '{}': {} in '{}'", spec.name, without_position(err.message), text));
     return std::nullopt;
   }
-  m.calls_ = std::move(rewritten->calls);
+  m.calls_ = rewritten->calls;
+  m.rewritten_ = std::move(*rewritten);
   m.expr_ = std::make_shared<const Expression>(std::move(*expr));
   return m;
 }
@@ -68,13 +82,13 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
                                                 did_you_mean(c.selector.substr(5), names)));
       continue;
     }
-    if (c.kind != K::Count) {
-      // The attribute must be one of the selected objects' types (checked on the types, as a
-      // variant may select other objects).
-      bool known = false;
-      for (const ObjectType& t : wc.types) known |= t.find_attribute(c.attribute) >= 0;
-      for (int k = kLocationSlot; k < kLocationSlot + 3; ++k) known |= c.attribute == kPoseSlotNames[k];
-      if (!known)
+    if (c.kind != K::Count && !member_dim(wc, c.attribute)) {
+      // The member must be one of some type's (checked on the types, as a variant may select
+      // other objects), or a pose or bounding-box member every object has.
+      std::string why;
+      if (!wc.objects.empty() && !member_operand(wc, 0, c.attribute, true, &why) && why.starts_with("expected"))
+        diag.error(where(c.arg_position), fmt::format("metric '{}': {}", spec_.name, why));
+      else
         diag.error(where(c.position), fmt::format("metric '{}': no type has an attribute '{}'", spec_.name, c.attribute));
     }
   }
@@ -93,9 +107,33 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
     diag.error(spec_.expr.mark, fmt::format("metric '{}' reads '{}', which is no parameter of vault '{}', no count and no "
                                             "run field{}", spec_.name, name, wc.name, did_you_mean(name, names)));
   }
+  auto dim_of = [&](std::string_view name) -> std::optional<Dim> {
+    if (int call = RewrittenExpression::call_index(name); call >= 0 && call < static_cast<int>(calls_.size())) {
+      const SelectionCall& c = calls_[call];
+      if (c.kind == SelectionCall::Kind::Count) return Dim::None;
+      if (c.kind == SelectionCall::Kind::MinMargin || c.kind == SelectionCall::Kind::Margin) return std::nullopt;  // each in its check's unit
+      auto d = member_dim(wc, c.attribute);
+      return d && *d != Dim::None ? d : std::nullopt;
+    }
+    if (name == "cycle_time" || name == "simulated") return Dim::Time;
+    if (name == "collisions" || name == "events" || std::find(kCounts.begin(), kCounts.end(), name) != kCounts.end())
+      return Dim::None;
+    auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == name; });
+    if (p == wc.parameters.end() || p->dim == Dim::None) return std::nullopt;
+    return p->dim;
+  };
+  Expression::Dimensions d = expr_->check_dimensions(dim_of, [&](size_t begin, size_t end) {
+    const size_t b = std::min(rewritten_.original(begin), spec_.expr.text.size());
+    const size_t n = std::min(rewritten_.original(end), spec_.expr.text.size());
+    return spec_.expr.text.substr(b, n > b ? n - b : 0);
+  });
+  if (d.error)
+    diag.error(where(rewritten_.original(d.error->position)), fmt::format("metric '{}': {} in '{}'", spec_.name, d.error->message,
+                                                                           spec_.expr.text));
 }
 
-Expected<double> Metric::evaluate(const Workcell& wc, const CheckReport& report, const RunSummary* run) const {
+Expected<double> Metric::evaluate(const Workcell& wc, const GeometryModel& geometry, const CheckReport& report,
+                                  const RunSummary* run) const {
   std::string why;  // the first reason the value is undefined
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   using K = SelectionCall::Kind;
@@ -123,31 +161,23 @@ Expected<double> Metric::evaluate(const Workcell& wc, const CheckReport& report,
                                c.selector, c.attribute);
           return kNaN;
         }
-        double total = 0, lo = INFINITY, hi = -INFINITY;
+        // What each object holds, read as a vault's expression reads it (compile's member_operand).
+        Operand aggregate;
+        aggregate.kind = Operand::Kind::Aggregate;
+        aggregate.aggregate = static_cast<uint8_t>(c.kind);
+        auto members = std::make_shared<std::vector<Operand>>();
         for (int o : *objects) {
-          const Object& obj = wc.objects[o];
-          double x;
-          if (c.attribute.starts_with("location.") && c.attribute.size() == 10) {
-            x = wc.values[obj.first_slot + kLocationSlot + (c.attribute.back() - 'x')];
-          } else {
-            const ObjectType& t = wc.types[obj.type];
-            int a = t.find_attribute(c.attribute);
-            if (a < 0) {
-              why = fmt::format("metric '{}': {} ({}) has no attribute '{}'", spec_.name, obj.name, t.name, c.attribute);
-              return kNaN;
-            }
-            x = si_to_file(wc.values[obj.first_slot + kFirstAttributeSlot + a], t.attributes[a].dim);
+          std::string problem;
+          auto m = member_operand(wc, o, c.attribute, /*allow_bbox=*/true, &problem);
+          if (!m) {
+            why = fmt::format("metric '{}': {}", spec_.name, problem);
+            return kNaN;
           }
-          total += x;
-          lo = std::min(lo, x);
-          hi = std::max(hi, x);
+          if (members->empty()) aggregate.dim = m->dim;
+          members->push_back(std::move(*m));
         }
-        switch (c.kind) {
-          case K::Min: return lo;
-          case K::Max: return hi;
-          case K::Avg: return total / static_cast<double>(objects->size());
-          default: return total;
-        }
+        aggregate.members = std::move(members);
+        return si_to_file(operand_value(aggregate, wc.values, geometry), aggregate.dim);
       }
     }
   };

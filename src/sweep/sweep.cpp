@@ -398,7 +398,7 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   if (run && run->status != RunStatus::Ok)
     problems.push_back(fmt::format("run: {} (see run/events.jsonl)", run_status_name(run->status)));
   for (size_t i = 0; i < metrics_.size(); ++i) {
-    Expected<double> value = metrics_[i].evaluate(*wc, report, run ? &*run : nullptr);
+    Expected<double> value = metrics_[i].evaluate(*wc, geometry, report, run ? &*run : nullptr);
     if (value) row.metrics[i] = *value;
     else problems.push_back(value.error());
   }

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <set>
 #include <filesystem>
@@ -106,6 +107,31 @@ TEST_F(Check, ExprResultsCarryMargins) {
   EXPECT_NEAR(*rep.results[2].margin, -4.0, 1e-9);  // max(6 - 10, 10 - 18.43)
   EXPECT_EQ(rep.passed, 2u);
   EXPECT_EQ(rep.failed, 1u);
+}
+
+TEST_F(Check, NumbersWithUnitsInsideExpressionsAreThoseQuantities) {
+  // vault-format.md, `expr`: `turning_radius + 0.3 m`, `yaw + 90 deg`, `sum(...) <= 2 t`.
+  Workcell wc = must_compile(
+      "parameters:\n  gap: 0.3\nobjects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: door, name: D, height: \"R.height - 150 cm\", orientation: [0, 0, \"R.orientation.yaw + 90 deg\"]}\n"
+      "  - {type: drum, name: D1, fill_mass: 0.25 t}\n  - {type: drum, name: D2, fill_mass: 600 lb}\n"
+      "constraints:\n"
+      "  - {name: mass, expr: \"sum([D1, D2].gross_mass) <= 2 t\"}\n"
+      "  - {name: head, expr: \"D.height + 30 cm + gap <= R.height\"}\n"
+      "  - {name: turned, expr: \"abs(D.orientation.yaw - 90 deg) < 0.5 deg\"}\n"
+      "  - {name: area, expr: \"R.length * R.width >= 6000 cm * 1000 mm\"}\n");
+  EXPECT_DOUBLE_EQ(value(wc, "D.height"), 2.5);
+  EXPECT_NEAR(value(wc, "D.orientation.yaw"), std::numbers::pi / 2, 1e-12);
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 4u);
+  const double gross = value(wc, "D1.gross_mass") + value(wc, "D2.gross_mass");
+  EXPECT_NEAR(value(wc, "D2.fill_mass"), 600 * 0.45359237, 1e-9);
+  EXPECT_EQ(rep.results[0].status, gross <= 2000 ? Status::Pass : Status::Fail);
+  EXPECT_NEAR(*rep.results[0].margin, 2000 - gross, 1e-9);
+  EXPECT_NEAR(*rep.results[1].margin, 4 - 2.5 - 0.3 - 0.3, 1e-12);
+  EXPECT_EQ(rep.results[2].status, Status::Pass);
+  EXPECT_EQ(rep.results[3].status, Status::Pass);
+  EXPECT_NEAR(*rep.results[3].margin, 0, 1e-9);
 }
 
 TEST_F(Check, SelectorsTakeListsExclusionsAndWhatStandsAtFrames) {

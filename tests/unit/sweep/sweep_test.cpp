@@ -181,7 +181,7 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
     Diagnostics check_diag;
     m->validate(wc, false, check_diag);
     EXPECT_FALSE(check_diag.has_errors()) << check_diag.format(sources);
-    Expected<double> v = m->evaluate(wc, report, nullptr);
+    Expected<double> v = m->evaluate(wc, g, report, nullptr);
     EXPECT_TRUE(v) << v.error();
     return v ? *v : NAN;
   };
@@ -205,12 +205,12 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
   spec.expr.text = "sum(Nothing_*.levels)";
   auto m = Metric::parse(spec, diag);
   ASSERT_TRUE(m);
-  EXPECT_EQ(m->evaluate(wc, report, nullptr).error(), "metric 'm': sum(Nothing_*.levels) selects no object in this variant");
+  EXPECT_EQ(m->evaluate(wc, g, report, nullptr).error(), "metric 'm': sum(Nothing_*.levels) selects no object in this variant");
   // A value that is not finite is no value: an empty cell with the reason, never a silent one.
   spec.expr.text = "1 / (count(type:rack) - 3)";
   m = Metric::parse(spec, diag);
   ASSERT_TRUE(m);
-  EXPECT_EQ(m->evaluate(wc, report, nullptr).error(), "metric 'm' is infinite in this variant (a division by zero?)");
+  EXPECT_EQ(m->evaluate(wc, g, report, nullptr).error(), "metric 'm' is infinite in this variant (a division by zero?)");
 }
 
 TEST_F(MetricTest, UnknownNamesAreInputErrors) {
@@ -231,6 +231,53 @@ TEST_F(MetricTest, UnknownNamesAreInputErrors) {
   EXPECT_EQ(errors_of("cycle_time", true), "");
   EXPECT_EQ(errors_of("count(type:drum"), "metric 'm': '(' of count() is never closed");
   EXPECT_EQ(errors_of("sum(D1)"), "metric 'm': sum() needs SELECTOR.attribute, as sum(type:drum.fill_mass), found 'D1'");
+  EXPECT_EQ(errors_of("max(type:drum.bbox.max.w)"), "metric 'm': expected bbox.min|max|size.x|y|z in reference 'D1.bbox.max.w'");
+  EXPECT_EQ(errors_of("max(type:drum.bbox.max.y) + 2 kg"),
+            "metric 'm': the two sides of '+' differ in dimension: 'max(type:drum.bbox.max.y)' is a length, '2 kg' is a mass "
+            "in 'max(type:drum.bbox.max.y) + 2 kg'");
+  EXPECT_EQ(errors_of("cycle_time > 2 m", true),
+            "metric 'm': the two sides of '>' differ in dimension: 'cycle_time' is a time, '2 m' is a length in 'cycle_time > 2 m'");
+  EXPECT_EQ(errors_of("cycle_time / (1 min) + count(type:drum)", true), "");
+}
+
+// One reading of `SELECTOR.member` for sweep metrics and vault expressions (issue 35: a metric
+// `max(Shelf_*.bbox.max.y)` was refused that an `expr` took): every aggregate of every member
+// over every selector form gives the metric the value the vault's check computes.
+TEST_F(MetricTest, AggregatesReadWhatAVaultExpressionReads) {
+  const std::vector<std::string> aggregates = {"sum", "min", "max", "avg"};
+  const std::vector<std::string> members = {"height", "location.x", "location.y", "bbox.max.y", "bbox.min.z", "bbox.size.x"};
+  const std::vector<std::string> selectors = {"type:rack", "R_*", "[R_1, D1]", "[\"*\", \"!type:drum\"]", "D2", "[D1, D2]"};
+  std::string vault =
+      "objects:\n  - {type: room, name: Hall, length: 30 m, width: 20 m, height: 6 m}\n"
+      "  - {type: rack, array: {name: \"R_{i}\", count: [3], pitch: [2.5, 0, 0]}, parent: Hall, location: [1, 2, 0], levels: 3}\n"
+      "  - {type: drum, name: D1, parent: Hall, location: [4, 9.5, 0]}\n"
+      "  - {type: drum, name: D2, parent: Hall, location: [7.25, 12, 0.5], orientation: [0, 0, 30]}\nconstraints:\n";
+  std::vector<std::string> calls;
+  for (const std::string& a : aggregates)
+    for (const std::string& m : members)
+      for (const std::string& sel : selectors) {
+        calls.push_back(fmt::format("{}({}.{})", a, sel, m));
+        vault += fmt::format("  - {{name: c{}, expr: '{} <= 1000'}}\n", calls.size() - 1, calls.back());
+      }
+  Workcell wc = must_compile(vault);
+  GeometryModel g = build_geometry(wc, diag);
+  CheckReport report = check(wc, g);
+  ASSERT_EQ(report.results.size(), calls.size());
+  for (size_t k = 0; k < calls.size(); ++k) {
+    MetricSpec spec;
+    spec.name = "m";
+    spec.expr.text = calls[k];
+    Diagnostics d;
+    auto m = Metric::parse(spec, d);
+    ASSERT_TRUE(m) << d.format(sources);
+    m->validate(wc, false, d);
+    ASSERT_FALSE(d.has_errors()) << calls[k] << ": " << d.format(sources);
+    Expected<double> v = m->evaluate(wc, g, report, nullptr);
+    ASSERT_TRUE(v) << calls[k] << ": " << v.error();
+    const CheckResult& r = report.results[k];
+    ASSERT_TRUE(r.margin) << calls[k];
+    EXPECT_NEAR(*v, 1000 - *r.margin, 1e-9) << calls[k];
+  }
 }
 
 TEST(SweepProgress, RateAndEta) {
