@@ -104,9 +104,10 @@ class Study {
   const ScenarioSpec* scenario_file(const std::string& path, SourceMark where);
   bool prepare_case(Case& c);
   void validate_axes(const Workcell& wc, const Case& c);
+  void validate_axis_values(const Workcell& wc, const std::vector<Axis>& axes);
   /// Every varied parameter exists in the vault, and every metric names what the vault has.
   void validate_names(const Workcell& wc, const std::string& vault_path, bool simulated);
-  void report_with_vault();
+  void report_with_vault(const std::vector<Axis>* axes);
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
   void run_variant(const Variant& v, const std::string& tmp);
@@ -173,21 +174,28 @@ void Study::validate_names(const Workcell& wc, const std::string& vault_path, bo
   for (const Metric& m : metrics_) m.validate(wc, simulated, diag_);
 }
 
-void Study::report_with_vault() {
-  // The values could not be expanded: still say what else is wrong with the file, against the
-  // vault it names (when it names one plainly), so one run reports every error.
+void Study::report_with_vault(const std::vector<Axis>* axes) {
+  // The file has errors of its own (values that do not expand, a metric that does not parse):
+  // still say what else is wrong with it, against the vault it names (when it names one
+  // plainly), so one run reports every error.
   if (spec_.vault_path.empty()) return;
   const VaultSpec* vault = vault_file(spec_.vault_path, spec_.vault.mark);
   if (!vault) return;
   CompileOptions options = options_.compile;
   Diagnostics scratch;  // the vault's own errors are reported when the values are fixed
   auto wc = compile(*vault, options, sources_, scratch);
-  if (wc) validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty());
+  if (!wc) return;
+  validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty());
+  if (axes) validate_axis_values(*wc, *axes);
 }
 
 void Study::validate_axes(const Workcell& wc, const Case& c) {
   validate_names(wc, c.vault_path, c.scenario != nullptr);
-  for (const Axis& axis : set_.axes) {
+  validate_axis_values(wc, set_.axes);
+}
+
+void Study::validate_axis_values(const Workcell& wc, const std::vector<Axis>& axes) {
+  for (const Axis& axis : axes) {
     const VarySpec& v = *axis.spec;
     if (v.files()) continue;
     auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == v.name; });
@@ -242,13 +250,19 @@ bool Study::prepare_case(Case& c) {
 
 bool Study::prepare(const std::string& path) {
   auto spec = load_sweep(path, sources_, diag_);
-  if (!spec || diag_.has_errors()) return false;
+  if (!spec) return false;  // errors in the file's own keys still let its axes and metrics be checked
   spec_ = std::move(*spec);
-  auto set = expand_variants(spec_, diag_);
+  // Every error of the file in one run: the axes are checked against the vault even when the
+  // mode, a metric or another key is wrong.
+  auto axes = expand_axes(spec_, diag_);
+  std::optional<VariantSet> set;
+  if (axes) set = expand_variants(spec_, *axes, diag_);
   for (const MetricSpec& m : spec_.metrics)
     if (auto metric = Metric::parse(m, diag_)) metrics_.push_back(std::move(*metric));
-  if (!set) report_with_vault();
-  if (!set || diag_.has_errors()) return false;
+  if (!set || diag_.has_errors()) {
+    report_with_vault(axes ? &*axes : nullptr);
+    return false;
+  }
   set_ = std::move(*set);
 
   // The cases: every (vault, scenario) pair a variant names, each file parsed once.

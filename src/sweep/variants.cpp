@@ -182,13 +182,26 @@ std::string VariantSet::folder(const Variant& v) const {
   return name;
 }
 
-std::optional<VariantSet> expand_variants(const SweepSpec& spec, Diagnostics& diag) {
-  VariantSet set;
+std::optional<std::vector<Axis>> expand_axes(const SweepSpec& spec, Diagnostics& diag) {
+  std::vector<Axis> axes;
+  const size_t errors = diag.count();  // the file's other errors do not stop the axes
   for (const VarySpec& v : spec.vary) {
     auto axis = v.range ? range_axis(v, diag) : list_axis(v, spec.path, diag);
-    if (axis && !axis->values.empty()) set.axes.push_back(std::move(*axis));
+    if (axis && !axis->values.empty()) axes.push_back(std::move(*axis));
   }
-  if (diag.has_errors() || set.axes.empty()) return std::nullopt;
+  if (diag.count() != errors || axes.empty()) return std::nullopt;
+  return axes;
+}
+
+std::optional<VariantSet> expand_variants(const SweepSpec& spec, Diagnostics& diag) {
+  auto axes = expand_axes(spec, diag);
+  if (!axes || diag.has_errors()) return std::nullopt;
+  return expand_variants(spec, std::move(*axes), diag);
+}
+
+std::optional<VariantSet> expand_variants(const SweepSpec& spec, std::vector<Axis> axes, Diagnostics& diag) {
+  VariantSet set;
+  set.axes = std::move(axes);
   uint64_t grid = 1;
   for (const Axis& a : set.axes) {
     uint64_t n = a.values.size();

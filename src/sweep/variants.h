@@ -55,6 +55,11 @@ constexpr uint64_t kMaxGridVariants = 10'000'000;
 /// Problems (units that disagree, an empty range, n larger than the grid) go to `diag`.
 std::optional<VariantSet> expand_variants(const SweepSpec& spec, Diagnostics& diag);
 
+/// The two halves of expand_variants: each `vary` entry's values (nullopt when one does not
+/// expand, whatever else the file got wrong), and the variants the mode draws from them.
+std::optional<std::vector<Axis>> expand_axes(const SweepSpec& spec, Diagnostics& diag);
+std::optional<VariantSet> expand_variants(const SweepSpec& spec, std::vector<Axis> axes, Diagnostics& diag);
+
 /// The values of a range {from, to, step} in SI: from, from + step, ... up to `to`, which is
 /// included when it falls on a step within a relative 1e-9 of the step; each value rounded to 12
 /// significant digits (so 0.1 steps give 1.3, not 1.3000000000000003).
