@@ -1,8 +1,18 @@
 #include "model/device.h"
 
+#include <numbers>
+
 #include <algorithm>
 
 namespace sscs {
+
+double Joint::max_speed() const {
+  constexpr double kRevoluteSpeed = 90 * std::numbers::pi / 180, kPrismaticSpeed = 0.5;  // docs/simulation.md
+  return velocity > 0 ? velocity : type == JointType::Revolute ? kRevoluteSpeed : kPrismaticSpeed;
+}
+
+double Joint::max_acceleration() const { return acceleration > 0 ? acceleration : 2 * max_speed(); }
+
 
 Eigen::Isometry3d joint_transform(const Joint& j, double value) {
   switch (j.type) {

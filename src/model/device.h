@@ -24,6 +24,11 @@ struct Joint {
   double velocity = 0, acceleration = 0, effort = 0;            ///< SI; 0 when not given
   int attribute = -1;                                           ///< the instance attribute holding its value
   int q = -1;                                                   ///< index in the device's joint vector
+
+  /// How fast the planner moves it (SI): its velocity, else 90 deg/s (revolute) or 0.5 m/s.
+  double max_speed() const;
+  /// Its acceleration, else twice its speed per second.
+  double max_acceleration() const;
 };
 
 struct Part {

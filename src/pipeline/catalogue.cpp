@@ -151,18 +151,26 @@ void write_type(std::ostream& md, const ObjectType& t, const std::map<std::strin
     md << fmt::format("Meshes: {}.\n\n", fmt::join(meshes, ", "));
   }
   if (const DeviceTemplate* d = t.templates.device.get()) {
-    md << "| part | parent | joint | type | range |\n|---|---|---|---|---|\n";
+    // Speeds and accelerations as a run moves the joints: the type's, else the defaults (marked).
+    md << "| part | parent | joint | type | range | speed | acceleration |\n|---|---|---|---|---|---|---|\n";
     for (const PartTemplate& p : d->parts) {
-      std::string range;
+      std::string range, speed, accel;
       if (p.joint && p.joint->type != JointType::Fixed) {
         const int a = t.find_attribute(p.joint->name);
         if (a >= 0) {
           const AttributeDef& def = t.attributes[a];
           range = fmt::format("{} to {} {}", number(def.lower(attributes), def.dim), number(def.upper(attributes), def.dim), file_unit(def.dim));
         }
+        auto m = std::find_if(in.joints.begin(), in.joints.end(), [&](const TypeInstance::JointMotion& x) { return x.name == p.joint->name; });
+        if (m != in.joints.end()) {
+          const bool turns = m->type == JointType::Revolute;
+          const Dim dim = turns ? Dim::Angle : Dim::Length;
+          speed = fmt::format("{} {}{}", number(m->speed, dim), turns ? "deg/s" : "m/s", m->speed_given ? "" : " (default)");
+          accel = fmt::format("{} {}{}", number(m->acceleration, dim), turns ? "deg/s²" : "m/s²", m->acceleration_given ? "" : " (default)");
+        }
       }
-      md << fmt::format("| `{}` | {} | {} | {} | {} |\n", p.name, p.parent < 0 ? "" : "`" + d->parts[p.parent].name + "`",
-                        p.joint ? "`" + p.joint->name + "`" : "", p.joint ? joint_type_name(p.joint->type) : "", range);
+      md << fmt::format("| `{}` | {} | {} | {} | {} | {} | {} |\n", p.name, p.parent < 0 ? "" : "`" + d->parts[p.parent].name + "`",
+                        p.joint ? "`" + p.joint->name + "`" : "", p.joint ? joint_type_name(p.joint->type) : "", range, speed, accel);
     }
     md << fmt::format("\nTool: `{}`.", d->tool_part < 0 ? "the end of the longest chain" : d->parts[d->tool_part].name);
     if (in.reach) md << fmt::format(" Tool reach over the joint ranges at the defaults: {} to {} m.", vec_text(in.reach->min()), vec_text(in.reach->max()));

@@ -67,6 +67,10 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
       for (const Shape& s : p.shapes) add_mesh(s);
     if (const Eigen::Isometry3d* X = g.frame("tool")) out.frames.emplace_back("tool", *X);
     out.reach = reach_envelope(*g.device, g.device->joint_values(&wc->values[wc->objects[0].first_slot + kFirstAttributeSlot]));
+    for (int q = 0; q < g.device->dof(); ++q) {
+      const Joint& j = g.device->joint(q);
+      out.joints.push_back({j.name, j.type, j.max_speed(), j.max_acceleration(), j.velocity > 0, j.acceleration > 0});
+    }
   }
   return out;
 }
@@ -159,6 +163,20 @@ nlohmann::ordered_json type_json(const ObjectType& t, const std::vector<ObjectTy
     auto allowed = nlohmann::ordered_json::array();
     for (const auto& [a, b] : device->allowed_names) allowed.push_back({a, b});
     dj["allowed_collisions"] = std::move(allowed);
+    auto joints = nlohmann::ordered_json::array();
+    for (const TypeInstance::JointMotion& m : instance.joints) {
+      const bool turns = m.type == JointType::Revolute;
+      const Dim dim = turns ? Dim::Angle : Dim::Length;
+      joints.push_back({{"name", m.name},
+                        {"type", joint_type_name(m.type)},
+                        {"speed", stable(si_to_file(m.speed, dim))},
+                        {"speed_unit", turns ? "deg/s" : "m/s"},
+                        {"acceleration", stable(si_to_file(m.acceleration, dim))},
+                        {"acceleration_unit", turns ? "deg/s^2" : "m/s^2"},
+                        {"speed_given", m.speed_given},
+                        {"acceleration_given", m.acceleration_given}});
+    }
+    dj["joints"] = std::move(joints);
     dj["reach"] = instance.reach ? nlohmann::ordered_json{{"min", vec_json(instance.reach->min())}, {"max", vec_json(instance.reach->max())}}
                                  : nlohmann::ordered_json(nullptr);
     j["device"] = std::move(dj);
@@ -241,6 +259,15 @@ void write_type_listing(std::ostream& out, std::vector<ObjectType> types, const 
       if (!meshes.empty()) out << fmt::format("  meshes: {}\n", fmt::join(meshes, ", "));
       if (in.reach)
         out << fmt::format("  tool reach over the joint ranges: {} to {} m\n", vec_text(in.reach->min()), vec_text(in.reach->max()));
+      std::vector<std::string> motion;
+      for (const TypeInstance::JointMotion& m : in.joints) {
+        const bool turns = m.type == JointType::Revolute;
+        const Dim dim = turns ? Dim::Angle : Dim::Length;
+        motion.push_back(fmt::format("{} {} {}, {} {}{}", m.name, number_text(si_to_file(m.speed, dim)), turns ? "deg/s" : "m/s",
+                                     number_text(si_to_file(m.acceleration, dim)), turns ? "deg/s²" : "m/s²",
+                                     m.speed_given && m.acceleration_given ? "" : " (defaults)"));
+      }
+      if (!motion.empty()) out << fmt::format("  joint speeds and accelerations: {}\n", fmt::join(motion, "; "));
     }
     if (const DeviceTemplate* d = t.templates.device.get()) {
       std::vector<std::string> parts;

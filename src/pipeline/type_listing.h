@@ -25,6 +25,14 @@ struct TypeInstance {
   };
   std::vector<Mesh> meshes;
   std::optional<Eigen::AlignedBox3d> reach;  ///< devices: the tool's envelope over the joint ranges
+  /// Devices: how fast each joint moves in a run (the type's values, else the defaults).
+  struct JointMotion {
+    std::string name;
+    JointType type = JointType::Fixed;
+    double speed = 0, acceleration = 0;  ///< SI
+    bool speed_given = false, acceleration_given = false;
+  };
+  std::vector<JointMotion> joints;
   std::shared_ptr<const Workcell> workcell;  ///< the instance (for a picture of it), unless unbuilt
 };
 

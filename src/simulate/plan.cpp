@@ -27,8 +27,6 @@ const char* step_kind_name(StepKind kind) { return kStepActionNames[static_cast<
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-// Defaults for joints whose type gives no velocity or acceleration (docs/simulation.md).
-constexpr double kRevoluteSpeed = 90 * kPi / 180, kPrismaticSpeed = 0.5;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
 constexpr double kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;
@@ -37,8 +35,8 @@ constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to it
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
 
-double joint_speed(const Joint& j) { return j.velocity > 0 ? j.velocity : j.type == JointType::Revolute ? kRevoluteSpeed : kPrismaticSpeed; }
-double joint_accel(const Joint& j) { return j.acceleration > 0 ? j.acceleration : 2 * joint_speed(j); }
+double joint_speed(const Joint& j) { return j.max_speed(); }
+double joint_accel(const Joint& j) { return j.max_acceleration(); }
 
 class Planner {
  public:

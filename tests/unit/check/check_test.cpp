@@ -134,6 +134,32 @@ TEST_F(Check, NumbersWithUnitsInsideExpressionsAreThoseQuantities) {
   EXPECT_NEAR(*rep.results[3].margin, 0, 1e-9);
 }
 
+TEST_F(Check, RulesReadDoorsClearWidthsForkSpreadPayloadAndVehicleMass) {
+  // Issue 35: these lived only in descriptions; rules read them as attributes.
+  Workcell wc = must_compile(
+      "objects:\n  - {type: room, name: R, length: 20, width: 10, height: 6}\n"
+      "  - {type: door, name: D, parent: R}\n  - {type: rollup_door, name: T, parent: R, location: [5, 0, 0]}\n"
+      "  - {type: forklift, name: F, parent: R, location: [10, 5, 0], fork_spread: 0.7 m}\n"
+      "  - {type: arm6, name: A, parent: R, location: [3, 5, 0]}\n  - {type: agv, name: V, parent: R, location: [15, 5, 0]}\n"
+      "  - {type: drum_30gal, name: K, parent: R, location: [16, 8, 0], fill_mass: 5 kg}\n"
+      "constraints:\n"
+      "  - {name: wheelchair, bound: [D.clear_width, GE, 32 in]}\n"
+      "  - {name: truck, bound: [T.clear_width, GE, 3.5 m]}\n"
+      "  - {name: pallet entries, expr: \"F.fork_spread <= 0.75 m\"}\n"
+      "  - {name: arm lifts the drum, expr: \"K.gross_mass <= A.payload\"}\n"
+      "  - {name: floor, expr: \"V.body_mass + V.payload <= 2 t\"}\n");
+  EXPECT_NEAR(value(wc, "D.clear_width"), 0.914 - 0.044 - 0.016, 1e-12);
+  EXPECT_NEAR(value(wc, "T.clear_width"), 3.658 - 0.12, 1e-12);
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 5u);
+  EXPECT_NEAR(*rep.results[0].margin, 0.854 - 32 * 0.0254, 1e-9);
+  EXPECT_NEAR(*rep.results[1].margin, 3.538 - 3.5, 1e-9);
+  EXPECT_NEAR(*rep.results[2].margin, 0.05, 1e-12);
+  EXPECT_NEAR(*rep.results[3].margin, 20 - value(wc, "K.gross_mass"), 1e-9);
+  EXPECT_NEAR(*rep.results[4].margin, 2000 - 450 - 1000, 1e-9);
+  EXPECT_EQ(rep.failed, 0u);
+}
+
 TEST_F(Check, SelectorsTakeListsExclusionsAndWhatStandsAtFrames) {
   // vault-format.md: `at:FRAMEGLOB` selects what stands at those frames, `!SEL` in a list removes
   // what SEL selects, and a list works in aggregates (`sum([Drum_1, Drum_2].gross_mass)` was refused).
