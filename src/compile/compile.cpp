@@ -1,6 +1,8 @@
 // The compile driver and its passes: names -> types -> parameters -> arrays -> objects ->
 // values in dependency order -> constraints -> freeze.
 #include "compile/compile.h"
+
+#include "core/pose.h"
 #include "core/files.h"
 
 #include <algorithm>
@@ -70,6 +72,26 @@ std::optional<Eigen::Isometry3d> Workcell::named_frame(int object, std::string_v
   return found;
 }
 
+Eigen::Isometry3d Workcell::local_pose(int object) const {
+  const Object& o = objects[object];
+  const double* v = &values[o.first_slot];
+  Eigen::Isometry3d X = make_pose({v[kLocationSlot], v[kLocationSlot + 1], v[kLocationSlot + 2]},
+                                  {v[kOrientationSlot], v[kOrientationSlot + 1], v[kOrientationSlot + 2]});
+  // Placed `at` a frame of its parent: its location and orientation are in that frame.
+  if (!o.at.empty() && o.parent >= 0)
+    if (auto at = named_frame(o.parent, o.at)) X = *at * X;
+  return X;
+}
+
+Eigen::Isometry3d Workcell::pose_in_world(int object, std::vector<std::optional<Eigen::Isometry3d>>& known) const {
+  if (known[object]) return *known[object];
+  const Object& o = objects[object];
+  Eigen::Isometry3d X = local_pose(object);
+  if (o.parent >= 0) X = pose_in_world(o.parent, known) * X;
+  known[object] = X;
+  return X;
+}
+
 int Workcell::find_type(std::string_view n) const {
   for (size_t i = 0; i < types.size(); ++i)
     if (types[i].name == n) return static_cast<int>(i);
@@ -92,17 +114,43 @@ std::optional<std::vector<int>> Workcell::select(std::string_view item) const {
     return out;
   }
   if (item.starts_with("at:")) {
-    // at:OBJECT.FRAME: what stands at those frames (placed `at:` one of them).
+    // at:OBJECT.FRAME: what stands at those frames: placed `at:` one of them, or with its origin
+    // where one of them is (within 1 mm: resting on it, placed at another name of the same
+    // place, as a rack's slot_3_1_3 and top_3).
     const std::string_view frames = item.substr(3);
     const size_t dot = frames.find('.');
     if (dot == std::string_view::npos) return std::nullopt;
     const std::string_view object_glob = frames.substr(0, dot), frame_glob = frames.substr(dot + 1);
     if (object_glob.find_first_of("*?") == std::string_view::npos && find_object(object_glob) < 0) return std::nullopt;
+    std::vector<char> chosen(objects.size(), 0);
     for (size_t i = 0; i < objects.size(); ++i) {
       const Object& o = objects[i];
       if (o.parent >= 0 && !o.at.empty() && glob_match(object_glob, objects[o.parent].name) && glob_match(frame_glob, o.at))
-        out.push_back(static_cast<int>(i));
+        chosen[i] = 1;
     }
+    std::vector<std::pair<int, Eigen::Vector3d>> places;  // (owner, where in the world)
+    std::vector<std::optional<Eigen::Isometry3d>> world(objects.size());
+    for (size_t k = 0; k < objects.size(); ++k) {
+      if (!glob_match(object_glob, objects[k].name)) continue;
+      for (const std::string& name : frame_names(static_cast<int>(k)))
+        if (glob_match(frame_glob, name))
+          if (auto X = named_frame(static_cast<int>(k), name)) places.emplace_back(static_cast<int>(k), pose_in_world(static_cast<int>(k), world) * X->translation());
+    }
+    if (!places.empty())
+      for (size_t i = 0; i < objects.size(); ++i) {
+        if (chosen[i] || types[objects[i].type].container) continue;
+        const Eigen::Vector3d at = pose_in_world(static_cast<int>(i), world).translation();
+        for (const auto& [owner, p] : places) {
+          if ((at - p).norm() > 1e-3) continue;
+          bool holds_owner = false;  // the owner itself or what it stands in is no object at its frame
+          for (int a = owner; a >= 0 && !holds_owner; a = objects[a].parent) holds_owner = a == static_cast<int>(i);
+          if (holds_owner) continue;
+          chosen[i] = 1;
+          break;
+        }
+      }
+    for (size_t i = 0; i < objects.size(); ++i)
+      if (chosen[i]) out.push_back(static_cast<int>(i));
     return out;
   }
   if (item.starts_with("type:")) {

@@ -226,10 +226,16 @@ struct Workcell {
   int find_type(std::string_view name) const;
   /// The objects a selector item names, in index order: `*`, `type:T` (T and the types extending
   /// it), a glob (`Rack_*`), an object's name, `at:OBJECT.FRAME` (globs both: the objects placed
-  /// `at:` one of those frames) or a list `[A, B, !C]` of these (`!` removes what its item
+  /// `at:` one of those frames, or whose origin is within 1 mm of one) or a list `[A, B, !C]` of these (`!` removes what its item
   /// selects). nullopt when it names a type or an object that does not exist (a glob that
   /// matches nothing selects nothing).
   std::optional<std::vector<int>> select(std::string_view item) const;
+  /// Object `object`'s frame in its parent's: its location and orientation, in the frame it is
+  /// placed `at` when it is.
+  Eigen::Isometry3d local_pose(int object) const;
+  /// Object `object`'s frame in the world, from its location and orientation and its parents';
+  /// `known` (one entry per object) keeps the poses already composed.
+  Eigen::Isometry3d pose_in_world(int object, std::vector<std::optional<Eigen::Isometry3d>>& known) const;
   /// Whether type `t` is `ancestor` or derives from it.
   /// Type `t`, then the type it extends, and so on up to `object` (the one walk of the
   /// inheritance chain; reverse it for the root first).

@@ -349,16 +349,9 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
   std::vector<Eigen::Isometry3d> local(wc.objects.size());
   for (size_t i = 0; i < wc.objects.size(); ++i) {
     const Object& o = wc.objects[i];
-    const double* v = &wc.values[o.first_slot];
-    local[i].setIdentity();
-    local[i].linear() = rpy_to_rotation(v[kOrientationSlot], v[kOrientationSlot + 1], v[kOrientationSlot + 2]);
-    local[i].translation() = Eigen::Vector3d(v[kLocationSlot], v[kLocationSlot + 1], v[kLocationSlot + 2]);
-    // Placed `at` a frame of its parent: its location and orientation are in that frame.
+    local[i] = wc.local_pose(static_cast<int>(i));
     if (!o.at.empty() && o.parent >= 0)
-      if (auto X = wc.named_frame(o.parent, o.at)) {
-        model.objects[i].X_parent_at = *X;
-        local[i] = *X * local[i];
-      }
+      if (auto X = wc.named_frame(o.parent, o.at)) model.objects[i].X_parent_at = *X;
   }
   std::vector<char> done(wc.objects.size(), 0);
   for (size_t i = 0; i < wc.objects.size(); ++i) {

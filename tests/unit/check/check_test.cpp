@@ -185,6 +185,45 @@ TEST_F(Check, SelectorsTakeListsExclusionsAndWhatStandsAtFrames) {
   EXPECT_EQ(std::count(no_overlap.objects.begin(), no_overlap.objects.end(), wc.find_object("Walkway")), 0);
 }
 
+TEST_F(Check, AtSelectsWhatStandsAtAFrameByAnyNameOrByItsPlace) {
+  // vault-format.md: at:FRAMEGLOB is what stands at those frames: placed `at:` one of them, or
+  // resting on it (its origin there, however it was placed), and a frame has every name of its
+  // place (a drum_rack's top_N is a slot_L_B_P of its top level).
+  const std::string head =
+      "objects:\n  - {type: room, name: Hall, length: 30 m, width: 12 m, height: 8 m}\n"
+      "  - {type: drum_rack, name: Row_1, parent: Hall, location: [2, 2, 0], orientation: [0, 0, 90], levels: 2, bays: 2}\n"
+      "  - {type: drum, array: {name: \"Top_{i}\", count: [6]}, at: \"Row_1.top_{i}\"}\n"
+      "  - {type: drum, name: Placed, at: Row_1.slot_1_1_1}\n";
+  Workcell first = must_compile(head);
+  const int row = first.find_object("Row_1");
+  std::vector<std::optional<Eigen::Isometry3d>> known(first.objects.size());
+  const Eigen::Vector3d slot = first.pose_in_world(row, known) * first.named_frame(row, "slot_1_2_1")->translation();
+  Workcell wc = must_compile(head + fmt::format("  - {{type: drum, name: ByHand, parent: Hall, location: [{:.17g}, {:.17g}, {:.17g}]}}\n"
+                                                "  - {{type: drum, name: Beside, parent: Hall, location: [{:.17g}, {:.17g}, 0]}}\n",
+                                                slot.x(), slot.y(), slot.z(), slot.x() + 0.002, slot.y()));
+  auto names = [&](const std::string& sel) {
+    std::vector<std::string> out;
+    const auto found = wc.select(sel);
+    EXPECT_TRUE(found) << sel;
+    if (found)
+      for (int o : *found) out.push_back(wc.objects[o].name);
+    return out;
+  };
+  EXPECT_EQ(names("at:Row_1.slot_1_*"), (std::vector<std::string>{"Placed", "ByHand"}));
+  EXPECT_EQ(names("at:Row_1.slot_1_2_1"), (std::vector<std::string>{"ByHand"}));
+  EXPECT_EQ(names("at:Row_1.origin"), (std::vector<std::string>{}));  // the rack itself stands at none of its frames
+  // Each top is a slot of the top level: selected by either name.
+  for (int k = 1; k <= 6; ++k) {
+    const Eigen::Vector3d top = wc.named_frame(row, fmt::format("top_{}", k))->translation();
+    std::string same;
+    for (const std::string& f : wc.frame_names(row))
+      if (f.starts_with("slot_") && (wc.named_frame(row, f)->translation() - top).norm() < 1e-9) same = f;
+    ASSERT_FALSE(same.empty()) << k;
+    EXPECT_EQ(names("at:Row_1." + same), (std::vector<std::string>{fmt::format("Top_{}", k)})) << same;
+  }
+  EXPECT_EQ(names("at:Row_1.slot_2_*").size(), 6u);
+}
+
 TEST_F(Check, AnUnknownObjectInASelectorListIsReportedAtItsItem) {
   EXPECT_EQ(first_error("objects:\n  - {type: drum, name: Drum_1}\n"
                         "constraints:\n  - {name: s, expr: \"sum([Drum_1, Drum_9].fill_mass) < 1\"}\n"),
