@@ -292,11 +292,14 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
     case SpatialCheck::Kind::NoOverlap: {
       bool overlap = sc.kind == SpatialCheck::Kind::NoOverlap;
       double min = overlap ? 0.0 : sc.min_si;
+      const double tol = overlap ? std::max(kTouch, eps) : eps;
+      std::set<std::pair<int, int>> measured;
       for (auto [a, b] : world.candidate_pairs(sc.objects, overlap ? kTouch : sc.min_si)) {
         if (wc.nested(a, b)) continue;  // a rack stands inside its room
+        measured.insert({a, b});
         auto d = world.distance(a, b);
         if (!d) continue;
-        double margin = at_limit(*d - min, overlap ? std::max(kTouch, eps) : eps);
+        double margin = at_limit(*d - min, tol);
         note(margin, a, b);
         bool fails = margin < 0;
         if (!fails) continue;
@@ -306,6 +309,23 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
         else
           result({a, b}, Status::Fail, *d, min, margin,
                  fmt::format("distance between {} is {:g} m, min {:g} m", pair_text(wc, a, b), stable(*d), stable(min)));
+      }
+      // A passing set's margin is that of its nearest pair over every pair, not only of those the
+      // limit's broadphase met (a pair of turned boxes whose bounds touch may be farther apart
+      // than one whose bounds do not; a set with no pair within reach had no margin). Any pair
+      // nearer than the nearest measured has bounds nearer than it: one more broadphase at that
+      // distance finds them all; with none measured, the reach grows until a pair is met.
+      if (out.size() == first) {
+        double reach = smallest ? *smallest + min : std::max(min, 0.1);
+        for (int round = 0; round < 40; ++round) {
+          for (auto [a, b] : world.candidate_pairs(sc.objects, reach)) {
+            if (wc.nested(a, b) || !measured.insert({a, b}).second) continue;
+            if (auto d = world.distance(a, b)) note(at_limit(*d - min, tol), a, b);
+          }
+          if (smallest && *smallest + min <= reach) break;
+          reach = smallest ? *smallest + min : reach * 4;
+          if (!smallest && reach > 4 * kMaxLengthSi) break;  // one object, or none apart from their rooms
+        }
       }
       // A device in the set must not collide with itself: its non-adjacent parts.
       if (overlap)
