@@ -597,15 +597,19 @@ struct CollisionWorld::Impl {
 CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
-std::optional<double> CollisionWorld::distance(int a, int b) {
+std::optional<double> CollisionWorld::distance(int a, int b, std::pair<int, int>* nearest_parts) {
   const auto& pa = impl_->of(a);
   const auto& pb = impl_->of(b);
   if (pa.empty() || pb.empty()) return std::nullopt;
   double best = INFINITY;
-  for (const auto& x : pa)
-    for (const auto& y : pb)
-      best = std::min(best, remembered(impl_->memo, PairQuery::SignedDistance, x.get(), y.get(), INFINITY,
-                                       [&] { return signed_distance(x.get(), y.get()); }));
+  for (size_t i = 0; i < pa.size(); ++i)
+    for (size_t k = 0; k < pb.size(); ++k) {
+      const double d = remembered(impl_->memo, PairQuery::SignedDistance, pa[i].get(), pb[k].get(), INFINITY,
+                                  [&] { return signed_distance(pa[i].get(), pb[k].get()); });
+      if (d >= best) continue;
+      best = d;
+      if (nearest_parts) *nearest_parts = {impl_->geometry.objects[a].shapes[i].part, impl_->geometry.objects[b].shapes[k].part};
+    }
   return best;
 }
 

@@ -72,8 +72,9 @@ class CollisionWorld {
 
   /// Signed distance between two objects' geometry: the smallest distance between any of their
   /// shapes, or minus the largest penetration depth when they interpenetrate. nullopt when one
-  /// of them has no geometry.
-  std::optional<double> distance(int a, int b);
+  /// of them has no geometry. `nearest_parts`, when given, receives the device parts (-1 for
+  /// other objects) of the two shapes that are nearest.
+  std::optional<double> distance(int a, int b, std::pair<int, int>* nearest_parts = nullptr);
   /// How deep the point `p_world` lies inside object `object`'s solids (primitives and closed
   /// meshes, at their current placements): 0 when it is on or outside every one of them (an open
   /// mesh is a surface and holds nothing).

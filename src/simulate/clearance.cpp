@@ -53,9 +53,10 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
 }
 
 void ClearanceTracker::measure_penetration(double t, int a, int b) {
-  const std::optional<double> d = nearby_.distance(a, b);
+  std::pair<int, int> parts{-1, -1};  // named as a collision names them: the device's part
+  const std::optional<double> d = nearby_.distance(a, b, &parts);
   if (!d || *d >= -kContact) return;
-  keep(pairs_[key(a, b)], {*d, t, run_part_name(wc_, geometry_, a, -1), run_part_name(wc_, geometry_, b, -1)});
+  keep(pairs_[key(a, b)], {*d, t, run_part_name(wc_, geometry_, a, parts.first), run_part_name(wc_, geometry_, b, parts.second)});
 }
 
 void ClearanceTracker::excuse(int a, int b, double from, double to) {
