@@ -2,7 +2,7 @@
 # Installs what is missing, builds incrementally, and runs every test (unit and end-to-end) with
 # ctest; then builds again with clang's sanitizers (build-sanitize/) and runs a subset of the
 # suite under AddressSanitizer, UndefinedBehaviorSanitizer and LeakSanitizer, and every libFuzzer
-# target for SSCS_FUZZ_SECONDS (default 30) each. Any sanitizer report fails the run.
+# target for SSCS_FUZZ_SECONDS (default 20) each. Any sanitizer report fails the run.
 #   tools/test.sh             both stages (what CI runs)
 #   tools/test.sh --fast      the first stage only (gcc build, every test)
 #   tools/test.sh --sanitize  the second stage only, with the whole suite under the sanitizers
@@ -44,7 +44,7 @@ if [[ ! -f $san/CMakeCache.txt ]]; then
   # -O1 keeps the build and the tests quick enough for CI; line tables name the source lines.
   cmake -G Ninja -S "$root" -B "$san" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DSSCS_SANITIZE=ON -DSSCS_FUZZ=ON \
-    -DSSCS_WERROR=ON -DSSCS_FUZZ_SECONDS="${SSCS_FUZZ_SECONDS:-30}" >/dev/null
+    -DSSCS_WERROR=ON -DSSCS_FUZZ_SECONDS="${SSCS_FUZZ_SECONDS:-20}" >/dev/null
 elif [[ -n ${SSCS_FUZZ_SECONDS:-} ]]; then
   cmake "$san" -DSSCS_FUZZ_SECONDS="$SSCS_FUZZ_SECONDS" >/dev/null
 fi
@@ -76,6 +76,7 @@ if [[ $mode == all ]]; then
   # 16 minutes of CPU (a parenting sweep 230 s, random library configurations 210 s).
   skip+='|^Check\.ParentingToASolidNeverChangesTheOverlapVerdict$|^LibraryProperty\.EveryTypeIsSoundInRandomConfigurations'
   skip+='|^PrimitiveDepth\.RandomPairs|^(ReachMargin|ReachReplay|ActionCamera|Physics)\.|^e2e\.sweep_reuse$'
+  skip+='|^Check\.ASetsMarginIsItsNearestPairsOverEveryPair$'
 fi
 took "the sanitizer build" $t
 cd "$san"
