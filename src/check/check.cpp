@@ -177,7 +177,11 @@ ExprVerdict margin_of(const ExprCheck::MarginNode& n, const State& values, std::
 std::string input_values(const ExprCheck& e, const State& values) {
   std::vector<std::string> parts;
   for (const Operand& in : e.inputs)
-    if (in.kind != Operand::Kind::Constant) parts.push_back(fmt::format("{} = {:g}", in.text, read(in, values)));
+    if (in.kind != Operand::Kind::Constant) {
+      // As written in the file: in its unit (30 deg, not 0.523599).
+      const char* unit = file_unit(in.dim);
+      parts.push_back(fmt::format("{} = {:g}{}{}", in.text, stable(si_to_file(read(in, values), in.dim)), *unit ? " " : "", unit));
+    }
   return parts.empty() ? "" : fmt::format(" ({})", fmt::join(parts, ", "));
 }
 
@@ -211,11 +215,14 @@ void check_expr(const ExprCheck& e, const State& values, CheckResult& r) {
     // The verdict with rounding slack: muparser's own comparison has none.
     pass = verdict.pass;
     r.status = pass ? Status::Pass : Status::Fail;
-    double m = verdict.margin;
+    // In the file unit of what the sides compare (a yaw margin in deg, as the yaw is written).
+    const Dim dim = e.margin->dim;
+    r.dim = dim;
+    double m = si_to_file(verdict.margin, dim);
     if (std::isfinite(m)) r.margin = m == 0 ? 0.0 : m;  // never -0
     if (e.margin->op != MarginTree::Op::And && e.margin->op != MarginTree::Op::Or && e.margin->op != MarginTree::Op::Not) {
-      r.lhs = lhs;
-      r.rhs = rhs;
+      r.lhs = si_to_file(lhs, dim);
+      r.rhs = si_to_file(rhs, dim);
     }
   }
   if (pass && !values.describe_passes) return;
@@ -352,13 +359,14 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
         double margin = at_limit(*m, eps);
         note(margin, o, sc.container);
         if (margin >= 0) continue;
-        // Sticking out (through any face) or only too near a counted face?
+        // Sticking out (through any face) or only too near a counted face? The margin counts `min` too.
         std::string through;
         double out_by = -inside_margin(geometry, o, sc.container, &why, SpatialCheck::All, 0, &through).value_or(0);
         result({o, sc.container}, Status::Fail, {}, {}, margin,
                out_by > eps
-                   ? fmt::format("{} sticks out of {} by {:g} m{}", wc.objects[o].name, wc.objects[sc.container].name, stable(out_by),
-                                 through.empty() ? "" : " through " + through)
+                   ? fmt::format("{} sticks out of {} by {:g} m{}{}", wc.objects[o].name, wc.objects[sc.container].name, stable(out_by),
+                                 through.empty() ? "" : " through " + through,
+                                 sc.min_si > 0 ? fmt::format(" (min {:g} m inside: margin {:g} m)", stable(sc.min_si), stable(margin)) : "")
                    : fmt::format("{} is {:g} m from a face of {}, min {:g} m", wc.objects[o].name, stable(sc.min_si + margin),
                                  wc.objects[sc.container].name, stable(sc.min_si)));
       }

@@ -246,6 +246,24 @@ bool CompileState::is_unbuilt(std::string_view name) const {
   return false;
 }
 
+bool CompileState::may_select_unbuilt(std::string_view item) const {
+  if (item.starts_with('!')) return false;
+  if (item.starts_with("at:")) {
+    item.remove_prefix(3);
+    item = item.substr(0, item.find('.'));
+  }
+  if (item.starts_with("type:") || (unbuilt.empty() && unbuilt_arrays.empty())) return false;
+  if (item.find_first_of("*?") == std::string_view::npos) return is_unbuilt(item);
+  for (const std::string& name : unbuilt)
+    if (glob_match(item, name)) return true;
+  for (std::string example : unbuilt_arrays) {  // an instance name of the pattern: each index 1
+    for (const char* index : {"{i}", "{j}", "{k}"})
+      for (size_t at; (at = example.find(index)) != std::string::npos;) example.replace(at, 3, "1");
+    if (glob_match(item, example)) return true;
+  }
+  return false;
+}
+
 uint32_t CompileState::new_slots(size_t n) {
   auto first = static_cast<uint32_t>(wc.values.size());
   wc.values.resize(wc.values.size() + n, 0.0);

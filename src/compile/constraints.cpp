@@ -72,6 +72,8 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
     const std::string t = remove ? item.text.substr(1) : item.text;
     if (auto found = st.wc.select(t)) {
       (remove ? removed : out).insert((remove ? removed : out).end(), found->begin(), found->end());
+    } else if (st.may_select_unbuilt(t)) {
+      // follows from the error that dropped it
     } else if (t.starts_with("at:")) {
       if (names.empty()) names = st.object_names();
       const std::string object = t.substr(3, t.find('.') == std::string::npos ? std::string::npos : t.find('.') - 3);
@@ -83,7 +85,7 @@ std::vector<int> select(CompileState& st, const SelectorSpec& sel, std::string_v
       std::vector<std::string> types;
       for (const ObjectType& x : st.wc.types) types.push_back(x.name);
       st.diag.error(item.mark, fmt::format("unknown type '{}' in selector{}", type, did_you_mean(type, types)));
-    } else if (!st.is_unbuilt(t)) {
+    } else {
       if (names.empty()) names = st.object_names();
       st.diag.error(item.mark, fmt::format("unknown object '{}' in selector{}", t, did_you_mean(t, names)));
     }
@@ -243,6 +245,7 @@ std::optional<Operand> aggregate_operand(CompileState& st, const SelectionCall& 
   if (st.diag.count() != errors) return std::nullopt;
   const char* name = selection_call_name(call.kind);
   if (objects.empty() && !allow_empty) {
+    if (st.may_select_unbuilt(call.selector)) return std::nullopt;  // follows from an earlier error
     st.diag.error(sel.mark, fmt::format("{}({}) selects no objects (add allow_empty: true beside expr if that is intended)", name,
                                         call.kind == SelectionCall::Kind::Count ? call.selector : call.selector + "." + call.attribute));
     return std::nullopt;
@@ -288,6 +291,9 @@ std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const Marg
       if (!child) return std::nullopt;
       node.children.push_back(std::move(*child));
     }
+    node.dim = node.children.front().dim;
+    for (const auto& child : node.children)
+      if (child.dim != node.dim) node.dim = Dim::None;
     return node;
   }
   auto lhs = compile_side(st, tree.lhs, src);
@@ -295,6 +301,12 @@ std::optional<ExprCheck::MarginNode> compile_margin(CompileState& st, const Marg
   if (!lhs || !rhs) return std::nullopt;
   node.lhs = std::move(*lhs);
   node.rhs = std::move(*rhs);
+  // The sides agree (checked before); a plain number takes the other side's dimension.
+  for (const ExprCheck::Side* side : {&node.lhs, &node.rhs})
+    if (auto d = expression_dim(*side->expr, side->inputs); d && *d != Dim::Fraction) {
+      node.dim = *d;
+      break;
+    }
   return node;
 }
 
@@ -303,7 +315,7 @@ void compile_bound(CompileState& st, const BoundSpec& b, Constraint& c) {
   auto rhs = bound_operand(st, b.rhs, "the bound's rhs");
   if (!lhs || !rhs) return;
   if (lhs->dim != Dim::None && rhs->dim != Dim::None && lhs->dim != rhs->dim) {
-    st.diag.error(b.op_mark, fmt::format("bound compares {} '{}' with {} '{}'", dim_name(lhs->dim), b.lhs.text,
+    st.diag.error(b.rhs.mark, fmt::format("bound compares {} '{}' with {} '{}'", dim_name(lhs->dim), b.lhs.text,
                                          dim_name(rhs->dim), b.rhs.text));
     return;
   }
@@ -397,6 +409,9 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   std::vector<SourceMark> frame_marks;
   for (const Scalar& item : r.targets.items) {
     auto dot = item.text.rfind('.');
+    // `at:Row_1.top_*` is a selector with one dot of its own; `at:Row_1.top_*.top` names a frame.
+    const bool at_selector = item.text.starts_with("at:") || item.text.starts_with("!at:");
+    if (at_selector && item.text.find('.') == dot) dot = std::string::npos;
     if (dot == std::string::npos || item.text.starts_with("type:")) {
       plain.items.push_back(item);
       continue;

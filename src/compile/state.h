@@ -48,6 +48,9 @@ struct CompileState {
   /// Whether `name` is an object an earlier error dropped (one named so, or an instance of a
   /// dropped array: one wrong pitch gave one error and then 243 "'at' names unknown object").
   bool is_unbuilt(std::string_view name) const;
+  /// Whether a selector item (`Row_*`, `at:Row_1.top_*`) may have selected an object an earlier
+  /// error dropped: its emptiness, or its unknown object, follows from that error.
+  bool may_select_unbuilt(std::string_view item) const;
   std::set<int> reported_types;  ///< types whose problems (ObjectType::problems) were reported
   std::vector<PendingValue> pending;
   std::vector<int> slot_pending;

@@ -104,15 +104,27 @@ bool check_expression_dimensions(const Expression& e, const Expression::DimOf& d
   return true;
 }
 
-bool check_expression_dimensions(const Expression& e, const std::vector<Operand>& inputs, const Scalar& s, Dim expected,
-                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column) {
-  const std::vector<std::string>& names = e.names();
-  auto dim_of = [&](std::string_view name) -> std::optional<Dim> {
+namespace {
+/// The dimension of each name `e` reads, from its operands (one per `e.names()`).
+Expression::DimOf dims_of_inputs(const Expression& e, const std::vector<Operand>& inputs) {
+  return [&e, &inputs](std::string_view name) -> std::optional<Dim> {
+    const std::vector<std::string>& names = e.names();
     auto it = std::lower_bound(names.begin(), names.end(), name);
     if (it == names.end() || *it != name || static_cast<size_t>(it - names.begin()) >= inputs.size()) return std::nullopt;
     return operand_dim(inputs[it - names.begin()]);
   };
-  return check_expression_dimensions(e, dim_of, s, expected, what, diag, column);
+}
+}  // namespace
+
+bool check_expression_dimensions(const Expression& e, const std::vector<Operand>& inputs, const Scalar& s, Dim expected,
+                                 std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column) {
+  return check_expression_dimensions(e, dims_of_inputs(e, inputs), s, expected, what, diag, column);
+}
+
+std::optional<Dim> expression_dim(const Expression& e, const std::vector<Operand>& inputs) {
+  const Expression::Dimensions d = e.check_dimensions(dims_of_inputs(e, inputs));
+  if (d.error || !d.known) return std::nullopt;
+  return d.dim;
 }
 
 }  // namespace sscs

@@ -49,6 +49,10 @@ std::optional<Dim> operand_dim(const Operand& op);
 bool check_expression_dimensions(const Expression& e, const Expression::DimOf& dim_of, const Scalar& s, Dim expected,
                                  std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column = {});
 
+/// The dimension of `e`'s result with the dimensions of `inputs` (one per `e.names()`), when it
+/// has one sscs names; nullopt for a plain number or one the check cannot follow.
+std::optional<Dim> expression_dim(const Expression& e, const std::vector<Operand>& inputs);
+
 /// check_expression_dimensions with the dimensions of `inputs`, one per `e.names()`.
 bool check_expression_dimensions(const Expression& e, const std::vector<Operand>& inputs, const Scalar& s, Dim expected,
                                  std::string_view what, Diagnostics& diag, const std::function<size_t(size_t)>& column = {});

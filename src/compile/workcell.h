@@ -137,6 +137,9 @@ struct ExprCheck {
     MarginTree::Op op;
     Side lhs, rhs;
     std::vector<MarginNode> children;
+    /// The dimension of the compared sides (of every child's, when they share one): the margin
+    /// is reported in its file unit; Dim::None for pure numbers and mixed children.
+    Dim dim = Dim::None;
   };
   std::optional<MarginNode> margin;
 };

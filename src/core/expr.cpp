@@ -1,4 +1,5 @@
 #include "core/expr.h"
+#include "core/names.h"
 
 #include <muParser.h>
 
@@ -216,16 +217,7 @@ std::vector<Token> tokenize(std::string_view s) {
 /// and where each replacement ends in both texts, to map error positions back.
 struct Internal {
   std::string text;
-  std::vector<std::pair<size_t, size_t>> anchors;  // (offset in text, offset as written) after each literal
-  size_t written(size_t pos) const {
-    size_t t = 0, o = 0;
-    for (const auto& [a, b] : anchors) {
-      if (a > pos) break;
-      t = a;
-      o = b;
-    }
-    return o + (pos - t);
-  }
+  OffsetMap written;  // after each literal
 };
 
 Internal with_literals_converted(std::string_view s, Expression::Literals literals) {
@@ -237,7 +229,7 @@ Internal with_literals_converted(std::string_view s, Expression::Literals litera
     // Parenthesised: `-2 m^2`'s sign applies to the whole quantity, whatever follows.
     out.text += fmt::format("({:.17g})", t.converted(literals));
     copied = t.pos + t.len;
-    out.anchors.emplace_back(out.text.size(), copied);
+    out.written.anchors.emplace_back(out.text.size(), copied);
   }
   out.text.append(s.substr(copied));
   return out;
@@ -542,7 +534,18 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error,
   } catch (const mu::Parser::exception_type& ex) {
     if (error) {
       error->message = ex.GetMsg();
-      error->position = internal.written(static_cast<size_t>(std::max(0, ex.GetPos())));
+      error->position = internal.written.original(static_cast<size_t>(std::max(0, ex.GetPos())));
+      // A number followed by a word that is no unit (`2 inch`): say so, not "Unexpected variable".
+      const std::vector<Token> tokens = tokenize(text);
+      for (size_t k = 0; k + 1 < tokens.size(); ++k)
+        if (tokens[k].kind == Token::Kind::Number && !tokens[k].unit && tokens[k + 1].kind == Token::Kind::Name) {
+          const std::string word(text.substr(tokens[k + 1].pos, tokens[k + 1].len));
+          error->message = fmt::format("'{}' after the number {} is not a unit{} (units: {})", word,
+                                       text.substr(tokens[k].pos, tokens[k].len), did_you_mean(word, unit_words()),
+                                       known_units(Dim::None));
+          error->position = tokens[k + 1].pos;
+          break;
+        }
     }
     return std::nullopt;
   }

@@ -19,6 +19,21 @@ namespace sscs {
 /// A number followed by a unit (`0.3 m`, `90 deg`, `2 t`, `1.5 m/s`) is that quantity in SI (or,
 /// with Literals::FileUnits, in the file unit of its dimension: what sweep metrics compute in).
 /// Movable, not copyable (it owns a muparser instance bound to its own variable slots).
+/// Where an offset of a rewritten text lies in the text as written, for error carets: the
+/// rewrite records (offset in the rewritten text, offset as written) after each replacement.
+struct OffsetMap {
+  std::vector<std::pair<size_t, size_t>> anchors;
+  size_t original(size_t pos) const {
+    size_t rewritten = 0, written = 0;
+    for (const auto& [r, w] : anchors) {
+      if (r > pos) break;
+      rewritten = r;
+      written = w;
+    }
+    return written + (pos - rewritten);
+  }
+};
+
 class Expression {
  public:
   struct Error {

@@ -65,16 +65,6 @@ const char* selection_call_name(SelectionCall::Kind kind) {
   return "?";
 }
 
-size_t RewrittenExpression::original(size_t pos) const {
-  size_t shift_text = 0, shift_original = 0;
-  for (const auto& [t, o] : anchors) {
-    if (t > pos) break;
-    shift_text = t;
-    shift_original = o;
-  }
-  return shift_original + (pos - shift_text);
-}
-
 int RewrittenExpression::call_index(std::string_view name) {
   if (!name.starts_with("_call") || name.size() == 5) return -1;
   int n = 0;
@@ -176,7 +166,7 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
     out.text += fmt::format("_call{}", out.calls.size());
     out.calls.push_back(std::move(call));
     i = close + 1;
-    out.anchors.emplace_back(out.text.size(), i);
+    out.offsets.anchors.emplace_back(out.text.size(), i);
   }
   return out;
 }

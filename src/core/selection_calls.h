@@ -28,11 +28,11 @@ struct RewrittenExpression {
   std::string text;                    ///< the calls replaced by `_call0`, `_call1`, ...
   std::vector<SelectionCall> calls;
   /// Where offset `pos` of `text` lies in the original text (for error carets).
-  size_t original(size_t pos) const;
+  size_t original(size_t pos) const { return offsets.original(pos); }
   /// Index of the call a variable name stands for, or -1.
   static int call_index(std::string_view name);
 
-  std::vector<std::pair<size_t, size_t>> anchors;  ///< (offset in text, offset in original) after each call
+  OffsetMap offsets;  ///< after each call
 };
 
 /// Replaces the calls of the given kinds by variables. `min` and `max` with one argument are

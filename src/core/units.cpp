@@ -177,6 +177,12 @@ std::optional<UnitWord> unit_word_at(std::string_view text) {
   return best;
 }
 
+std::vector<std::string> unit_words() {
+  std::vector<std::string> out;
+  for (const Unit& u : kUnits) out.emplace_back(u.word);
+  return out;
+}
+
 DimExponents exponents(Dim dim) {
   switch (dim) {
     case Dim::Length: return {1, 0, 0, 0};

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 #include <string_view>
 
 namespace sscs {
@@ -65,6 +66,8 @@ struct UnitWord {
   double to_si = 1;
 };
 std::optional<UnitWord> unit_word_at(std::string_view text);
+/// Every unit word sscs reads, as written in files ("m", "mm", ..., "%").
+std::vector<std::string> unit_words();
 
 /// The exponents of a dimension in the base quantities length, mass, time and angle (a velocity
 /// is {1, 0, -1, 0}); an angle counts as its own base so that `yaw + 0.3 m` is refused.

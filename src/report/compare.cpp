@@ -31,7 +31,16 @@ const T* find_in(const std::vector<std::pair<std::string, T>>& pairs, const std:
   return nullptr;
 }
 
-std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
+/// How a table shows numbers: rounded for reading (text), or every digit the summary holds (CSV,
+/// read by scripts that rank runs: 0.0297 and 0.0304 must not both be 0.030).
+enum class Digits { Rounded, Full };
+
+std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
+  // Rounded: `fixed` decimals, but a clearance keeps 4 significant digits (a 0.4 mm penetration is not "-0.000").
+  auto number = [digits](double v, int fixed) {
+    if (digits == Digits::Full) return fmt::format("{}", v);
+    return fixed >= 0 ? fmt::format("{:.{}f}", v, fixed) : fmt::format("{:.4g}", v);
+  };
   std::vector<Metric> out = {{"scenario", "", {}}, {"status", "", {}}, {"cycle time", "s", {}}};
   std::set<std::string> devices, kinds;
   for (const RunRecord& r : runs) {
@@ -39,12 +48,12 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
     for (const auto& [kind, n] : r.summary.events) kinds.insert(kind);
     out[0].values.push_back(r.summary.scenario);
     out[1].values.push_back(r.summary.status);
-    out[2].values.push_back(r.summary.cycle_time ? fmt::format("{:.3f}", *r.summary.cycle_time) : "");
+    out[2].values.push_back(r.summary.cycle_time ? number(*r.summary.cycle_time, 3) : "");
   }
   Metric clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
   for (const RunRecord& r : runs) {
     const auto& mc = r.summary.min_clearance;
-    clearance.values.push_back(mc ? fmt::format("{:.3f}", mc->distance) : "> 2");
+    clearance.values.push_back(mc ? number(mc->distance, -1) : "> 2");
     pair.values.push_back(mc ? fmt::format("{} / {}", mc->a, mc->b) : "");
   }
   out.push_back(std::move(clearance));
@@ -57,9 +66,9 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs) {
     for (const RunRecord& r : runs) {
       const RunSummaryFile::DeviceFigures* f = find_in(r.summary.devices, d);
       const bool t = f && f->revolute_deg, s = f && f->prismatic_m;  // runs before per-kind totals have none
-      path.values.push_back(f ? fmt::format("{:.3f}", f->tool_path_length) : "");
-      turned.values.push_back(t ? fmt::format("{:.1f}", *f->revolute_deg) : "");
-      slid.values.push_back(s ? fmt::format("{:.3f}", *f->prismatic_m) : "");
+      path.values.push_back(f ? number(f->tool_path_length, 3) : "");
+      turned.values.push_back(t ? number(*f->revolute_deg, 1) : "");
+      slid.values.push_back(s ? number(*f->prismatic_m, 3) : "");
       any_turned = any_turned || t;
       any_slid = any_slid || s;
     }
@@ -119,7 +128,7 @@ Expected<std::vector<RunRecord>> read_runs(const std::vector<std::string>& paths
 }
 
 std::string compare_text(const std::vector<RunRecord>& runs) {
-  std::vector<Metric> ms = metrics(runs);
+  std::vector<Metric> ms = metrics(runs, Digits::Rounded);
   std::vector<std::string> head = {""};
   for (const RunRecord& r : runs) head.push_back(r.path);
   std::vector<size_t> width(head.size(), 0);
@@ -161,7 +170,7 @@ std::string compare_json(const std::vector<RunRecord>& runs) {
 }
 
 std::string compare_csv(const std::vector<RunRecord>& runs) {
-  std::vector<Metric> ms = metrics(runs);
+  std::vector<Metric> ms = metrics(runs, Digits::Full);
   std::vector<std::string> head = {"run"};
   for (const Metric& m : ms) head.push_back(m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit));
   std::string out;

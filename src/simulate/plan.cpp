@@ -35,9 +35,6 @@ constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to it
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
 
-double joint_speed(const Joint& j) { return j.max_speed(); }
-double joint_accel(const Joint& j) { return j.max_acceleration(); }
-
 class Planner {
  public:
   Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(diag) {}
@@ -233,8 +230,8 @@ class Planner {
   double move_joints(DeviceState& st, const Device& m, const Eigen::VectorXd& target, double f, double start) {
     Eigen::VectorXd v(m.dof()), a(m.dof());
     for (int k = 0; k < m.dof(); ++k) {
-      v[k] = joint_speed(m.joint(k)) * f;
-      a[k] = joint_accel(m.joint(k)) * f * f;  // the same motion, slower in time: twice the time at 50 %
+      v[k] = m.joint(k).max_speed() * f;
+      a[k] = m.joint(k).max_acceleration() * f * f;  // the same motion, slower in time: twice the time at 50 %
     }
     Segment seg;
     seg.joint.emplace(st.q, target, v, a);
@@ -381,8 +378,8 @@ class Planner {
         double step_k = std::abs(r.q[k] - q[k]);
         const Joint& j = m.joint(chain.device_index(k));
         if (step_k > (j.type == JointType::Revolute ? kContinuityRevolute : kContinuityPrismatic)) jump = true;
-        max_rate = std::max(max_rate, step_k * n / joint_speed(j));
-        max_rate_a = std::max(max_rate_a, step_k * n / joint_accel(j));
+        max_rate = std::max(max_rate, step_k * n / j.max_speed());
+        max_rate_a = std::max(max_rate_a, step_k * n / j.max_acceleration());
       }
       if (!r.ok() || jump) {
         fail(start, EventKind::Singular, index, d,

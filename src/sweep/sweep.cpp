@@ -107,7 +107,7 @@ class Study {
   void validate_axis_values(const Workcell& wc, const std::vector<Axis>& axes);
   /// Every varied parameter exists in the vault, and every metric names what the vault has.
   void validate_names(const Workcell& wc, const std::string& vault_path, bool simulated);
-  void report_with_vault(const std::vector<Axis>* axes);
+  void report_with_vault(const std::vector<Axis>& axes);
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
   void run_variant(const Variant& v, const std::string& tmp);
@@ -174,7 +174,7 @@ void Study::validate_names(const Workcell& wc, const std::string& vault_path, bo
   for (const Metric& m : metrics_) m.validate(wc, simulated, diag_);
 }
 
-void Study::report_with_vault(const std::vector<Axis>* axes) {
+void Study::report_with_vault(const std::vector<Axis>& axes) {
   // The file has errors of its own (values that do not expand, a metric that does not parse):
   // still say what else is wrong with it, against the vault it names (when it names one
   // plainly), so one run reports every error.
@@ -186,7 +186,7 @@ void Study::report_with_vault(const std::vector<Axis>* axes) {
   auto wc = compile(*vault, options, sources_, scratch);
   if (!wc) return;
   validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty());
-  if (axes) validate_axis_values(*wc, *axes);
+  validate_axis_values(*wc, axes);
 }
 
 void Study::validate_axes(const Workcell& wc, const Case& c) {
@@ -254,13 +254,17 @@ bool Study::prepare(const std::string& path) {
   spec_ = std::move(*spec);
   // Every error of the file in one run: the axes are checked against the vault even when the
   // mode, a metric or another key is wrong.
-  auto axes = expand_axes(spec_, diag_);
+  const size_t errors = diag_.count();
+  std::vector<Axis> axes = expand_axes(spec_, diag_);
   std::optional<VariantSet> set;
-  if (axes) set = expand_variants(spec_, *axes, diag_);
+  if (diag_.count() == errors && !axes.empty())
+    set = expand_variants(spec_, axes, diag_);
+  else if (spec_.random)
+    random_draw(spec_, diag_);  // the mode's own errors, which need no axes
   for (const MetricSpec& m : spec_.metrics)
     if (auto metric = Metric::parse(m, diag_)) metrics_.push_back(std::move(*metric));
   if (!set || diag_.has_errors()) {
-    report_with_vault(axes ? &*axes : nullptr);
+    report_with_vault(axes);
     return false;
   }
   set_ = std::move(*set);

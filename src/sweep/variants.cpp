@@ -182,21 +182,34 @@ std::string VariantSet::folder(const Variant& v) const {
   return name;
 }
 
-std::optional<std::vector<Axis>> expand_axes(const SweepSpec& spec, Diagnostics& diag) {
+std::optional<std::pair<uint64_t, uint64_t>> random_draw(const SweepSpec& spec, Diagnostics& diag) {
+  auto whole = [&](const Scalar& s, std::string_view what, double min) -> std::optional<uint64_t> {
+    auto x = parse_number(s.text);
+    if (!x || *x != std::floor(*x) || *x < min || *x > 9e15) {
+      diag.error(s.mark, fmt::format("expected a whole number of at least {} for {}, found '{}'", min, what, s.text));
+      return std::nullopt;
+    }
+    return static_cast<uint64_t>(*x);
+  };
+  auto n = whole(spec.n, "random n", 1);
+  auto seed = whole(spec.seed, "random seed", 0);
+  if (!n || !seed) return std::nullopt;
+  return std::pair{*n, *seed};
+}
+
+std::vector<Axis> expand_axes(const SweepSpec& spec, Diagnostics& diag) {
   std::vector<Axis> axes;
-  const size_t errors = diag.count();  // the file's other errors do not stop the axes
   for (const VarySpec& v : spec.vary) {
     auto axis = v.range ? range_axis(v, diag) : list_axis(v, spec.path, diag);
     if (axis && !axis->values.empty()) axes.push_back(std::move(*axis));
   }
-  if (diag.count() != errors || axes.empty()) return std::nullopt;
   return axes;
 }
 
 std::optional<VariantSet> expand_variants(const SweepSpec& spec, Diagnostics& diag) {
   auto axes = expand_axes(spec, diag);
-  if (!axes || diag.has_errors()) return std::nullopt;
-  return expand_variants(spec, std::move(*axes), diag);
+  if (axes.empty() || diag.has_errors()) return std::nullopt;
+  return expand_variants(spec, std::move(axes), diag);
 }
 
 std::optional<VariantSet> expand_variants(const SweepSpec& spec, std::vector<Axis> axes, Diagnostics& diag) {
@@ -216,27 +229,19 @@ std::optional<VariantSet> expand_variants(const SweepSpec& spec, std::vector<Axi
     }
     for (uint64_t g = 0; g < grid; ++g) points.push_back(g);
   } else {
-    auto whole = [&](const Scalar& s, std::string_view what, double min) -> std::optional<uint64_t> {
-      auto x = parse_number(s.text);
-      if (!x || *x != std::floor(*x) || *x < min || *x > 9e15) {
-        diag.error(s.mark, fmt::format("expected a whole number of at least {} for {}, found '{}'", min, what, s.text));
-        return std::nullopt;
-      }
-      return static_cast<uint64_t>(*x);
-    };
-    auto n = whole(spec.n, "random n", 1);
-    auto seed = whole(spec.seed, "random seed", 0);
-    if (!n || !seed) return std::nullopt;
-    if (*n > grid || *n > kMaxGridVariants) {
+    auto draw = random_draw(spec, diag);
+    if (!draw) return std::nullopt;
+    const auto [n, seed] = *draw;
+    if (n > grid || n > kMaxGridVariants) {
       diag.error(spec.n.mark, fmt::format("random n = {} is more than the {} variants of the grid; use mode: grid",
-                                          *n, grid));
+                                          n, grid));
       return std::nullopt;
     }
     // Floyd's sampling of n distinct points: mt19937_64's sequence is fixed by the C++ standard,
     // and `%` (not a library distribution) maps it, so every platform draws the same points.
-    std::mt19937_64 rng(*seed);
+    std::mt19937_64 rng(seed);
     std::set<uint64_t> chosen;
-    for (uint64_t j = grid - *n; j < grid; ++j) {
+    for (uint64_t j = grid - n; j < grid; ++j) {
       uint64_t t = rng() % (j + 1);
       if (!chosen.insert(t).second) chosen.insert(j);
     }

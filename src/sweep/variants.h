@@ -55,10 +55,13 @@ constexpr uint64_t kMaxGridVariants = 10'000'000;
 /// Problems (units that disagree, an empty range, n larger than the grid) go to `diag`.
 std::optional<VariantSet> expand_variants(const SweepSpec& spec, Diagnostics& diag);
 
-/// The two halves of expand_variants: each `vary` entry's values (nullopt when one does not
-/// expand, whatever else the file got wrong), and the variants the mode draws from them.
-std::optional<std::vector<Axis>> expand_axes(const SweepSpec& spec, Diagnostics& diag);
+/// The two halves of expand_variants: the values of each `vary` entry that expands (one that
+/// does not is reported and left out, so the others can still be checked against the vault),
+/// and the variants the mode draws from them.
+std::vector<Axis> expand_axes(const SweepSpec& spec, Diagnostics& diag);
 std::optional<VariantSet> expand_variants(const SweepSpec& spec, std::vector<Axis> axes, Diagnostics& diag);
+/// A random mode's `n` and `seed`, each a whole number (n ≥ 1), or nullopt with the errors in `diag`.
+std::optional<std::pair<uint64_t, uint64_t>> random_draw(const SweepSpec& spec, Diagnostics& diag);
 
 /// The values of a range {from, to, step} in SI: from, from + step, ... up to `to`, which is
 /// included when it falls on a step within a relative 1e-9 of the step; each value rounded to 12

@@ -14,6 +14,8 @@
       command-line behaviour: formats, --out, --set, --strict, exit statuses, types.
 """
 import argparse
+import csv
+import io
 import glob
 import hashlib
 import json
@@ -536,6 +538,11 @@ def simulate(sscs, root):
         rows = p.stdout.splitlines()
         if len(rows) != 3 or not rows[0].startswith("run,scenario,status,cycle time (s)"):
             fail("compare csv", p)
+        # CSV is for scripts that rank runs: every digit summary.json holds, not the table's 3 decimals.
+        table = list(csv.DictReader(io.StringIO(p.stdout)))
+        for r, j in zip(table, runs):
+            if float(r["cycle time (s)"]) != j["cycle_time"] or float(r["min clearance (m)"]) != j["min_clearance"]["distance"]:
+                fail(f"compare csv numbers {r} differ from summary.json's {j['cycle_time']}, {j['min_clearance']}", p)
         if run(sscs, root, ["compare", os.path.join(tmp, "nothing")]).returncode != 2:
             fail("compare of a folder that is not a run exits 2")
         # Swinging the drum straight to the rack drags it through an upright: a collision naming

@@ -57,6 +57,14 @@ test('numbers: four significant digits, units, non-finite shown as such, absent 
   assert.equal(S.num(undefined), '\u2014');
 });
 
+test('times: to the millisecond a run records, whatever their size', () => {
+  assert.equal(S.time(12.3456), '12.346');
+  assert.equal(S.time(84.818), '84.818');
+  assert.equal(S.time(3600.0016), '3600.002');
+  assert.equal(S.time(0), '0');
+  assert.equal(S.time(undefined), '\u2014');
+});
+
 test('CSV: header and numbers, quoted cells', () => {
   const t = S.parseCsv('t,j1,name\n0,1.5,"a,b"\n0.02,2,x\n');
   assert.deepEqual(t.columns, ['t', 'j1', 'name']);

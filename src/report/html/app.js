@@ -266,13 +266,14 @@
     const timeText = el('span', { class: 'time', 'data-testid': 'time' }, '0.00 s');
     app.append(header(`sscs simulate \u2014 ${sum.scenario} (${sum.vault})`, chip(statusClass, sum.status),
       el('span', {}, `cycle time ${S.num(sum.cycle_time, 's')}`),
-      // As summary.json defines it: every pair but a load and what it stands on while it stands
-      // there, and a tool and what it holds; below zero it is how deep they went into each other.
+      // As docs/simulation.md defines it; below zero it is how deep they went into each other.
       mc ? el('a', { href: '#', 'data-testid': 'min-clearance',
-        title: 'closest approach over the run; not counted: a load and what it stands on while it stands there, a tool and the load it grasps',
+        title: 'closest approach over the run (below zero: the deepest penetration). Not counted: rooms; a load and the stack it rides on; '
+          + 'a device and the loads it handles, down to 5 mm deep; a load and what it was lifted off or set down on, only during the move '
+          + 'that lifts it or sets it down, down to 5 mm deep',
         onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
         mc.distance < 0 ? `penetration ${S.num(-mc.distance, 'm')} between ` : `minimum clearance ${S.num(mc.distance, 'm')} between `,
-        nameEl(mc.a), ' and ', nameEl(mc.b), ` at ${S.num(mc.t, 's')}`) : null,
+        nameEl(mc.a), ' and ', nameEl(mc.b), ` at ${S.time(mc.t)} s`) : null,
       el('span', {}, `${Object.entries(sum.events || {}).map(([k, n]) => `${n} ${k}`).join(', ')}`)));
     const v = viewPanel(data.model, { onTime: (t) => onTime(t) });
     const view = v.view;
@@ -297,11 +298,11 @@
         class: `step s${i % 6}`, onclick: () => seek(s.start) }, svg('title', {}, `${s.label}: ${S.num(s.duration, 's')}`)));
     });
     S.notableEvents(events).forEach((e) => timeline.append(svg('circle', { cx: tx(e.t), cy: 32, r: 5, class: `event ${e.kind}`, onclick: () => jump(e) },
-      svg('title', {}, `${e.kind} at ${S.num(e.t, 's')}`))));
+      svg('title', {}, `${e.kind} at ${S.time(e.t)} s`))));
     const playhead = svg('line', { y1: 0, y2: H, class: 'cursor' });
     timeline.append(playhead);
     const eventList = el('table', { class: 'events', 'data-testid': 'events' }, el('thead', {}, el('tr', {}, el('th', {}, 't (s)'), el('th', {}, 'event'), el('th', {}, 'details'))),
-      el('tbody', {}, events.map((e, i) => el('tr', { 'data-event': i, class: e.kind, onclick: () => jump(e) }, el('td', { class: 'num' }, S.num(e.t)), el('td', {}, e.kind),
+      el('tbody', {}, events.map((e, i) => el('tr', { 'data-event': i, class: e.kind, onclick: () => jump(e) }, el('td', { class: 'num' }, S.time(e.t)), el('td', {}, e.kind),
         el('td', {}, Object.entries(e).filter(([k]) => k !== 't' && k !== 'kind')
           .map(([k, x]) => (k === 'step' && typeof x === 'number' ? `step ${x + 1}` : `${k}: ${typeof x === 'object' ? JSON.stringify(x) : x}`)).join(', '))))));
     // Cycle time per step.

@@ -105,6 +105,11 @@
     return unit ? `${s} ${unit}` : s;
   }
 
+  /** A time in seconds as a run records it: to the millisecond (12.346), not to 4 digits (12.35). */
+  function time(t) {
+    return typeof t === 'number' && Number.isFinite(t) ? String(+t.toFixed(3)) : '\u2014';
+  }
+
   /** A CSV text (header row, comma-separated numbers or words) as {columns, rows}. */
   function parseCsv(text) {
     const lines = text.split(/\r?\n/).filter((l) => l.length);
@@ -259,7 +264,7 @@
     return out;
   }
 
-  const api = { relativeLink, showControls, splitNames, checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, parseCsv, scale, extent,
+  const api = { relativeLink, showControls, splitNames, checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, time, parseCsv, scale, extent,
                 indexAt, stepBreakdown, notableEvents, sweepRows, axis, axisScale };
   root.SSCS = Object.assign(root.SSCS || {}, api);
   if (typeof module === 'object' && module.exports) module.exports = api;

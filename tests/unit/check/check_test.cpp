@@ -53,6 +53,47 @@ TEST_F(Check, RelopsAndMargins) {
   }
 }
 
+TEST_F(Check, ExprMarginsAreInTheFileUnitOfWhatTheyCompareAsABoundsAre) {
+  // Random parameters of every dimension with a unit, compared with a literal in another unit
+  // of it: the expr's margin, sides and unit equal the bound's (a yaw margin in deg, not rad).
+  struct Kind {
+    const char* type;
+    std::vector<std::pair<const char*, double>> units;  // word, size in the file unit
+  };
+  const std::vector<Kind> kinds = {
+      {"length", {{"m", 1}, {"mm", 1e-3}, {"cm", 1e-2}, {"ft", 0.3048}}},
+      {"angle", {{"deg", 1}, {"rad", 180 / std::numbers::pi}}},
+      {"mass", {{"kg", 1}, {"t", 1e3}, {"lb", 0.45359237}}},
+      {"time", {{"s", 1}, {"min", 60}, {"h", 3600}}},
+  };
+  std::mt19937 rng(35);
+  std::uniform_real_distribution<double> value(0.1, 50);
+  for (int round = 0; round < 40; ++round) {
+    const Kind& k = kinds[round % kinds.size()];
+    const auto& [u1, s1] = k.units[rng() % k.units.size()];
+    const auto& [u2, s2] = k.units[rng() % k.units.size()];
+    const double x = std::round(value(rng) * 1e6) / 1e6, y = std::round(value(rng) * 1e6) / 1e6;  // as written
+    const char* op = round % 2 ? "<=" : ">=";
+    Workcell wc = must_compile(fmt::format(
+        "parameters: {{p: {{value: {:.6f} {}, type: {}}}}}\nobjects:\n  - {{type: drum, name: A}}\n"
+        "constraints:\n  - {{name: e, expr: \"p {} {:.6f} {}\"}}\n  - {{name: b, bound: [p, \"{}\", {:.6f} {}]}}\n",
+        x, u1, k.type, op, y, u2, op, y, u2));
+    CheckReport r = check(wc, build_geometry(wc, diag));
+    ASSERT_EQ(r.results.size(), 2u);
+    const CheckResult &e = r.results[0], &b = r.results[1];
+    const std::string what = fmt::format("p = {} {} {} {} {}", x, u1, op, y, u2);
+    EXPECT_EQ(e.status, b.status) << what;
+    ASSERT_TRUE(e.margin && b.margin) << what;
+    EXPECT_NEAR(*e.margin, *b.margin, 1e-9 * std::max(1.0, std::abs(*b.margin))) << what;
+    EXPECT_NEAR(*e.margin, (round % 2 ? y * s2 - x * s1 : x * s1 - y * s2), 1e-9 * std::max(x * s1, y * s2)) << what;
+    EXPECT_STREQ(e.margin_unit(), b.margin_unit()) << what;
+    EXPECT_STRNE(e.margin_unit(), "") << what;
+    ASSERT_TRUE(e.lhs && b.lhs) << what;
+    EXPECT_NEAR(*e.lhs, *b.lhs, 1e-9 * std::max(1.0, std::abs(*b.lhs))) << what;
+    EXPECT_NE(e.message.find(fmt::format("p = {:g} {}", x * s1, e.margin_unit())), std::string::npos) << e.message;
+  }
+}
+
 TEST_F(Check, TolerancesShiftBothSides) {
   Workcell wc;
   // lhs + lhs_tol OP rhs + rhs_tol: 0.7 + 0.2 <= 1 - 0.05
@@ -275,6 +316,19 @@ TEST_F(Check, AtSelectsWhatStandsAtAFrameByAnyNameOrByItsPlace) {
     EXPECT_EQ(names("at:Row_1." + same), (std::vector<std::string>{fmt::format("Top_{}", k)})) << same;
   }
   EXPECT_EQ(names("at:Row_1.slot_2_*").size(), 6u);
+  // A reach target may be an at: selector with `frame:`, or name the frame after it: the same targets.
+  auto reach_targets = [&](const std::string& targets) {
+    Workcell r = must_compile(head + "  - {type: arm6, name: Robot, parent: Hall, location: [4, 4, 0]}\n"
+                                     "constraints:\n  - {name: r, reach: {device: Robot, targets: \"" + targets + "\"" +
+                              (targets.ends_with(".top") ? "" : ", frame: top") + "}}\n");
+    std::vector<std::string> out;
+    for (const auto& t : std::get<ReachCheck>(r.constraints.at(0).body).targets) out.push_back(t.text);
+    return out;
+  };
+  const std::vector<std::string> tops = reach_targets("at:Row_1.top_*");
+  EXPECT_EQ(tops.size(), 6u);
+  EXPECT_EQ(tops, reach_targets("at:Row_1.top_*.top"));
+  EXPECT_EQ(tops.front(), "Top_1.top");
 }
 
 TEST_F(Check, AnUnknownObjectInASelectorListIsReportedAtItsItem) {
@@ -793,6 +847,15 @@ TEST_F(SpatialRules, InsideMinAndFacesMeasureTheWallsOnly) {
   EXPECT_NE(faces.results[0].message.find("sticks out of R by 0.3 m through its x+ face"), std::string::npos) << faces.results[0].message;
   EXPECT_NE(faces.results[1].message.find("sticks out of R by 0.3 m through its y- face"), std::string::npos) << faces.results[1].message;
   EXPECT_NE(faces.results[2].message.find("sticks out of R by 0.25 m through its floor"), std::string::npos) << faces.results[2].message;
+  // With a min the margin is the min further in: the message says both, so they add up.
+  CheckReport with_min = check_vault(
+      "objects:\n  - {type: room, name: R, length: 10, width: 6, height: 4}\n"
+      "  - {type: block, name: East, parent: R, location: [9.3, 2, 0]}\n"
+      "constraints:\n  - {name: in, inside: {objects: East, container: R, min: 0.5 m, faces: walls}}\n");
+  ASSERT_EQ(with_min.results.size(), 1u);
+  EXPECT_NEAR(*with_min.results[0].margin, -0.8, 1e-12);
+  EXPECT_NE(with_min.results[0].message.find("sticks out of R by 0.3 m through its x+ face (min 0.5 m inside: margin -0.8 m)"),
+            std::string::npos) << with_min.results[0].message;
 }
 
 TEST_F(SpatialRules, ClearancePairsOfSelectorsCheckEveryPairAcross) {
