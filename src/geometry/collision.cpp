@@ -520,6 +520,57 @@ struct CollisionWorld::Impl {
     return fcl::AABBd(b.min(), b.max());
   }
 
+  /// The nearest shapes of `object` (its `parts`, when given) and `other` at their placements,
+  /// when nearer than `limit`. Branch and bound: shape pairs in order of a lower bound of their
+  /// distance, until no bound is below the nearest pair found. The bound: their boxes' gap when
+  /// apart, or the distance measured last time less how far either shape has moved since
+  /// (conservative advancement).
+  std::optional<Proximity> nearest(int object, int other, double limit, const std::vector<char>& parts) {
+    const auto& mine = of(object);
+    const auto& theirs = of(other);
+    const auto& objects = geometry.objects;
+    std::vector<std::tuple<double, size_t, size_t>> pairs;
+    for (size_t i = 0; i < mine.size(); ++i)
+      for (size_t k = 0; k < theirs.size(); ++k) {
+        int part = objects[object].shapes[i].part;
+        if (!parts.empty() && (part < 0 || !parts[part])) continue;
+        double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
+        if (bound == 0) bound = -INFINITY;  // overlapping boxes: any depth
+        auto last = measured.find({object, other, i, k});
+        if (last != measured.end())
+          bound = std::max(bound, last->second.distance - travel(*mine[i], last->second.X_a) - travel(*theirs[k], last->second.X_b));
+        if (bound < limit) pairs.emplace_back(bound, i, k);
+      }
+    std::sort(pairs.begin(), pairs.end());
+    std::optional<Proximity> best;
+    for (auto [bound, i, k] : pairs) {
+      if (best && bound >= best->distance) break;
+      double d = signed_distance(mine[i].get(), theirs[k].get());
+      measured[{object, other, i, k}] = {d, mine[i]->getTransform(), theirs[k]->getTransform()};
+      if (!best || d < best->distance) best = Proximity{other, objects[object].shapes[i].part, objects[other].shapes[k].part, d};
+    }
+    return best;
+  }
+
+  /// The farthest any point of `object`'s shapes (of device part `part`) lies from the frame
+  /// they move with (the part's, or the object's), computed once.
+  double reach(int object, int part) {
+    auto [it, fresh] = reaches.try_emplace({object, part}, 0.0);
+    if (!fresh) return it->second;
+    const ObjectGeometry& g = geometry.objects[object];
+    const auto& list = of(object);
+    for (size_t k = 0; k < g.shapes.size() && k < list.size(); ++k) {
+      const Shape& s = g.shapes[k];
+      if (s.part != part) continue;
+      const Eigen::Isometry3d X_frame_shape =
+          part >= 0 ? g.X_object_part[part].inverse() * s.X_object_shape : s.X_object_shape;
+      const fcl::CollisionGeometryd& c = *list[k]->collisionGeometry();
+      it->second = std::max(it->second, X_frame_shape.translation().norm() + c.aabb_center.norm() + c.aabb_radius);
+    }
+    return it->second;
+  }
+  std::map<std::pair<int, int>, double> reaches;
+
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
     auto& list = of(object);
     fcl::AABBd box;
@@ -853,33 +904,20 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
     // Boxes apart bound the distance from below; overlapping boxes bound no depth (a pair seen
     // overlapping, limit < 0, was never measured again: its deepest went unseen).
     if (const double gap = box_gap(box, impl_->bounds(other)); gap > limit && gap > 0) continue;
-    // Branch and bound: shape pairs in order of a lower bound of their distance, until no bound
-    // is below the nearest pair found. The bound: their boxes' gap when apart, or the distance
-    // measured last time less how far either shape has moved since (conservative advancement).
-    const auto& theirs = impl_->of(other);
-    std::vector<std::tuple<double, size_t, size_t>> pairs;
-    for (size_t i = 0; i < mine.size(); ++i)
-      for (size_t k = 0; k < theirs.size(); ++k) {
-        int part = objects[object].shapes[i].part;
-        if (!parts.empty() && (part < 0 || !parts[part])) continue;
-        double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
-        if (bound == 0) bound = -INFINITY;  // overlapping boxes: any depth
-        auto last = impl_->measured.find({object, other, i, k});
-        if (last != impl_->measured.end())
-          bound = std::max(bound, last->second.distance - travel(*mine[i], last->second.X_a) - travel(*theirs[k], last->second.X_b));
-        if (bound < limit) pairs.emplace_back(bound, i, k);
-      }
-    std::sort(pairs.begin(), pairs.end());
-    std::optional<Proximity> best;
-    for (auto [bound, i, k] : pairs) {
-      if (best && bound >= best->distance) break;
-      double d = signed_distance(mine[i].get(), theirs[k].get());
-      impl_->measured[{object, other, i, k}] = {d, mine[i]->getTransform(), theirs[k]->getTransform()};
-      if (!best || d < best->distance) best = Proximity{other, objects[object].shapes[i].part, objects[o].shapes[k].part, d};
-    }
+    const std::optional<Proximity> best = impl_->nearest(object, other, limit, parts);
     if (best && best->distance < limit) out.push_back(*best);
   }
   return out;
+}
+
+std::optional<Proximity> CollisionWorld::pair_distance(int object, int other, const std::vector<char>& parts) {
+  if (impl_->of(object).empty() || impl_->of(other).empty()) return std::nullopt;
+  return impl_->nearest(object, other, INFINITY, parts);
+}
+
+double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
+  const double turn = Eigen::AngleAxisd(to.linear() * from.linear().transpose()).angle();
+  return (to.translation() - from.translation()).norm() + (turn > 0 ? turn * impl_->reach(object, part) : 0.0);
 }
 
 std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vector<int>& objects, double margin) {

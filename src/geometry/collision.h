@@ -127,6 +127,16 @@ class CollisionWorld {
                                    const std::function<double(int other)>& below = {},
                                    const std::vector<char>& parts = {});
 
+  /// The distance of `object` (its `parts` only, when given) to `other` at their current
+  /// placements, with the nearest parts: proximity() for one pair, whatever their bounds' gap.
+  std::optional<Proximity> pair_distance(int object, int other, const std::vector<char>& parts = {});
+
+  /// How far any point of `object`'s shapes (those of device part `part`; -1 for an object
+  /// that is no device) can have moved when its frame (the part's) went from `from` to `to`: the
+  /// frame's displacement plus the turn times the shapes' farthest reach from it. An upper bound
+  /// whatever the path between, as long as the frame turned by less than half a turn.
+  double travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to);
+
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.
   std::vector<std::pair<int, int>> candidate_pairs(const std::vector<int>& objects, double margin);

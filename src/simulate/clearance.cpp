@@ -41,15 +41,145 @@ void ClearanceTracker::keep(Pair& pair, Seen seen) {
   pair.records.push_back(std::move(seen));
 }
 
+double ClearanceTracker::Path::total() const {
+  return travelled.empty() ? 0.0 : *std::max_element(travelled.back().begin(), travelled.back().end());
+}
+
+double ClearanceTracker::Path::between(size_t i, size_t j) const {
+  double most = 0;
+  for (size_t k = 0; k < travelled[j].size(); ++k) most = std::max(most, travelled[j][k] - travelled[i][k]);
+  return most;
+}
+
+const ClearanceTracker::Path* ClearanceTracker::path(int object) const {
+  auto it = paths_.find(object);
+  return it == paths_.end() ? nullptr : &it->second;
+}
+
+void ClearanceTracker::place(int object, const std::vector<Eigen::Isometry3d>& X_world) {
+  if (geometry_.objects[object].device)
+    nearby_.move_parts(object, X_world);
+  else
+    nearby_.move(object, X_world.front());
+}
+
+void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path) {
+  followed_ = true;
+  Path& p = paths_[object];
+  const bool device = geometry_.objects[object].device != nullptr;
+  if (p.start.empty()) {  // its first sight: the interval starts here
+    p.start = p.now = X_world;
+    p.t.assign(1, t);
+    p.poses.assign(1, X_world);
+    p.travelled.assign(1, std::vector<double>(X_world.size(), 0.0));
+    p.decided = false;
+    return;
+  }
+  if (!p.decided) {  // the first step after the sample decides whether this interval keeps poses
+    p.decided = true;
+    p.keep = keep_path;
+    if (!p.keep) p.t.clear(), p.poses.clear();
+  }
+  std::vector<double> went = p.travelled.back();
+  for (size_t k = 0; k < X_world.size(); ++k)
+    went[k] += nearby_.travel_bound(object, device ? static_cast<int>(k) : -1, p.now[k], X_world[k]);
+  p.now = X_world;
+  if (p.keep) {
+    p.t.push_back(t);
+    p.poses.push_back(X_world);
+    p.travelled.push_back(std::move(went));
+  } else {
+    p.travelled.back() = std::move(went);
+  }
+}
+
+void ClearanceTracker::next_interval(double t) {
+  measured_before_ = std::move(measured_now_);
+  measured_now_.clear();
+  for (auto& [object, p] : paths_) {
+    p.start = p.now;
+    p.t.assign(1, t);
+    p.poses.assign(1, p.now);
+    p.travelled.assign(1, std::vector<double>(p.now.size(), 0.0));
+    p.keep = p.decided = false;
+  }
+}
+
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
-  // Only closer approaches than seen so far are news: the search skips pairs that cannot be.
-  auto closest_seen = [this, moving](int other) {
-    auto it = pairs_.find(key(moving, other));
-    return it == pairs_.end() ? INFINITY : it->second.closest();
+  if (!followed_) certified_ = false;  // a caller that does not follow the steps measures samples only
+  measured_now_[moving] = skip;
+  const Path* mine = path(moving);
+  const double my_travel = mine ? mine->total() : 0.0;
+  auto travel_of = [this](int other) {
+    const Path* p = path(other);
+    return p ? p->total() : 0.0;
   };
-  for (const Proximity& p : nearby_.proximity(moving, skip, kClearanceReach, closest_seen, parts))
-    keep(pairs_[key(moving, p.other)],
-         {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+  // Only closer approaches than seen so far are news: the search skips pairs that cannot be.
+  // Between the samples a pair came no nearer than its distance now less how far both went.
+  auto could_be_news = [&](int other) {
+    auto it = pairs_.find(key(moving, other));
+    return (it == pairs_.end() ? INFINITY : it->second.closest()) + my_travel + travel_of(other);
+  };
+  const std::vector<Proximity> near = nearby_.proximity(moving, skip, kClearanceReach + my_travel, could_be_news, parts);
+  for (const Proximity& p : near) {
+    Pair& pair = pairs_[key(moving, p.other)];
+    const double other_travel = travel_of(p.other);
+    // Between the samples, for a pair measured at the last one too: a load grasped since (or
+    // lifted off the stack it rode on) was standing on what it is lifted off until then, and
+    // that contact is no clearance.
+    auto before = measured_before_.find(moving);
+    const bool measured_then = before != measured_before_.end() &&
+                               std::find(before->second.begin(), before->second.end(), p.other) == before->second.end();
+    if (mine && my_travel + other_travel > 0 && measured_then) {
+      // The distance at the last sample, where both were then.
+      const Path* theirs = path(p.other);
+      place(moving, mine->start);
+      if (theirs) place(p.other, theirs->start);
+      std::optional<Proximity> then = nearby_.pair_distance(moving, p.other, parts);
+      if (theirs) place(p.other, theirs->now);
+      if (then) {
+        if (mine->keep && mine->poses.size() > 1) {
+          // Halving along the kept poses, the other where it is now (its own travel added).
+          refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
+        } else {
+          const double lb = std::min({then->distance, p.distance, (then->distance + p.distance - my_travel - other_travel) / 2});
+          const Proximity& nearer = then->distance < p.distance ? *then : p;
+          keep(pair, {lb, t, run_part_name(wc_, geometry_, moving, nearer.part), run_part_name(wc_, geometry_, p.other, nearer.other_part)});
+        }
+      }
+      place(moving, mine->now);
+    }
+    keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+  }
+}
+
+void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
+                              size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel) {
+  // Every point of `moving` stays within the path's travel of where it was at either end, so
+  // the pair's distance between is at least the larger of (d_i − x) and (d_j − (D − x)) over
+  // x: (d_i + d_j − D) / 2, where D is all either went.
+  const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
+  const double lower = std::min({d_i, d_j, (d_i + d_j - D) / 2});
+  if (lower >= pair.closest()) return;  // no news
+  if (j - i <= 1 || std::min(d_i, d_j) - lower <= kCertifyTolerance) {
+    const bool first = d_i <= d_j;
+    const Proximity& nearer = first ? at_i : at_j;
+    keep(pair, {lower, first ? p.t[i] : p.t[j], run_part_name(wc_, geometry_, moving, nearer.part),
+                run_part_name(wc_, geometry_, other, nearer.other_part)});
+    return;
+  }
+  const size_t m = (i + j) / 2;
+  place(moving, p.poses[m]);
+  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
+  if (!at_m) return;
+  // The nearer half first: its records make the other half's pruning stronger.
+  if (std::min(d_i, at_m->distance) <= std::min(at_m->distance, d_j)) {
+    refine(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel);
+    refine(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
+  } else {
+    refine(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
+    refine(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel);
+  }
 }
 
 void ClearanceTracker::measure_penetration(double t, int a, int b) {
@@ -70,7 +200,7 @@ std::optional<RunSummaryFile::Clearance> ClearanceTracker::closest() const {
   for (const auto& [k, pair] : pairs_)
     if (!pair.records.empty() && (!best || pair.records.back().distance < best->distance)) best = &pair.records.back();
   if (!best) return std::nullopt;
-  return RunSummaryFile::Clearance{r9(best->distance), best->a, best->b, r9(best->t)};
+  return RunSummaryFile::Clearance{r9(best->distance), best->a, best->b, r9(best->t), certified_ && followed_};
 }
 
 }  // namespace sscs

@@ -6,6 +6,8 @@
 /// release), never for the run, and never a penetration deeper than a contact (a drum lowered
 /// through the drum it then landed on is -0.57 m, not the 0.02 m of some other pair).
 #include <map>
+#include <set>
+#include <unordered_map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -54,8 +56,20 @@ class ClearanceTracker {
   void excuse(int a, int b, double from, double to);
 
   /// The closest approach of the run: the smallest distance of any pair outside the moves
-  /// excused, negative for the deepest penetration; none when nothing came within reach.
+  /// excused, negative for the deepest penetration; none when nothing came within reach. A
+  /// lower bound over the whole motion (certified) when every physics step was followed.
   std::optional<RunSummaryFile::Clearance> closest() const;
+
+  /// Between samples, after every physics step (and once at the start): where `object` is now,
+  /// one pose per part for a device, else one. The tracker keeps how far each of its points may
+  /// have gone since the last sample and, for what `measure` will move (`keep_path`, decided
+  /// from the sample on), every pose, to bound each pair's distance between the samples from
+  /// below: a gripper passing a post between two samples 0.5 s apart is seen.
+  void follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path);
+  /// At the sample at `t`, after every measure(): the paths start again from where everything is.
+  void next_interval(double t);
+  /// Closer than this to the sampled distance, a lower bound is not refined further (m).
+  static constexpr double kCertifyTolerance = 1e-4;
 
  private:
   struct Seen {
@@ -75,10 +89,34 @@ class ClearanceTracker {
   static Key key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
   void keep(Pair& pair, Seen seen);
 
+  /// An object's motion since the last sample: where it was then, and after each step how far
+  /// each part's points may have gone since (a bound), with the poses when kept.
+  struct Path {
+    std::vector<Eigen::Isometry3d> start, now;     ///< per part (one for an object)
+    std::vector<double> t;                         ///< kept: each step's time, the sample's first
+    std::vector<std::vector<Eigen::Isometry3d>> poses;  ///< kept: at each of t
+    std::vector<std::vector<double>> travelled;   ///< kept: at each of t, per part; else one entry
+    bool keep = false, decided = false;
+    double total() const;  ///< the most any point went since the sample
+    double between(size_t i, size_t j) const;  ///< the most any point went from t[i] to t[j]
+  };
+  const Path* path(int object) const;
+  void place(int object, const std::vector<Eigen::Isometry3d>& X_world);
+  /// The pair's lower bound between the kept poses i and j of `moving` (distances di and dj
+  /// there), `other` standing where it is now, having gone `other_travel` at most: refined by
+  /// halving where it could be news, each piece kept as a record.
+  void refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
+              const Proximity& at_i, const Proximity& at_j, double other_travel);
+
   const Workcell& wc_;
   const GeometryModel& geometry_;
   CollisionWorld nearby_;
   std::map<Key, Pair> pairs_;
+  std::unordered_map<int, Path> paths_;
+  bool certified_ = true;  ///< every step followed (a tracker without paths measures samples only)
+  bool followed_ = false;
+  /// What was measured as moving at this sample and the last, with what it skipped.
+  std::map<int, std::vector<int>> measured_now_, measured_before_;
 };
 
 }  // namespace sscs

@@ -97,6 +97,7 @@ class Run {
     started_.assign(plan_.steps.size(), 0);
     ended_.assign(plan_.steps.size(), 0);
     wall_start_ = std::chrono::steady_clock::now();
+    follow_motion(0);
     long k = 0;
     double observed_at = -1;
     for (;; ++k) {
@@ -116,6 +117,7 @@ class Run {
       show_progress(t, k);
       drive(t);
       world_.step();
+      follow_motion(world_.time());
       after_step(world_.time());
     }
     if (options_.progress == RunOptions::Progress::Live && options_.progress_to) *options_.progress_to << "\r\x1b[K" << std::flush;
@@ -457,6 +459,22 @@ class Run {
     for (const PlannedStep& ps : plan_.steps)
       if (ps.device == device && ps.start <= t && (ps.kind == StepKind::MoveTo || ps.kind == StepKind::MoveJoints)) target = ps.target;
     return target;
+  }
+
+  /// After each physics step: where every device part and free object is, for the clearance
+  /// tracker's bound between samples; the poses of what moves by a device are kept.
+  void follow_motion(double t) {
+    for (const DeviceRun& dr : devices_) {
+      const size_t n = geometry_.objects[dr.object].X_object_part.size();
+      motion_.resize(n);
+      for (size_t k = 0; k < n; ++k) motion_[k] = world_.part_pose(dr.object, static_cast<int>(k));
+      clearances_.follow(t, dr.object, motion_, true);
+    }
+    for (size_t o = 0; o < wc_.objects.size(); ++o)
+      if (world_.dynamic(static_cast<int>(o))) {
+        motion_.assign(1, world_.pose(static_cast<int>(o)));
+        clearances_.follow(t, static_cast<int>(o), motion_, moving_load(static_cast<int>(o)) >= 0);
+      }
   }
 
   /// The load a device holds that `o` is or rides on, else -1.
@@ -861,6 +879,7 @@ class Run {
     check_tracking(t);
     check_riders(t);
     if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
+    clearances_.next_interval(t);
   }
 
   /// The loads a device's tool deals with around time t: the one it holds, the next it will
@@ -1053,6 +1072,7 @@ class Run {
   std::map<std::tuple<int, int, int, int>, double> last_contact_;
   std::map<int, bool> released_;  // released objects: landed yet?
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
+  std::vector<Eigen::Isometry3d> motion_;  // follow_motion's scratch
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
   std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
   std::map<int, double> released_when_;         // and when

@@ -106,7 +106,7 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
   }
   j["devices"] = std::move(dev);
   j["min_clearance"] = min_clearance ? json{{"distance", min_clearance->distance}, {"a", min_clearance->a}, {"b", min_clearance->b},
-                                            {"t", min_clearance->t}}
+                                            {"t", min_clearance->t}, {"certified", min_clearance->certified}}
                                      : json(nullptr);
   json episodes = json::array();
   for (const CollisionEpisode& c : collisions) {
@@ -172,7 +172,8 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
     }
   if (const json* mc = r.member(j, "min_clearance", "summary", false); mc && !mc->is_null())
     s.min_clearance = Clearance{r.number(*mc, "distance", "min_clearance"), r.text(*mc, "a", "min_clearance"),
-                                r.text(*mc, "b", "min_clearance"), r.number(*mc, "t", "min_clearance")};
+                                r.text(*mc, "b", "min_clearance"), r.number(*mc, "t", "min_clearance"),
+                                mc->contains("certified") && mc->at("certified").is_boolean() && mc->at("certified").get<bool>()};
   if (const json* list = r.array(j, "collisions", "summary", false))  // absent before episodes were kept
     for (const json& e : *list) {
       CollisionEpisode c{r.text(e, "a", "collisions[]"), r.text(e, "b", "collisions[]"), r.number(e, "start", "collisions[]"),

@@ -38,6 +38,9 @@ struct RunSummaryFile {
     double distance = 0;
     std::string a, b;
     double t = 0;
+    /// A lower bound over the whole motion, between samples too (runs since issue 36); runs
+    /// before it measured at the samples only.
+    bool certified = false;
   };
   std::optional<Clearance> min_clearance;  ///< none: nothing came within the tracked range
   /// A collision from its first contact to its last (contacts apart less than 0.1 s are one):

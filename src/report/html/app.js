@@ -272,7 +272,7 @@
           + 'a device and the loads it handles, down to 5 mm deep; a load and what it was lifted off or set down on, only during the move '
           + 'that lifts it or sets it down, down to 5 mm deep',
         onclick: (e) => { e.preventDefault(); seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
-        mc.distance < 0 ? `penetration ${S.num(-mc.distance, 'm')} between ` : `minimum clearance ${S.num(mc.distance, 'm')} between `,
+        mc.distance < 0 ? `penetration ${S.num(-mc.distance, 'm')} between ` : `minimum clearance ${mc.certified ? '(certified) ' : ''}${S.num(mc.distance, 'm')} between `,
         nameEl(mc.a), ' and ', nameEl(mc.b), ` at ${S.time(mc.t)} s`) : null,
       el('span', {}, `${Object.entries(sum.events || {}).map(([k, n]) => `${n} ${k}`).join(', ')}`)));
     const v = viewPanel(data.model, { onTime: (t) => onTime(t) });
