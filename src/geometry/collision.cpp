@@ -555,7 +555,7 @@ struct CollisionWorld::Impl {
   /// The farthest any point of `object`'s shapes (of device part `part`) lies from the frame
   /// they move with (the part's, or the object's), computed once.
   double reach(int object, int part) {
-    auto [it, fresh] = reaches.try_emplace({object, part}, 0.0);
+    auto [it, fresh] = reaches.try_emplace((static_cast<int64_t>(object) << 20) + part + 1, 0.0);
     if (!fresh) return it->second;
     const ObjectGeometry& g = geometry.objects[object];
     const auto& list = of(object);
@@ -569,7 +569,7 @@ struct CollisionWorld::Impl {
     }
     return it->second;
   }
-  std::map<std::pair<int, int>, double> reaches;
+  std::unordered_map<int64_t, double> reaches;  ///< by (object << 20) + part + 1
 
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
     auto& list = of(object);

@@ -80,16 +80,16 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
     p.keep = keep_path;
     if (!p.keep) p.t.clear(), p.poses.clear();
   }
-  std::vector<double> went = p.travelled.back();
+  // In place, without allocating: every free object of a store is followed at every step.
+  if (p.keep) p.travelled.push_back(p.travelled.back());
+  std::vector<double>& went = p.travelled.back();
   for (size_t k = 0; k < X_world.size(); ++k)
-    went[k] += nearby_.travel_bound(object, device ? static_cast<int>(k) : -1, p.now[k], X_world[k]);
+    if (!(p.now[k].matrix() == X_world[k].matrix()))
+      went[k] += nearby_.travel_bound(object, device ? static_cast<int>(k) : -1, p.now[k], X_world[k]);
   p.now = X_world;
   if (p.keep) {
     p.t.push_back(t);
     p.poses.push_back(X_world);
-    p.travelled.push_back(std::move(went));
-  } else {
-    p.travelled.back() = std::move(went);
   }
 }
 
