@@ -454,11 +454,16 @@ double remembered(ContactMemo* memo, PairQuery kind, const fcl::CollisionObjectd
 
 /// How far any point of a placed shape has moved since it was at `X_then`: the displacement of
 /// its origin plus the turn (rad) times the farthest the shape reaches from its origin.
+/// How far any point within `reach` of a frame can have moved when the frame went from `from`
+/// to `to`: its displacement plus its turn times the reach.
+double moved(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to, double reach) {
+  const double turn = Eigen::AngleAxisd(to.linear() * from.linear().transpose()).angle();
+  return (to.translation() - from.translation()).norm() + (turn > 0 ? turn * reach : 0.0);
+}
+
 double travel(const fcl::CollisionObjectd& shape, const fcl::Transform3d& X_then) {
-  const fcl::Transform3d& X = shape.getTransform();
   const fcl::CollisionGeometryd& g = *shape.collisionGeometry();
-  double turn = Eigen::AngleAxisd(X.linear() * X_then.linear().transpose()).angle();
-  return (X.translation() - X_then.translation()).norm() + turn * (g.aabb_center.norm() + g.aabb_radius);
+  return moved(X_then, shape.getTransform(), g.aabb_center.norm() + g.aabb_radius);
 }
 
 /// Distance between two axis-aligned boxes (0 when they overlap).
@@ -645,7 +650,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b, std::pair<int, int>* nearest_parts) {
@@ -916,8 +921,7 @@ std::optional<Proximity> CollisionWorld::pair_distance(int object, int other, co
 }
 
 double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
-  const double turn = Eigen::AngleAxisd(to.linear() * from.linear().transpose()).angle();
-  return (to.translation() - from.translation()).norm() + (turn > 0 ? turn * impl_->reach(object, part) : 0.0);
+  return moved(from, to, impl_->reach(object, part));
 }
 
 std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vector<int>& objects, double margin) {
