@@ -67,8 +67,8 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
   followed_ = true;
   Path& p = paths_[object];
   const bool device = geometry_.objects[object].device != nullptr;
-  if (p.start.empty()) {  // its first sight: the interval starts here
-    p.start = p.now = X_world;
+  if (p.poses.empty()) {  // its first sight: the interval starts here
+    p.now = X_world;
     p.t.assign(1, t);
     p.poses.assign(1, X_world);
     p.travelled.assign(1, std::vector<double>(X_world.size(), 0.0));
@@ -78,7 +78,6 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
   if (!p.decided) {  // the first step after the sample decides whether this interval keeps poses
     p.decided = true;
     p.keep = keep_path;
-    if (!p.keep) p.t.clear(), p.poses.clear();
   }
   // In place, without allocating: every free object of a store is followed at every step.
   if (p.keep) p.travelled.push_back(p.travelled.back());
@@ -97,7 +96,6 @@ void ClearanceTracker::next_interval(double t) {
   measured_before_ = std::move(measured_now_);
   measured_now_.clear();
   for (auto& [object, p] : paths_) {
-    p.start = p.now;
     p.t.assign(1, t);
     p.poses.assign(1, p.now);
     p.travelled.assign(1, std::vector<double>(p.now.size(), 0.0));
@@ -121,51 +119,51 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
     return (it == pairs_.end() ? INFINITY : it->second.closest()) + my_travel + travel_of(other);
   };
   const std::vector<Proximity> near = nearby_.proximity(moving, skip, kClearanceReach + my_travel, could_be_news, parts);
+  // Between the samples, for a pair measured at the last one too: a load grasped since (or
+  // lifted off the stack it rode on) was standing on what it is lifted off until then, and
+  // that contact is no clearance.
+  const auto before = measured_before_.find(moving);
   for (const Proximity& p : near) {
     Pair& pair = pairs_[key(moving, p.other)];
     const double other_travel = travel_of(p.other);
-    // Between the samples, for a pair measured at the last one too: a load grasped since (or
-    // lifted off the stack it rode on) was standing on what it is lifted off until then, and
-    // that contact is no clearance.
-    auto before = measured_before_.find(moving);
     const bool measured_then = before != measured_before_.end() &&
                                std::find(before->second.begin(), before->second.end(), p.other) == before->second.end();
     if (mine && my_travel + other_travel > 0 && measured_then) {
       // The distance at the last sample, where both were then.
       const Path* theirs = path(p.other);
-      place(moving, mine->start);
-      if (theirs) place(p.other, theirs->start);
+      place(moving, mine->start());
+      if (theirs) place(p.other, theirs->start());
       std::optional<Proximity> then = nearby_.pair_distance(moving, p.other, parts);
       if (theirs) place(p.other, theirs->now);
-      if (then) {
-        if (mine->keep && mine->poses.size() > 1) {
-          // Halving along the kept poses, the other where it is now (its own travel added).
-          refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
-        } else {
-          const double lb = std::min({then->distance, p.distance, (then->distance + p.distance - my_travel - other_travel) / 2});
-          const Proximity& nearer = then->distance < p.distance ? *then : p;
-          keep(pair, {lb, t, run_part_name(wc_, geometry_, moving, nearer.part), run_part_name(wc_, geometry_, p.other, nearer.other_part)});
-        }
-      }
+      if (then && mine->keep && mine->poses.size() > 1)  // halved along the kept poses, the other where it is now
+        refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
+      else if (then)
+        keep_bound(pair, moving, p.other, *then, mine->t.front(), p, t, my_travel + other_travel);
       place(moving, mine->now);
     }
     keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
   }
 }
 
+void ClearanceTracker::keep_bound(Pair& pair, int moving, int other, const Proximity& at_i, double t_i, const Proximity& at_j,
+                                  double t_j, double D) {
+  // Every point stays within D of where it was at either end, so the pair's distance between
+  // is at least the larger of (d_i − x) and (d_j − (D − x)) over x: (d_i + d_j − D) / 2.
+  const double lower = std::min({at_i.distance, at_j.distance, (at_i.distance + at_j.distance - D) / 2});
+  const bool first = at_i.distance <= at_j.distance;
+  const Proximity& nearer = first ? at_i : at_j;
+  keep(pair, {lower, first ? t_i : t_j, run_part_name(wc_, geometry_, moving, nearer.part),
+              run_part_name(wc_, geometry_, other, nearer.other_part)});
+}
+
 void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
                               size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel) {
-  // Every point of `moving` stays within the path's travel of where it was at either end, so
-  // the pair's distance between is at least the larger of (d_i − x) and (d_j − (D − x)) over
-  // x: (d_i + d_j − D) / 2, where D is all either went.
+  // The bound keep_bound keeps, here to decide whether halving could find news.
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
   const double lower = std::min({d_i, d_j, (d_i + d_j - D) / 2});
   if (lower >= pair.closest()) return;  // no news
   if (j - i <= 1 || std::min(d_i, d_j) - lower <= kCertifyTolerance) {
-    const bool first = d_i <= d_j;
-    const Proximity& nearer = first ? at_i : at_j;
-    keep(pair, {lower, first ? p.t[i] : p.t[j], run_part_name(wc_, geometry_, moving, nearer.part),
-                run_part_name(wc_, geometry_, other, nearer.other_part)});
+    keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
   const size_t m = (i + j) / 2;

@@ -92,16 +92,20 @@ class ClearanceTracker {
   /// An object's motion since the last sample: where it was then, and after each step how far
   /// each part's points may have gone since (a bound), with the poses when kept.
   struct Path {
-    std::vector<Eigen::Isometry3d> start, now;     ///< per part (one for an object)
-    std::vector<double> t;                         ///< kept: each step's time, the sample's first
-    std::vector<std::vector<Eigen::Isometry3d>> poses;  ///< kept: at each of t
-    std::vector<std::vector<double>> travelled;   ///< kept: at each of t, per part; else one entry
+    std::vector<Eigen::Isometry3d> now;                 ///< per part (one for an object)
+    std::vector<double> t;                              ///< the sample's time, then (kept) each step's
+    std::vector<std::vector<Eigen::Isometry3d>> poses;  ///< at each of t: the sample's first
+    std::vector<std::vector<double>> travelled;         ///< kept: at each of t, per part; else one entry
     bool keep = false, decided = false;
+    const std::vector<Eigen::Isometry3d>& start() const { return poses.front(); }
     double total() const;  ///< the most any point went since the sample
     double between(size_t i, size_t j) const;  ///< the most any point went from t[i] to t[j]
   };
   const Path* path(int object) const;
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world);
+  /// Keeps the pair's lower bound over an interval whose ends are `at_i` (at t_i) and `at_j`
+  /// (at t_j) apart and over which the two went `D` at most: min(d_i, d_j, (d_i + d_j − D) / 2).
+  void keep_bound(Pair& pair, int moving, int other, const Proximity& at_i, double t_i, const Proximity& at_j, double t_j, double D);
   /// The pair's lower bound between the kept poses i and j of `moving` (distances di and dj
   /// there), `other` standing where it is now, having gone `other_travel` at most: refined by
   /// halving where it could be news, each piece kept as a record.
