@@ -38,6 +38,7 @@ bool ClearanceTracker::Pair::is_excused(double t) const {
 void ClearanceTracker::keep(Pair& pair, Seen seen) {
   if (seen.distance >= pair.closest()) return;
   if (seen.distance >= -kContact && pair.is_excused(seen.t)) return;
+  best_ = std::min(best_, seen.distance);
   pair.records.push_back(std::move(seen));
 }
 
@@ -129,12 +130,19 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
     const bool measured_then = before != measured_before_.end() &&
                                std::find(before->second.begin(), before->second.end(), p.other) == before->second.end();
     if (mine && my_travel + other_travel > 0 && measured_then) {
-      // The distance at the last sample, where both were then.
-      const Path* theirs = path(p.other);
-      place(moving, mine->start());
-      if (theirs) place(p.other, theirs->start());
-      std::optional<Proximity> then = nearby_.pair_distance(moving, p.other, parts);
-      if (theirs) place(p.other, theirs->now);
+      // The distance at the last sample, where both were then: measured then, or now.
+      std::optional<Proximity> then;
+      if (pair.sampled_at == mine->t.front()) {
+        then = pair.sampled;
+      } else {
+        const Path* theirs = path(p.other);
+        place(moving, mine->start());
+        if (theirs) place(p.other, theirs->start());
+        then = nearby_.pair_distance(moving, p.other, parts);
+        if (theirs) place(p.other, theirs->now);
+      }
+      // The sample itself first: it bounds what halving can find.
+      keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
       if (then && mine->keep && mine->poses.size() > 1)  // halved along the kept poses, the other where it is now
         refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
       else if (then)
@@ -142,6 +150,8 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       place(moving, mine->now);
     }
     keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+    pair.sampled_at = t;
+    pair.sampled = p;
   }
 }
 
@@ -162,7 +172,13 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
   const double lower = std::min({d_i, d_j, (d_i + d_j - D) / 2});
   if (lower >= pair.closest()) return;  // no news
-  if (j - i <= 1 || std::min(d_i, d_j) - lower <= kCertifyTolerance) {
+  // Not nearer than the run's closest so far: this stretch cannot be the run's closest approach;
+  // its bound, coarse but certain, is kept without halving (the halving is the cost).
+  if (lower >= best_) {
+    keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
+    return;
+  }
+  if (j - i <= 1 || std::min(d_i, d_j) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_i, d_j))) {
     keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }

@@ -68,8 +68,9 @@ class ClearanceTracker {
   void follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path);
   /// At the sample at `t`, after every measure(): the paths start again from where everything is.
   void next_interval(double t);
-  /// Closer than this to the sampled distance, a lower bound is not refined further (m).
-  static constexpr double kCertifyTolerance = 1e-4;
+  /// Closer than this to the measured distance (m), or than kCertifyFraction of it, a lower
+  /// bound is not refined further: 0.1 mm near, 2 mm at 2 m, where no closest approach is.
+  static constexpr double kCertifyTolerance = 1e-4, kCertifyFraction = 1e-3;
 
  private:
   struct Seen {
@@ -82,6 +83,8 @@ class ClearanceTracker {
     /// stretch of time drops its records and leaves the closest before it.
     std::vector<Seen> records;
     std::vector<std::pair<double, double>> excused;  ///< (from, to) stretches ahead or under way
+    double sampled_at = -1;  ///< when the pair was last measured at a sample, and how near it was then
+    Proximity sampled;
     double closest() const { return records.empty() ? INFINITY : records.back().distance; }
     bool is_excused(double t) const;
   };
@@ -119,6 +122,8 @@ class ClearanceTracker {
   std::unordered_map<int, Path> paths_;
   bool certified_ = true;  ///< every step followed (a tracker without paths measures samples only)
   bool followed_ = false;
+  /// The smallest record kept so far (one excused since may have gone): where halving pays.
+  double best_ = INFINITY;
   /// What was measured as moving at this sample and the last, with what it skipped.
   std::map<int, std::vector<int>> measured_now_, measured_before_;
 };
