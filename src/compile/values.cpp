@@ -92,6 +92,9 @@ bool check_expression_dimensions(const Expression& e, const Expression::DimOf& d
       return s.text.substr(b, n > b ? n - b : 0);
     };
   Expression::Dimensions d = e.check_dimensions(dim_of, excerpt);
+  if (d.warning)
+    diag.warning(mark_at(s, column ? column(d.warning->position) : d.warning->position),
+                 fmt::format("{} in '{}' for {}", d.warning->message, s.text, what));
   if (d.error) {
     diag.error(mark_at(s, column ? column(d.error->position) : d.error->position),
                fmt::format("{} in '{}' for {}", d.error->message, s.text, what));

@@ -276,6 +276,7 @@ class DimensionReader {
     try {
       Dimension d = ternary();
       if (i_ != t_.size()) return out;  // not followed to the end: no verdict
+      out.warning = warning_;
       if (error_) {
         out.error = error_;
         return out;
@@ -296,7 +297,7 @@ class DimensionReader {
   const Expression::DimOf& dim_of_;
   const Expression::Excerpt& excerpt_;
   size_t i_ = 0;
-  std::optional<Expression::Error> error_;
+  std::optional<Expression::Error> error_, warning_;
 
   const Token* peek() const { return i_ < t_.size() ? &t_[i_] : nullptr; }
   bool at(Token::Kind k, std::string_view op = {}) const {
@@ -320,6 +321,15 @@ class DimensionReader {
       error_ = Expression::Error{fmt::format("{} differ in dimension: '{}' is {}, '{}' is {}", what, written(a), describe(a),
                                              written(b), describe(b)),
                                  b.begin};
+    // A number without a unit beside an angle is radians: say so once, it is rarely meant.
+    for (const auto& [number, angle] : {std::pair{&a, &b}, std::pair{&b, &a}})
+      if (number->kind == Dimension::Kind::Plain && angle->kind == Dimension::Kind::Known && angle->e == exponents(Dim::Angle) &&
+          !warning_)
+        if (auto x = parse_number(text_.substr(number->begin, number->end - number->begin)); x && *x != 0)
+          warning_ = Expression::Error{fmt::format("'{}' beside the angle '{}' is {} rad ({:g} deg) inside an expression; write '{} deg' "
+                                                   "if degrees are meant", written(*number), written(*angle), written(*number),
+                                                   *x * 180 / std::numbers::pi, written(*number)),
+                                       number->begin};
     r.begin = a.begin;
     r.end = b.end;
     return r;

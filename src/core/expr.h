@@ -52,6 +52,9 @@ class Expression {
   /// What the dimension check found.
   struct Dimensions {
     std::optional<Error> error;  ///< the first mismatch, at the token that does not fit
+    /// A plain number beside an angle (`yaw <= 10`): radians, as the spec says, but likely meant
+    /// as degrees (a `bound` reads the same 10 as 10 deg); at the number.
+    std::optional<Error> warning;
     bool known = false;          ///< the result has a dimension (it is not a plain number)
     std::optional<Dim> dim;      ///< the result's dimension, when it is one sscs names
     std::string described;       ///< "a length", "a quantity in m^2": for messages

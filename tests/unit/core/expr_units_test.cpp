@@ -38,6 +38,21 @@ Expression::Dimensions dims(const std::string& text, const std::map<std::string,
   });
 }
 
+TEST(ExprUnits, APlainNumberBesideAnAngleIsRadiansAndSaysSo) {
+  // `yaw <= 10` is 10 rad by the spec, where a bound reads 10 deg: a warning at the number, for
+  // every comparison and sum; none for 0, a number with a unit, or a number beside a length.
+  const std::map<std::string, Dim> of = {{"yaw", Dim::Angle}, {"len", Dim::Length}};
+  for (const char* op : {"<", "<=", ">", ">=", "==", "!=", "+", "-"}) {
+    const Expression::Dimensions d = dims(fmt::format("yaw {} 10", op), of);
+    ASSERT_TRUE(d.warning) << op;
+    EXPECT_EQ(d.warning->position, fmt::format("yaw {} ", op).size()) << op;
+    EXPECT_NE(d.warning->message.find("is 10 rad (572.958 deg)"), std::string::npos) << d.warning->message;
+    EXPECT_TRUE(dims(fmt::format("0.5 {} yaw", op), of).warning) << op;
+  }
+  for (const char* clean : {"yaw <= 10 deg", "yaw >= 0", "len <= 10", "yaw * 2 <= 1 rad", "2 * len <= 3"})
+    EXPECT_FALSE(dims(clean, of).warning) << clean;
+}
+
 TEST(ExprUnits, ANumberWithAUnitIsThatQuantityInSi) {
   EXPECT_DOUBLE_EQ(eval("turning_radius + 0.3 m", {1.2}), 1.5);
   EXPECT_DOUBLE_EQ(eval("yaw + 90 deg", {0}), std::numbers::pi / 2);
