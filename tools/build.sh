@@ -12,7 +12,12 @@ werror=OFF
 if [[ -f $build/CMakeCache.txt ]] && ! grep -q "CMAKE_GENERATOR:INTERNAL=Ninja" "$build/CMakeCache.txt"; then
   rm -rf "$build/CMakeCache.txt" "$build/CMakeFiles"
 fi
+# A unity build (the sources compiled eight to a batch) takes a clean clone's build from 5 to 3
+# minutes: the headers' templates are compiled once per batch, not once per file. A folder that is
+# already configured keeps its choice (`cmake build -DCMAKE_UNITY_BUILD=OFF` recompiles only the
+# file you edit); docs/testing.md says what a batch asks of the sources.
 if [[ ! -f $build/CMakeCache.txt ]] || ! grep -q "SSCS_WERROR:BOOL=$werror" "$build/CMakeCache.txt"; then
-  cmake -G Ninja -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSCS_WERROR=$werror >/dev/null
+  cmake -G Ninja -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSSCS_WERROR=$werror \
+    -DCMAKE_UNITY_BUILD=ON >/dev/null
 fi
 cmake --build "$build" -j"$(nproc)" >"$build/build.log" 2>&1 || { tail -n 60 "$build/build.log"; echo "build failed (full log: $build/build.log)" >&2; exit 1; }

@@ -41,8 +41,9 @@ if [[ -f $san/CMakeCache.txt ]] && ! grep -q "CMAKE_GENERATOR:INTERNAL=Ninja" "$
   rm -rf "$san/CMakeCache.txt" "$san/CMakeFiles"
 fi
 if [[ ! -f $san/CMakeCache.txt ]]; then
-  # -O1 keeps the build and the tests quick enough for CI; line tables name the source lines.
-  cmake -G Ninja -S "$root" -B "$san" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  # -O1 keeps the build and the tests quick enough for CI; line tables name the source lines; a
+  # unity build (tools/build.sh) compiles in 5 minutes instead of 6.5.
+  cmake -G Ninja -S "$root" -B "$san" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_UNITY_BUILD=ON \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DSSCS_SANITIZE=ON -DSSCS_FUZZ=ON \
     -DSSCS_WERROR=ON -DSSCS_FUZZ_SECONDS="${SSCS_FUZZ_SECONDS:-20}" >/dev/null
 elif [[ -n ${SSCS_FUZZ_SECONDS:-} ]]; then

@@ -588,12 +588,6 @@ Expression::Dimensions Expression::check_dimensions(const DimOf& dim_of, const E
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
-  while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
-  return s;
-}
-
 /// Positions of a top-level (depth-0) occurrence of one of `ops`; "" when there is none.
 struct Hit {
   size_t pos = std::string_view::npos;
@@ -632,7 +626,7 @@ bool has_top(std::string_view s, char c) {
 }  // namespace
 
 std::optional<MarginTree> split_for_margin(std::string_view text) {
-  text = trim(text);
+  text = trim_blanks(text);
   // Strip one pair of enclosing parentheses: "(a < b)".
   while (text.size() >= 2 && text.front() == '(' && text.back() == ')') {
     int depth = 0;
@@ -646,7 +640,7 @@ std::optional<MarginTree> split_for_margin(std::string_view text) {
       }
     }
     if (!encloses) break;
-    text = trim(text.substr(1, text.size() - 2));
+    text = trim_blanks(text.substr(1, text.size() - 2));
   }
   if (has_top(text, '?')) return std::nullopt;
   for (auto [token, op] : {std::pair{"||", MarginTree::Op::Or}, std::pair{"&&", MarginTree::Op::And}}) {
@@ -668,7 +662,7 @@ std::optional<MarginTree> split_for_margin(std::string_view text) {
   }
   // `!(A)`: the negation of one parenthesised group (`!a == b` is `(!a) == b`: no margin).
   if (text.size() > 2 && text.front() == '!' && text[1] != '=') {
-    std::string_view rest = trim(text.substr(1));
+    std::string_view rest = trim_blanks(text.substr(1));
     if (rest.empty() || rest.front() != '(' || rest.back() != ')') return std::nullopt;
     int depth = 0;
     for (size_t i = 0; i + 1 < rest.size(); ++i) {
@@ -684,8 +678,8 @@ std::optional<MarginTree> split_for_margin(std::string_view text) {
   }
   Hit h = find_top(text, {"<=", ">=", "==", "!=", "<", ">"});
   if (h.pos == std::string_view::npos) return std::nullopt;
-  std::string_view lhs = trim(text.substr(0, h.pos));
-  std::string_view rhs = trim(text.substr(h.pos + h.op.size()));
+  std::string_view lhs = trim_blanks(text.substr(0, h.pos));
+  std::string_view rhs = trim_blanks(text.substr(h.pos + h.op.size()));
   // A second comparison at the same level ("a < b < c") has no single margin.
   if (find_top(rhs, {"<=", ">=", "==", "!=", "<", ">"}).pos != std::string_view::npos) return std::nullopt;
   if (lhs.empty() || rhs.empty() || lhs.front() == '!') return std::nullopt;

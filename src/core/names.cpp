@@ -115,4 +115,10 @@ std::array<float, 3> color_rgb(std::string_view hex, std::array<float, 3> fallba
   return rgb;
 }
 
+std::string_view trim_blanks(std::string_view s) {
+  const size_t a = s.find_first_not_of(" \t");
+  if (a == std::string_view::npos) return {};
+  return s.substr(a, s.find_last_not_of(" \t") - a + 1);
+}
+
 }  // namespace sscs

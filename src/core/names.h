@@ -33,6 +33,9 @@ bool natural_less(std::string_view a, std::string_view b);
 /// (a rack's 600 slot frames in a message would hide what it says).
 std::string name_list(const std::vector<std::string>& names, size_t most = 24);
 
+/// `s` without its leading and trailing spaces and tabs.
+std::string_view trim_blanks(std::string_view s);
+
 /// Glob match with `*` and `?` over a whole name.
 bool glob_match(std::string_view pattern, std::string_view name);
 

@@ -1,4 +1,5 @@
 #include "core/selection_calls.h"
+#include "core/names.h"
 
 #include <algorithm>
 #include <cctype>
@@ -13,10 +14,8 @@ bool ident_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z
 bool ident_char(char c) { return ident_start(c) || (c >= '0' && c <= '9') || c == '.'; }
 
 /// Trimmed of blanks; a quoted argument (`margin('door clear')`) loses its quotes.
-std::string trim(std::string_view s) {
-  size_t a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
-  if (a == std::string_view::npos) return {};
-  std::string out(s.substr(a, b - a + 1));
+std::string unquoted(std::string_view s) {
+  std::string out(trim_blanks(s));
   if (out.size() >= 2 && (out.front() == '"' || out.front() == '\'') && out.back() == out.front()) out = out.substr(1, out.size() - 2);
   return out;
 }
@@ -129,7 +128,7 @@ std::optional<RewrittenExpression> rewrite_selection_calls(std::string_view text
     call.position = i;
     call.arg_position = open + 1 + (text.substr(open + 1, close - open - 1).find_first_not_of(" \t") == std::string_view::npos
                                         ? 0 : text.substr(open + 1, close - open - 1).find_first_not_of(" \t"));
-    std::string arg = trim(text.substr(open + 1, close - open - 1));
+    std::string arg = unquoted(text.substr(open + 1, close - open - 1));
     switch (kind) {
       case SelectionCall::Kind::MinMargin:
         if (!arg.empty()) return fail(call.arg_position, "min_margin() takes no argument");

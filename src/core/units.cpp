@@ -1,4 +1,5 @@
 #include "core/units.h"
+#include "core/names.h"
 
 #include <charconv>
 #include <cstdio>
@@ -18,24 +19,18 @@ struct Unit {
   Dim dim;
   double to_si;
 };
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr Unit kUnits[] = {
     {"m", Dim::Length, 1.0},        {"mm", Dim::Length, 1e-3},        {"cm", Dim::Length, 1e-2},
     {"km", Dim::Length, 1e3},       {"in", Dim::Length, 0.0254},      {"ft", Dim::Length, 0.3048},
-    {"yd", Dim::Length, 0.9144},    {"deg", Dim::Angle, kDeg},        {"rad", Dim::Angle, 1.0},
+    {"yd", Dim::Length, 0.9144},    {"deg", Dim::Angle, kRadPerDeg},        {"rad", Dim::Angle, 1.0},
     {"kg", Dim::Mass, 1.0},         {"g", Dim::Mass, 1e-3},           {"t", Dim::Mass, 1e3},
     {"lb", Dim::Mass, 0.45359237},  {"s", Dim::Time, 1.0},            {"ms", Dim::Time, 1e-3},
     {"min", Dim::Time, 60.0},       {"h", Dim::Time, 3600.0},         {"m/s", Dim::Velocity, 1.0},
-    {"mm/s", Dim::Velocity, 1e-3},  {"deg/s", Dim::AngularVelocity, kDeg},
+    {"mm/s", Dim::Velocity, 1e-3},  {"deg/s", Dim::AngularVelocity, kRadPerDeg},
     {"rad/s", Dim::AngularVelocity, 1.0},                             {"Hz", Dim::Frequency, 1.0},
     {"%", Dim::Fraction, 0.01},
 };
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
 }  // namespace
 
 const char* dim_name(Dim dim) {
@@ -74,12 +69,12 @@ const char* file_unit(Dim dim) {
 }
 
 double file_unit_to_si(Dim dim) {
-  if (dim == Dim::Angle || dim == Dim::AngularVelocity) return kDeg;
+  if (dim == Dim::Angle || dim == Dim::AngularVelocity) return kRadPerDeg;
   return 1.0;
 }
 
 std::optional<double> parse_number(std::string_view text) {
-  text = trim(text);
+  text = trim_blanks(text);
   if (text.empty()) return std::nullopt;
   if (text.front() == '+') text.remove_prefix(1);
   double value = 0;
@@ -106,7 +101,7 @@ size_t number_prefix(std::string_view text) {
 }  // namespace
 
 std::string nonfinite_number(std::string_view text) {
-  text = trim(text);
+  text = trim_blanks(text);
   std::string_view bare = text;
   if (!bare.empty() && (bare.front() == '+' || bare.front() == '-')) bare.remove_prefix(1);
   for (std::string_view w : {".nan", ".NaN", ".NAN", "nan", "NaN", "NAN", ".inf", ".Inf", ".INF", "inf", "Inf",
@@ -115,7 +110,7 @@ std::string nonfinite_number(std::string_view text) {
   // A number, alone or before one word (a unit), that a double cannot hold.
   const size_t n = number_prefix(text);
   if (n == 0) return "";
-  std::string_view rest = trim(text.substr(n));
+  std::string_view rest = trim_blanks(text.substr(n));
   if (!std::all_of(rest.begin(), rest.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '/' || c == '%'; }))
     return "";
   std::string_view number = text.substr(0, n);
@@ -132,14 +127,14 @@ std::string nonfinite_number(std::string_view text) {
 }
 
 std::optional<Quantity> parse_quantity(std::string_view text, std::string* unknown_unit) {
-  text = trim(text);
+  text = trim_blanks(text);
   if (auto n = parse_number(text)) return Quantity{*n, Dim::None, false};
   // Split the longest numeric prefix from the unit word.
   size_t number_len = number_prefix(text);
   if (number_len == 0) return std::nullopt;
   auto number = parse_number(text.substr(0, number_len));
   if (!number) return std::nullopt;
-  std::string_view word = trim(text.substr(number_len));
+  std::string_view word = trim_blanks(text.substr(number_len));
   if (word.empty()) return std::nullopt;
   for (const Unit& u : kUnits)
     if (word == u.word) return Quantity{*number * u.to_si, u.dim, true, u.to_si};

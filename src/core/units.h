@@ -2,12 +2,18 @@
 /// Physical dimensions, unit literals ("300 mm", "90 deg") and conversion to SI.
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 #include <string_view>
 
 namespace sscs {
+
+inline constexpr double kPi = std::numbers::pi;
+inline constexpr double kRadPerDeg = kPi / 180;  ///< degrees to radians
+inline constexpr double kDegPerRad = 180 / kPi;  ///< radians to degrees
+inline constexpr double kStandardGravity = 9.80665;  ///< m/s^2
 
 enum class Dim : uint8_t {
   None,             ///< a plain number

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <numbers>
 #include <vector>
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 /// Metres of position error a radian of rotation error weighs: orientation comes first.
 constexpr double kAngleWeight = 1000;
 /// Starts over the joint box per joint of the chain, and how many of the best are refined.

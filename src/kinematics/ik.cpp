@@ -6,12 +6,12 @@
 #include <numbers>
 
 #include <Eigen/Cholesky>
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 /// SplitMix64: a tiny, well-mixed generator whose sequence is the same on every platform
 /// (std::uniform_real_distribution is not), so restarts and reports are reproducible.

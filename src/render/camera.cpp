@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 }
 
 Eigen::Matrix4d view_matrix(const Camera& c) {

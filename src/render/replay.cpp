@@ -12,12 +12,12 @@
 
 #include "core/pose.h"
 #include "model/device.h"
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;
@@ -102,7 +102,7 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
       for (int j = 0; j < device->dof(); ++j) {
         Expected<double> v = number_at(cells, column[j], path, row);
         if (!v) return Unexpected{v.error()};
-        q[j] = *v * (device->joint(j).type == JointType::Revolute ? kDeg : 1.0);
+        q[j] = *v * (device->joint(j).type == JointType::Revolute ? kRadPerDeg : 1.0);
       }
       Expected<double> t = number_at(cells, 0, path, row);
       if (!t) return Unexpected{t.error()};
@@ -130,7 +130,7 @@ Expected<RecordedRun> RecordedRun::read(const std::string& dir, const Workcell& 
       if (!v) return Unexpected{v.error()};
       x[k] = *v;
     }
-    Eigen::Quaterniond q(rpy_to_rotation(x[5] * kDeg, x[6] * kDeg, x[7] * kDeg));
+    Eigen::Quaterniond q(rpy_to_rotation(x[5] * kRadPerDeg, x[6] * kRadPerDeg, x[7] * kRadPerDeg));
     Eigen::VectorXd v(7);
     v << x[2], x[3], x[4], q.w(), q.x(), q.y(), q.z();
     Series& s = run.objects_[o];

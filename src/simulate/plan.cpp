@@ -19,6 +19,7 @@
 #include "kinematics/closest.h"
 #include "kinematics/ik.h"
 #include "simulate/world.h"
+#include "core/units.h"
 
 namespace sscs {
 
@@ -26,7 +27,6 @@ const char* step_kind_name(StepKind kind) { return kStepActionNames[static_cast<
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Linear tool paths: default speeds and acceleration, waypoint spacing, and the largest joint
 // step between waypoints that still counts as continuous (larger: a branch flip, a singularity).
 constexpr double kLinearTurn = 45 * kPi / 180, kLinearAccel = 0.5;

@@ -7,11 +7,11 @@
 
 #include "core/pose.h"
 #include "model/device.h"
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
-constexpr double kDeg = 180 / std::numbers::pi;
 }  // namespace
 
 TrajectoryRecorder::TrajectoryRecorder(const Workcell& wc, const GeometryModel& geometry, const PhysicsWorld& world,
@@ -30,9 +30,9 @@ void TrajectoryRecorder::record(double t) {
     }
     Eigen::VectorXd q = world_.joints(d);
     std::string row = fmt::format("{:.4f}", t);
-    for (int j = 0; j < m.dof(); ++j) row += fmt::format(",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kDeg : q[j]);
+    for (int j = 0; j < m.dof(); ++j) row += fmt::format(",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kDegPerRad : q[j]);
     Eigen::Isometry3d X = world_.part_pose(d, m.tool_part) * m.X_part_tool;
-    Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDeg;
+    Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDegPerRad;
     row += fmt::format(",{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", X.translation().x(), X.translation().y(),
                        X.translation().z(), rpy.x(), rpy.y(), rpy.z());
     device_csv_[k] += row;
@@ -40,7 +40,7 @@ void TrajectoryRecorder::record(double t) {
   for (size_t o = 0; o < wc_.objects.size(); ++o) {
     if (!world_.dynamic(static_cast<int>(o))) continue;
     Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
-    Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDeg;
+    Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDegPerRad;
     objects_csv_ += fmt::format("{:.4f},{},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", t, wc_.objects[o].name,
                                 X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
   }

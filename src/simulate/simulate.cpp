@@ -57,7 +57,6 @@ constexpr double kSupportGap = 0.005;         // m: a load this close to somethi
 constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
 constexpr double kRestTurnLimit = 0.02;       // rad: an object at rest turned by more moves again
 constexpr double kProppedShare = 0.01;        // of its weight: a device pushing harder at the end holds it up
-constexpr double kGravity = 9.80665;
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
 std::string work_dir(const RunOptions& options) {
@@ -941,7 +940,7 @@ class Run {
       // Held up from below by a device that cannot lower it (an AGV's deck, a cart's bed) is
       // where it was set down, not propped: such a device carries what it carries.
       if (world_.device_pushing(o) >= 0 && !can_lower(world_.device_pushing(o))) F.z() = 0;
-      const double weight = world_.mass(o) * kGravity;
+      const double weight = world_.mass(o) * kStandardGravity;
       if (world_.device_pushing(o) < 0 || F.norm() <= kProppedShare * weight) continue;
       events_.add(t, EventKind::Propped, {{"object", wc_.objects[o].name}, {"by", wc_.objects[world_.device_pushing(o)].name},
                                           {"force", r9(F.norm())}, {"share", r9(F.norm() / weight)}});

@@ -19,12 +19,12 @@
 
 #include "core/inertia.h"
 #include "model/device.h"
+#include "core/units.h"
 
 namespace sscs {
 
 namespace {
 
-constexpr double kGravity = 9.80665;
 constexpr int kMaxContacts = 8;      // per geom pair and step, after reduction
 constexpr int kGatherContacts = 256; // what ODE may report per geom pair and step, before it
 constexpr double kDefaultDensity = 500;  // kg/m^3, for objects that state no mass
@@ -424,7 +424,7 @@ PhysicsWorld::PhysicsWorld(const Workcell& wc, const GeometryModel& geometry, co
   init_ode();
   Impl& w = *impl_;
   w.world = dWorldCreate();
-  dWorldSetGravity(w.world, 0, 0, options.gravity ? -kGravity : 0);
+  dWorldSetGravity(w.world, 0, 0, options.gravity ? -kStandardGravity : 0);
   dWorldSetERP(w.world, 0.2);
   dWorldSetCFM(w.world, 1e-9);
   dWorldSetContactMaxCorrectingVel(w.world, kMaxCorrectingVel);

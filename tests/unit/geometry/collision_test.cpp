@@ -9,7 +9,7 @@
 namespace sscs::testing {
 namespace {
 
-using Collision = VaultTest;
+using Collisions = VaultTest;
 
 struct Built {
   Workcell wc;
@@ -31,7 +31,7 @@ const std::vector<std::pair<std::string, std::string>> kShapes = {
     {"rod", "sscs: 1\ntype: rod\ngeometry:\n  - cylinder: {radius: 0.5, length: 2}\n"},
 };
 
-TEST_F(Collision, BoxBoxDistanceAndPenetration) {
+TEST_F(Collisions, BoxBoxDistanceAndPenetration) {
   Built b = build(*this, "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [3, 0, 0]}\n"
                          "  - {type: cube, name: C, location: [0.75, 0, 0]}\n", kShapes);
   CollisionWorld w(b.geometry);
@@ -39,7 +39,7 @@ TEST_F(Collision, BoxBoxDistanceAndPenetration) {
   EXPECT_NEAR(*w.distance(0, 2), -0.25, 1e-6);  // overlapping by 0.25 along x
 }
 
-TEST_F(Collision, RotatedBoxes) {
+TEST_F(Collisions, RotatedBoxes) {
   // B yawed 45 deg: its corner reaches sqrt(2)/2 from its centre towards A.
   Built b = build(*this, "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [2, 0, 0], orientation: [0, 0, 45]}\n",
                   kShapes);
@@ -47,7 +47,7 @@ TEST_F(Collision, RotatedBoxes) {
   EXPECT_NEAR(*w.distance(0, 1), 2 - 0.5 - std::sqrt(0.5), 1e-6);
 }
 
-TEST_F(Collision, BoxCylinderAndSphere) {
+TEST_F(Collisions, BoxCylinderAndSphere) {
   Built b = build(*this,
                   "  - {type: cube, name: A}\n  - {type: rod, name: R, location: [0, 3, 0]}\n"
                   "  - {type: ball, name: S, location: [0, 0, 2]}\n", kShapes);
@@ -56,7 +56,7 @@ TEST_F(Collision, BoxCylinderAndSphere) {
   EXPECT_NEAR(*w.distance(0, 2), 2 - 0.5 - 0.5, 1e-6);
 }
 
-TEST_F(Collision, SphereAgainstMesh) {
+TEST_F(Collisions, SphereAgainstMesh) {
   auto types = kShapes;
   types.push_back({"tri", "sscs: 1\ntype: tri\ngeometry:\n  - mesh: {file: tri.obj}\n"});
   options.library_dirs = {type_dir(types)};
@@ -69,7 +69,7 @@ TEST_F(Collision, SphereAgainstMesh) {
   EXPECT_NEAR(*w.distance(0, 1), 1.0, 1e-6);
 }
 
-TEST_F(Collision, BroadphaseFindsOnlyNearPairs) {
+TEST_F(Collisions, BroadphaseFindsOnlyNearPairs) {
   Built b = build(*this,
                   "  - type: cube\n    array: {name: \"C{i}\", count: [10], pitch: [1.5, 0, 0]}\n", kShapes);
   CollisionWorld w(b.geometry);
@@ -81,7 +81,7 @@ TEST_F(Collision, BroadphaseFindsOnlyNearPairs) {
   EXPECT_EQ(pairs[0], std::make_pair(0, 1));
 }
 
-TEST_F(Collision, InsideMarginsOfBoxAndRotatedCylinder) {
+TEST_F(Collisions, InsideMarginsOfBoxAndRotatedCylinder) {
   Built b = build(*this,
                   "  - {type: room, name: R, length: 10, width: 4, height: 3, orientation: [0, 0, 30]}\n"
                   "  - {type: rod, name: Up, parent: R, location: [1, 1, 1.5]}\n"
@@ -95,7 +95,7 @@ TEST_F(Collision, InsideMarginsOfBoxAndRotatedCylinder) {
   EXPECT_LT(*inside_margin(b.geometry, 0, 1, &why), 0);  // the room does not fit in a rod
 }
 
-TEST_F(Collision, InsideEdgeCases) {
+TEST_F(Collisions, InsideEdgeCases) {
   Built b = build(*this,
                   "  - {type: room, name: R, length: 4, width: 4, height: 3}\n"
                   "  - {type: cube, name: Corner, parent: R, location: [0.5, 0.5, 0.5]}\n"      // touches three faces
@@ -110,7 +110,7 @@ TEST_F(Collision, InsideEdgeCases) {
   EXPECT_NEAR(*inside_margin(b.geometry, 4, 0, &why), -0.1, 1e-12);
 }
 
-TEST_F(Collision, InsideCylinderAndMeshContainers) {
+TEST_F(Collisions, InsideCylinderAndMeshContainers) {
   auto types = kShapes;
   types.push_back({"tank", "sscs: 1\ntype: tank\ngeometry:\n  - cylinder: {radius: 2, length: 4, xyz: [0, 0, 2]}\n"});
   types.push_back({"shell", "sscs: 1\ntype: shell\ngeometry:\n  - mesh: {file: shell.obj}\n"});
@@ -134,7 +134,7 @@ TEST_F(Collision, InsideCylinderAndMeshContainers) {
   EXPECT_NEAR(*inside_margin(g, 5, 1, &why), -0.7, 1e-9);
 }
 
-TEST_F(Collision, ConstraintsReportFailingPairs) {
+TEST_F(Collisions, ConstraintsReportFailingPairs) {
   options.library_dirs = {type_dir(kShapes)};
   Workcell wc = must_compile(
       "objects:\n  - {type: room, name: R, length: 10, width: 10, height: 3}\n"
@@ -153,7 +153,7 @@ TEST_F(Collision, ConstraintsReportFailingPairs) {
   EXPECT_EQ(rep.results[2].status, Status::Pass);
 }
 
-TEST_F(Collision, ProximityFollowsMovedObjects) {
+TEST_F(Collisions, ProximityFollowsMovedObjects) {
   Built b = build(*this,
                   "  - {type: cube, name: A}\n  - {type: cube, name: B, location: [3, 0, 0]}\n"
                   "  - {type: cube, name: Far, location: [30, 0, 0]}\n", kShapes);
@@ -174,7 +174,7 @@ TEST_F(Collision, ProximityFollowsMovedObjects) {
   EXPECT_EQ(w.proximity(0, {1}, 5.0).size(), 1u);
 }
 
-TEST_F(Collision, ReposedGeometryMovesShapesBoundsAndFrames) {
+TEST_F(Collisions, ReposedGeometryMovesShapesBoundsAndFrames) {
   Built b = build(*this, "  - {type: drum, name: D, location: [1, 2, 0]}\n");
   ObjectGeometry g = b.geometry.objects[0];
   const double h = b.geometry.objects[0].frame("top")->translation().z();

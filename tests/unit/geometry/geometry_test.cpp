@@ -10,12 +10,12 @@
 
 #include "geometry/geometry.h"
 #include "vault_fixture.h"
+#include "core/units.h"
 
 namespace sscs::testing {
 namespace {
 
 using Geometry = VaultTest;
-constexpr double kPi = std::numbers::pi;
 
 TEST(GeometryMath, RpyIsZYXAsInUrdf) {
   // yaw 90 deg maps +x to +y; pitch 90 deg maps +x to -z; roll 90 deg maps +y to +z.

@@ -10,12 +10,12 @@
 #include "geometry/geometry.h"
 #include "kinematics/ik.h"
 #include "vault_fixture.h"
+#include "core/units.h"
 
 namespace sscs::testing {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
 
 class DeviceProperty : public VaultTest {
  public:

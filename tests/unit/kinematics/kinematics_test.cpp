@@ -13,12 +13,11 @@
 #include "geometry/geometry.h"
 #include "kinematics/ik.h"
 #include "vault_fixture.h"
+#include "core/units.h"
 
 namespace sscs::testing {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180;
 
 class Kinematics : public VaultTest {
  public:
@@ -56,7 +55,7 @@ TEST_F(Kinematics, ForwardKinematicsMatchesHandComputedPoses) {
   ASSERT_TRUE(d);
   ASSERT_EQ(d->dof(), 3);
   Eigen::VectorXd q(3);
-  q << 90 * kDeg, -90 * kDeg, 0.2;
+  q << 90 * kRadPerDeg, -90 * kRadPerDeg, 0.2;
   // Upper link along +y (1 m), forearm back along +x: 0.5 + 0.2 slide + 0.1 tool.
   Eigen::Isometry3d tool = d->tool_pose(q);
   EXPECT_TRUE(tool.translation().isApprox(Eigen::Vector3d(0.8, 1.0, 0.5), 1e-12)) << tool.translation().transpose();
@@ -95,9 +94,9 @@ TEST_F(Kinematics, ArmDimensionsAreTheDataSheets) {
   Eigen::Isometry3d tool = d->tool_pose(Eigen::VectorXd::Zero(6));
   EXPECT_TRUE(tool.translation().isApprox(Eigen::Vector3d(0.150 + 0.795 + 0.085, 0, 0.445 + 0.700 + 0.115), 1e-12))
       << tool.translation().transpose();
-  EXPECT_NEAR(d->joint(1).lower, -95 * kDeg, 1e-12);
-  EXPECT_NEAR(d->joint(2).upper, 75 * kDeg, 1e-12);
-  EXPECT_NEAR(d->joint(0).velocity, 175 * kDeg, 1e-12);
+  EXPECT_NEAR(d->joint(1).lower, -95 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(d->joint(2).upper, 75 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(d->joint(0).velocity, 175 * kRadPerDeg, 1e-12);
 }
 
 TEST_F(Kinematics, InverseKinematicsRoundTripsRandomReachablePoses) {
@@ -204,7 +203,7 @@ TEST_F(Kinematics, UnreachableAndSingularTargetsReturnPromptly) {
   EXPECT_GT(r.position_error, 3.0);
   // Just outside the arm's stretch (a singular, fully extended pose): the whole budget, bounded.
   Eigen::VectorXd stretched(6);
-  stretched << 0, 90 * kDeg, -atan2(0.795, 0.115), 0, 0, 0;  // upper arm and forearm in line, horizontal
+  stretched << 0, 90 * kRadPerDeg, -atan2(0.795, 0.115), 0, 0, 0;  // upper arm and forearm in line, horizontal
   Eigen::Isometry3d edge = chain.forward(stretched);
   edge.translation() += edge.translation().normalized() * 0.01;
   r = solve_ik(chain, edge, Eigen::VectorXd::Zero(6), opt);

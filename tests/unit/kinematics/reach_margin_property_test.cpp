@@ -13,12 +13,12 @@
 #include "geometry/geometry.h"
 #include "kinematics/closest.h"
 #include "vault_fixture.h"
+#include "core/units.h"
 
 namespace sscs::testing {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
 
 class ReachMargin : public VaultTest {
  public:

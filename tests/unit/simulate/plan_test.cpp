@@ -9,11 +9,11 @@
 #include "kinematics/ik.h"
 #include "pipeline/scenario.h"
 #include "vault_fixture.h"
+#include "core/units.h"
 
 namespace sscs::testing {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
 
 // A turntable: one revolute joint at 90 deg/s and 180 deg/s^2, its tool 1 m out along x.
 const char* kTurntable = R"(sscs: 1
@@ -56,8 +56,8 @@ TEST_F(Planning, ASingleJointMoveTakesTheTrapezoidTime) {
   EXPECT_NEAR(p->steps[0].end, 1.5, 1e-12);  // 90 deg at 90 deg/s and 180 deg/s^2
   EXPECT_NEAR(p->steps[1].end, 2.0, 1e-12);
   EXPECT_NEAR(p->end, 2.0, 1e-12);
-  EXPECT_NEAR(p->track(0)->at(0.75)[0], 45 * kDeg, 1e-12);
-  EXPECT_NEAR(p->track(0)->at(9)[0], 90 * kDeg, 1e-12);
+  EXPECT_NEAR(p->track(0)->at(0.75)[0], 45 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(p->track(0)->at(9)[0], 90 * kRadPerDeg, 1e-12);
 }
 
 TEST_F(Planning, ACoarseTimestepIsWarnedOf) {
@@ -177,7 +177,7 @@ TEST_F(Planning, MoveToEndsAtItsTargetForEveryDeviceKind) {
       }
       Eigen::Isometry3d X = geometry_.objects[0].X_world_object * d.tool_pose(q);
       targets.push_back(X);
-      Eigen::Vector3d rpy = X.linear().eulerAngles(2, 1, 0).reverse() / kDeg;
+      Eigen::Vector3d rpy = X.linear().eulerAngles(2, 1, 0).reverse() / kRadPerDeg;
       steps += fmt::format("  - {{device: D, move_to: {{target: {{xyz: [{:.17g}, {:.17g}, {:.17g}], rpy: [{:.17g}, {:.17g}, {:.17g}]}}}}}}\n",
                            X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
     }

@@ -4,31 +4,31 @@
 #include <numbers>
 
 #include "simulate/profile.h"
+#include "core/units.h"
 
 namespace sscs {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
 
 TEST(Profile, TrapezoidTakesTheAnalyticTime) {
   // 90 deg at 90 deg/s and 180 deg/s^2: 0.5 s up (22.5 deg), 0.5 s cruise (45 deg), 0.5 s down.
-  Trapezoid p = fastest(90 * kDeg, 90 * kDeg, 180 * kDeg);
+  Trapezoid p = fastest(90 * kRadPerDeg, 90 * kRadPerDeg, 180 * kRadPerDeg);
   EXPECT_NEAR(p.duration(), 1.5, 1e-12);
   EXPECT_NEAR(p.ta, 0.5, 1e-12);
-  EXPECT_NEAR(p.position(0.5), 22.5 * kDeg, 1e-12);
-  EXPECT_NEAR(p.position(1.0), 67.5 * kDeg, 1e-12);
-  EXPECT_NEAR(p.position(1.5), 90 * kDeg, 1e-12);
-  EXPECT_NEAR(p.velocity(0.75), 90 * kDeg, 1e-12);
-  EXPECT_NEAR(p.acceleration(1.25), -180 * kDeg, 1e-12);
+  EXPECT_NEAR(p.position(0.5), 22.5 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(p.position(1.0), 67.5 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(p.position(1.5), 90 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(p.velocity(0.75), 90 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(p.acceleration(1.25), -180 * kRadPerDeg, 1e-12);
 }
 
 TEST(Profile, ShortMovesAreTriangles) {
   // 10 deg never reaches 90 deg/s: peak sqrt(d a), time 2 sqrt(d / a).
-  Trapezoid p = fastest(-10 * kDeg, 90 * kDeg, 180 * kDeg);
+  Trapezoid p = fastest(-10 * kRadPerDeg, 90 * kRadPerDeg, 180 * kRadPerDeg);
   EXPECT_NEAR(p.tc, 0, 1e-12);
   EXPECT_NEAR(p.duration(), 2 * std::sqrt(10.0 / 180.0), 1e-12);
-  EXPECT_NEAR(p.v, std::sqrt(10 * kDeg * 180 * kDeg), 1e-12);
-  EXPECT_NEAR(p.position(p.duration()), -10 * kDeg, 1e-12);
+  EXPECT_NEAR(p.v, std::sqrt(10 * kRadPerDeg * 180 * kRadPerDeg), 1e-12);
+  EXPECT_NEAR(p.position(p.duration()), -10 * kRadPerDeg, 1e-12);
   EXPECT_LT(p.velocity(p.ta), 0);  // moving the negative way
 }
 
