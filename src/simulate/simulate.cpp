@@ -78,7 +78,7 @@ class Run {
  public:
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
-        world_(wc, geometry, PhysicsOptions{plan.settings.timestep, plan.settings.gravity}), clearances_(wc, geometry),
+        world_(wc, geometry, physics_options(plan.settings.timestep, plan.settings.gravity)), clearances_(wc, geometry),
         recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
         rechecks_(wc, movers(plan), plan.settings.check_tolerance) {}
 
@@ -182,6 +182,7 @@ class Run {
     released_.erase(ps.object);
     rested_.erase(ps.object);
     rider_of_.erase(ps.object);
+    world_.stop_riding(ps.object);
     set_down_at_.erase(ps.object);
     events_.add(t, EventKind::Grasp, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[ps.object].name}});
     // What the load stood on when lifted is no clearance to report.
@@ -198,11 +199,16 @@ class Run {
       supports_.insert({ps.object, -1});  // the floor
     // What stands on the load rides with it as free bodies: drums on a pallet a forklift
     // lifts (they stood still in the air).
-    for (int k : riders(ps.object)) {
-      world_.make_dynamic(k);
+    // Each is welded to what it stands on while it rests there (PhysicsWorld::ride).
+    std::vector<int> under;
+    const std::vector<int> on_load = riders(ps.object, &under);
+    for (int k : on_load) world_.make_dynamic(k);
+    for (size_t i = 0; i < on_load.size(); ++i) {
+      const int k = on_load[i];
       rider_of_[k] = ps.object;
       rode_on_[k] = ps.object;
       X_load_rider_[k] = world_.pose(ps.object).inverse() * world_.pose(k);
+      world_.ride(k, under[i]);
     }
     return true;
   }
@@ -265,6 +271,7 @@ class Run {
       if (it->second == o) {
         released_[it->first] = true;
         set_down_at_[it->first] = {world_.pose(it->first).translation(), bottom_of(it->first)};
+        world_.stop_riding(it->first);
         it = rider_of_.erase(it);
       } else {
         ++it;
@@ -504,6 +511,7 @@ class Run {
       rider_of_[o] = load;
       rode_on_[o] = load;
       X_load_rider_[o] = world_.pose(load).inverse() * world_.pose(o);
+      world_.ride(o, other);
       return true;
     }
     return false;
@@ -515,7 +523,7 @@ class Run {
   /// whose parent was the hall stayed in the air when its pallet was lifted; a drum whose parent
   /// was the pallet, standing 3 m from it, was carried along as a rider; a drum standing beside
   /// the load on a pallet of its own was taken for one).
-  std::vector<int> riders(int load) {
+  std::vector<int> riders(int load, std::vector<int>* stands_on = nullptr) {
     std::vector<int> out;
     std::set<int> seen = {load};
     const std::vector<char> is_container = containers(wc_);
@@ -534,6 +542,7 @@ class Run {
             !over || !seen.insert(k).second)
           continue;
         out.push_back(k);
+        if (stands_on) stands_on->push_back(static_cast<int>(from));
       }
       if (next >= out.size()) break;
     }

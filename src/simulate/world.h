@@ -1,6 +1,6 @@
 #pragma once
 /// The physics world of a run: ODE (double precision) with a fixed timestep, the vault's objects
-/// as collision geometry in a hash space, a floor, and rigid bodies for objects that move under
+/// as collision geometry (what stands still in a quadtree, what moves in a hash space), a floor, and rigid bodies for objects that move under
 /// physics (a drum once it is released). Contacts use friction and restitution (documented in
 /// docs/simulation.md).
 ///
@@ -37,11 +37,11 @@ double object_mass(const Workcell& wc, const GeometryModel& geometry, int object
 /// bodies, joints and geoms in a bare loop to measure what sscs adds around ODE.
 struct OdeHandles {
   dxWorld* world = nullptr;
-  dxSpace* space = nullptr;
   dxJointGroup* contact_group = nullptr;
-  /// sscs's near callback for dSpaceCollide (its contact filters and surface), with its data.
-  void (*near_callback)(void*, dxGeom*, dxGeom*) = nullptr;
-  void* near_data = nullptr;
+  /// sscs's collision pass of a step (what moves against itself and against the scenery, through
+  /// its near callback: contact filters and surface), called with `collide_data`.
+  void (*collide)(void*) = nullptr;
+  void* collide_data = nullptr;
   struct Motor {
     dxJoint* joint = nullptr;  ///< null for a device joint without a motor
     bool revolute = true;
@@ -55,7 +55,13 @@ struct PhysicsOptions {
   bool gravity = true;      ///< -9.80665 m/s^2 along z
   double friction = 0.6;    ///< Coulomb coefficient, every contact (steel on steel or wood, dry)
   double restitution = 0.1; ///< bounce; contacts slower than 0.1 m/s do not bounce
+  /// Riders welded to their support while it holds them (PhysicsWorld::ride); off, they stay on
+  /// their contacts. On unless SSCS_WELD_RIDERS=0 (the e2e test comparing the two).
+  bool weld_riders = true;
 };
+
+/// The options of a run with `timestep` and `gravity`, welding as SSCS_WELD_RIDERS says.
+PhysicsOptions physics_options(double timestep, bool gravity);
 
 /// What ODE's solver said during a run ("LCP internal error, s <= 0": on that step it stopped
 /// solving the contacts early and left the rest of their forces at zero).
@@ -97,6 +103,19 @@ class PhysicsWorld {
   void release(int device);
   /// The object a device holds, or -1.
   int held(int device) const;
+
+  /// `rider` (a free body) stands on `support` (a load a device carries, or another rider of it).
+  /// While it rests there the two are welded: one fixed joint instead of their contacts (up to 8
+  /// a geom pair, each 6 rows of the solver: a pallet with four drums on an AGV's deck made the
+  /// dense solver cubic in ~200 rows). The weld breaks, the contacts back, on the step where the
+  /// patch it stands on could not exert what the weld does (SupportPatch::holds, at kWeldShare of
+  /// friction and of the patch: a carrier braking harder than friction holds, a drum tipping over
+  /// its rim); it welds again after resting on its support for kWeldAfter. Until `stop_riding`.
+  void ride(int rider, int support);
+  void stop_riding(int rider);
+  /// Whether `rider` is welded to its support now.
+  bool welded(int rider) const;
+  static constexpr double kWeldShare = 0.7, kWeldAfter = 0.02;  // of friction and the patch; s
 
   /// Turns a static object into a free rigid body at its current pose, with its mass
   /// (docs/simulation.md says how the mass is found).

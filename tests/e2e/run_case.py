@@ -2183,6 +2183,96 @@ def certified(sscs, root):
     print(f"certified: {checked} random moves of {len(devices)} devices past posts, the bound at 1-4 Hz within [-2 mm, +{slack * 1000:g} mm] of 1000 Hz")
 
 
+def riders(sscs, root):
+    """Riders welded to what carries them (PhysicsWorld::ride) against riders on their contacts
+    (SSCS_WELD_RIDERS=0), over random configurations from a fixed seed: an AGV carrying a pallet
+    with one to four drums of two sizes at random places (overhanging its edge or not), some with
+    a small drum stacked on them, some lying on their side (a line of contacts: never welded, it
+    rolls), driven along x and y and turned about its axis by random amounts, then setting the
+    pallet down on its deck. Both runs end with the same status and the same events (collisions,
+    shifted loads, displacements, landings, bodies not at rest), and every object within 5 mm of
+    where the other run left it (also where ODE's solver gave up on a step on contacts: its
+    physics_messages, said in the failure)."""
+    rnd = random.Random(36)
+    cases = []
+    for n in range(16):
+        lines = ["sscs: 1", f"vault: Riders_{n}", "objects:",
+                 "  - {type: room, name: Hall, length: 10, width: 8, height: 4}",
+                 "  - {type: agv, name: Agv, parent: Hall, location: [2, 4, 0], deck_height: 0.2}",
+                 "  - {type: pallet, name: P, parent: Hall, location: [1.4, 3.6, 0.2]}"]
+        placed = []  # (x, y, radius) on the pallet, its own frame
+        for k in range(rnd.choice([1, 2, 3, 4])):
+            big = rnd.random() < 0.6
+            r = 0.235 if big else 0.15
+            for _ in range(200):
+                x, y = rnd.uniform(r * 0.6, 1.2 - r * 0.6), rnd.uniform(r * 0.6, 0.8 - r * 0.6)
+                if all(math.hypot(x - ox, y - oy) > r + orr + 0.01 for ox, oy, orr in placed):
+                    placed.append((x, y, r))
+                    break
+            else:
+                continue
+            name = f"D{len(placed)}"
+            if big:
+                lines.append(f"  - {{type: drum_30gal, name: {name}, parent: P, location: [{x:.4f}, {y:.4f}, 0.144], fill_mass: 20 kg}}")
+                if rnd.random() < 0.3:
+                    lines.append(f"  - {{type: drum, name: {name}s, parent: {name}, location: [0, 0, 0.737], diameter: 0.3, height: 0.4, tare_mass: 5}}")
+            elif rnd.random() < 0.25:  # lying on its side, along y: it rolls along x
+                lines.append(f"  - {{type: drum, name: {name}, parent: P, location: [{x:.4f}, {y - 0.2:.4f}, {0.144 + r:.4f}], "
+                             "orientation: [-90, 0, 0], diameter: 0.3, height: 0.4, tare_mass: 5}")
+            else:
+                lines.append(f"  - {{type: drum, name: {name}, parent: P, location: [{x:.4f}, {y:.4f}, 0.144], diameter: 0.3, height: 0.4, tare_mass: 5}}")
+        steps = ["  - {device: Agv, grasp: P}"]
+        q = {"x": 0.0, "y": 0.0, "yaw": 0.0}
+        for _ in range(rnd.choice([2, 3])):
+            joint = rnd.choice(["x", "x", "y", "yaw"])
+            if joint == "x":
+                q["x"] = round(min(5, max(-1, q["x"] + rnd.choice([-1, 1]) * rnd.uniform(0.5, 2))), 3)
+            elif joint == "y":
+                q["y"] = round(min(2, max(-2, q["y"] + rnd.choice([-1, 1]) * rnd.uniform(0.3, 1))), 3)
+            else:
+                q["yaw"] = round(q["yaw"] + rnd.choice([-1, 1]) * rnd.uniform(30, 90), 1)
+            steps.append(f"  - {{device: Agv, move_joints: {{{joint}: {q[joint]}}}}}")
+        steps.append("  - {device: Agv, release: {}}")
+        scenario = ["sscs: 1", f"scenario: riders-{n}", "vault: vault.yaml", "sim: {timestep: 1 ms, limit: 60 s}", "steps:", *steps]
+        cases.append((f"riders-{n}", "\n".join(lines) + "\n", "\n".join(scenario) + "\n"))
+    kinds = ("collision", "load_shifted", "displaced", "not_at_rest", "landed", "propped")
+    with tempfile.TemporaryDirectory() as tmp:
+        def one(job):
+            (label, vault, scenario), weld = job
+            d = os.path.join(tmp, label)
+            os.makedirs(d, exist_ok=True)
+            open(os.path.join(d, "vault.yaml"), "w").write(vault)
+            open(os.path.join(d, "scenario.yaml"), "w").write(scenario)
+            out = os.path.join(d, f"weld-{weld}")
+            p = run(sscs, root, ["simulate", os.path.join(d, "scenario.yaml"), "--out", out, "--quiet", "--no-frames"],
+                    {"SSCS_WELD_RIDERS": weld})
+            if not os.path.exists(os.path.join(out, "summary.json")):
+                fail(f"{label} (SSCS_WELD_RIDERS={weld}): no run\n{vault}\n{scenario}", p)
+            events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+            return json.load(open(os.path.join(out, "summary.json"))), events, last_positions(out)
+        jobs = [(case, weld) for case in cases for weld in ("1", "0")]
+        with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+            results = list(pool.map(one, jobs))
+    compared = skipped = 0
+    for i, (label, vault, scenario) in enumerate(cases):
+        (s1, e1, last1), (s0, e0, last0) = results[2 * i], results[2 * i + 1]
+        where = f"{label}:\n{vault}\n{scenario}"
+        if s0.get("physics_messages"):  # the reference's solver gave up on a step: said if they differ
+            where += f"(on contacts ODE's solver gave up on {s0['physics_messages']['steps']} steps)\n"
+            skipped += 1
+        if s1["status"] != s0["status"]:
+            fail(f"{where}welded riders end {s1['status']}, riders on contacts {s0['status']}: {e1} / {e0}")
+        def kinds_of(events):
+            return sorted((e["kind"], e.get("object", ""), e.get("on", "")) for e in events if e["kind"] in kinds)
+        if kinds_of(e1) != kinds_of(e0):
+            fail(f"{where}welded riders' events {kinds_of(e1)} differ from those on contacts {kinds_of(e0)}")
+        for obj, at in last0.items():
+            if obj not in last1 or math.dist(at, last1[obj]) > 0.005:
+                fail(f"{where}{obj} ends at {last1.get(obj)} welded, at {at} on contacts (more than 5 mm apart)")
+        compared += 1
+    print(f"riders: {compared} random AGV loads agree welded and on contacts ({skipped} of them with solver messages on contacts)")
+
+
 def run_truth(sscs, root):
     """What a run says is what happened: tests/e2e/run_truth.py over tests/data/run-truth."""
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -2190,7 +2280,7 @@ def run_truth(sscs, root):
     truth.run_truth(sscs, root, run, fail)
 
 
-MODES = {"certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+MODES = {"riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 

@@ -14,8 +14,8 @@ from a bug report where the run's verdict and numbers were not the truth.
                         have no times.
   released-on-top       a drum released 40 mm into the one below is pushed up onto it: `displaced`
                         with its `rise`.
-  feather-pallet        a 0.1 g pallet under four drums on an AGV: ODE's solver gives up on steps
-                        ("LCP internal error"); summary.json says on how many, from when, and what
+  feather-pallet        a 0.1 g pallet under four drums on an AGV, the drums on their contacts
+                        (SSCS_WELD_RIDERS=0): ODE's solver gives up on steps ("LCP internal error"); summary.json says on how many, from when, and what
                         it means for the numbers. The clean runs above have no physics_messages.
 
 Every expectation is checked and every one that fails is listed (not only the first), each
@@ -70,7 +70,10 @@ def run_truth(sscs, root, run, fail):
     with tempfile.TemporaryDirectory() as tmp:
         def one(name):
             out = os.path.join(tmp, name)
-            p = run(sscs, root, ["simulate", f"{DATA}/{name}.yaml", "--out", out, "--quiet", "--no-frames"])
+            # The drums on the feather pallet stay on their contacts (not welded to it, as after a
+            # weld breaks): with welds the solver has no contacts there to give up on.
+            env = {"SSCS_WELD_RIDERS": "0"} if name == "feather-pallet" else None
+            p = run(sscs, root, ["simulate", f"{DATA}/{name}.yaml", "--out", out, "--quiet", "--no-frames"], env)
             return name, p, out
 
         with ThreadPoolExecutor(max_workers=min(len(SCENARIOS), os.cpu_count() or 2)) as pool:

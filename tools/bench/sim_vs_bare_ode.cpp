@@ -7,7 +7,7 @@
 //            no events and no logs;
 //   bare     the same ODE bodies, joints and geoms (built by PhysicsWorld, not timed) stepped by
 //            a plain loop: motor velocities set with dJointSetHingeParam from the plan plus the
-//            same feedback, dSpaceCollide with the same collision callback, dWorldStep.
+//            same feedback, the same collision pass and callback, dWorldStep.
 //
 // Prints the time per step of each (best of N repetitions), sscs/bare, the share of the run
 // spent on logging and event checks ((sscs - physics) / sscs), and the real-time factor
@@ -51,7 +51,7 @@ void handle_steps(PhysicsWorld& world, const Plan& plan, double t, std::vector<c
 /// (grasps and releases handled on time around it).
 template <typename Advance>
 double timed_steps(const Workcell& wc, const GeometryModel& g, const Plan& plan, long steps, Advance advance) {
-  PhysicsWorld world(wc, g, PhysicsOptions{plan.settings.timestep, plan.settings.gravity});
+  PhysicsWorld world(wc, g, physics_options(plan.settings.timestep, plan.settings.gravity));
   for (const Track& t : plan.tracks) world.add_device(t.object, t.q_start);
   std::vector<char> done(plan.steps.size(), 0);
   const double dt = plan.settings.timestep;
@@ -93,7 +93,7 @@ double bare_ode(const Workcell& wc, const GeometryModel& g, const Plan& plan, lo
       }
     }
     const OdeHandles& ode = handles.at(0);
-    dSpaceCollide(ode.space, ode.near_data, ode.near_callback);
+    ode.collide(ode.collide_data);
     dWorldStep(ode.world, dt);
     dJointGroupEmpty(ode.contact_group);
   });
