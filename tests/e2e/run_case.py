@@ -2192,7 +2192,8 @@ def riders(sscs, root):
     pallet down on its deck. Both runs end with the same status and the same events (collisions,
     shifted loads, displacements, landings, bodies not at rest), and every object within 5 mm of
     where the other run left it (also where ODE's solver gave up on a step on contacts: its
-    physics_messages, said in the failure)."""
+    physics_messages, said in the failure). And a weld that must break: a tall drum on a pallet a
+    gantry accelerates tips and falls off, welded or not (tests/data/riders/tall-rider.yaml)."""
     rnd = random.Random(36)
     cases = []
     for n in range(16):
@@ -2270,7 +2271,23 @@ def riders(sscs, root):
             if obj not in last1 or math.dist(at, last1[obj]) > 0.005:
                 fail(f"{where}{obj} ends at {last1.get(obj)} welded, at {at} on contacts (more than 5 mm apart)")
         compared += 1
-    print(f"riders: {compared} random AGV loads agree welded and on contacts ({skipped} of them with solver messages on contacts)")
+    # A weld that must break: a tall drum on a pallet a gantry accelerates at 1 m/s^2 tips over
+    # and falls to the floor, welded or not (a weld without its patch check would carry it upright).
+    for weld in ("1", "0"):
+        with tempfile.TemporaryDirectory() as tmp:
+            p = run(sscs, root, ["simulate", "tests/data/riders/tall-rider.yaml", "--out", tmp + "/run", "--quiet", "--no-frames"],
+                    {"SSCS_WELD_RIDERS": weld})
+            events = [json.loads(line) for line in open(os.path.join(tmp, "run", "events.jsonl"))]
+            last = last_positions(tmp + "/run")
+        shifted = [e for e in events if e["kind"] == "load_shifted" and e["object"] == "T"]
+        fell = [e for e in events if e["kind"] == "collision" and {e["a"], e["b"]} == {"floor", "T"}]
+        if p.returncode != 1 or not shifted or not fell or last["T"][2] > 0.1:
+            fail(f"tall-rider (SSCS_WELD_RIDERS={weld}): the tall drum must tip off the pallet onto the floor "
+                 f"(load_shifted, a collision with the floor, lying at the end): {events} {last}", p)
+        if math.dist(last["S"], [3.75, 2.2, 0.444]) > 0.005:
+            fail(f"tall-rider (SSCS_WELD_RIDERS={weld}): the squat drum rides where it stood on the pallet: {last['S']}", p)
+    print(f"riders: {compared} random AGV loads agree welded and on contacts ({skipped} of them with solver messages "
+          "on contacts); a tall rider tips off an accelerating pallet either way")
 
 
 def run_truth(sscs, root):
