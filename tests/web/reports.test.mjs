@@ -203,6 +203,15 @@ for (const file of pages.filter((f) => existsSync(join(out, basename(f, '.html')
     assert.equal(await page.$eval('[data-testid=time]', (e) => e.textContent), `${t.toFixed(2)} s`);
     assert.ok(await page.evaluate('window.__changed()') > 200, 'the device is drawn elsewhere');
     assert.ok((await page.$$('svg.plot polyline')).length > 0, 'joint plots');
+    // The closest approach is marked on the timeline; the mark jumps there.
+    if (summary.min_clearance) {
+      await page.click('[data-testid=min-clearance-mark]');
+      const at = await page.evaluate('window.sscsReport.view.time');
+      assert.ok(Math.abs(at - Math.min(summary.min_clearance.t, await page.evaluate('window.sscsReport.view.duration'))) < 1e-6,
+        `the min_clearance mark jumps to ${summary.min_clearance.t}, is at ${at}`);
+      const title = await page.$eval('[data-testid=min-clearance-mark] title', (e) => e.textContent);
+      assert.ok(title.includes(summary.min_clearance.a) && title.includes(summary.min_clearance.b), title);
+    }
     // Playing advances time.
     await page.evaluate('window.sscsReport.seek(0)');
     await page.click('[data-testid=play]');

@@ -299,6 +299,13 @@
     });
     S.notableEvents(events).forEach((e) => timeline.append(svg('circle', { cx: tx(e.t), cy: 32, r: 5, class: `event ${e.kind}`, onclick: () => jump(e) },
       svg('title', {}, `${e.kind} at ${S.time(e.t)} s`))));
+    // Where the run came closest (or went deepest): a mark that jumps there and frames the pair.
+    if (mc && typeof mc.t === 'number')
+      timeline.append(svg('path', { d: `M${tx(mc.t)},24 l6,8 l-6,8 l-6,-8 z`, class: `min-clearance${mc.distance < 0 ? ' penetration' : ''}`,
+        'data-testid': 'min-clearance-mark',
+        onclick: () => { seek(mc.t); view && view.frameObjects([mc.a.split('.')[0], mc.b.split('.')[0]]); } },
+      svg('title', {}, `${mc.distance < 0 ? 'deepest penetration' : `minimum clearance${mc.certified ? ' (certified)' : ''}`} `
+        + `${S.num(Math.abs(mc.distance), 'm')}: ${mc.a} and ${mc.b} at ${S.time(mc.t)} s`)));
     const playhead = svg('line', { y1: 0, y2: H, class: 'cursor' });
     timeline.append(playhead);
     const eventList = el('table', { class: 'events', 'data-testid': 'events' }, el('thead', {}, el('tr', {}, el('th', {}, 't (s)'), el('th', {}, 'event'), el('th', {}, 'details'))),
