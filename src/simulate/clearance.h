@@ -55,6 +55,19 @@ class ClearanceTracker {
   /// on, its lift off what it stood on): not counted, but for penetrations. `to` may lie ahead.
   void excuse(int a, int b, double from, double to);
 
+  /// Watches the pair for coming nearer than `gap` (m) between samples (a clearance rule the
+  /// run re-checks): where the certified bound over an interval is below it, the interval is
+  /// halved at the kept poses of what moves until the bound clears it or a pose is nearer.
+  void watch(int a, int b, double gap);
+  /// A watched pair nearer than its gap between the last two samples: the earliest such pose
+  /// found, how near, and the parts as the run names them.
+  struct Dip {
+    double t = 0, distance = 0;
+    std::string a, b;
+  };
+  /// The dip of the interval that ended at `t` (the sample being observed), if any.
+  std::optional<Dip> dip(int a, int b, double t) const;
+
   /// The closest approach of the run: the smallest distance of any pair outside the moves
   /// excused, negative for the deepest penetration; none when nothing came within reach. A
   /// lower bound over the whole motion (certified) when every physics step was followed.
@@ -85,6 +98,9 @@ class ClearanceTracker {
     std::vector<std::pair<double, double>> excused;  ///< (from, to) stretches ahead or under way
     double sampled_at = -1;  ///< when the pair was last measured at a sample, and how near it was then
     Proximity sampled;
+    double watch = -INFINITY;  ///< a gap the run re-checks (watch()); -inf: none
+    std::optional<Dip> dip;    ///< nearer than `watch` between the samples ending at dip_at
+    double dip_at = -1;
     double closest() const { return records.empty() ? INFINITY : records.back().distance; }
     bool is_excused(double t) const;
   };
@@ -114,6 +130,11 @@ class ClearanceTracker {
   /// halving where it could be news, each piece kept as a record.
   void refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
               const Proximity& at_i, const Proximity& at_j, double other_travel);
+
+  /// The earliest kept pose in (i, j] nearer than the pair's watched gap: the interval halved,
+  /// the earlier half searched first, a piece whose bound clears the gap skipped.
+  std::optional<Dip> first_dip(const Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
+                               size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel);
 
   const Workcell& wc_;
   const GeometryModel& geometry_;

@@ -1,5 +1,7 @@
 #include "simulate/events.h"
 
+#include <algorithm>
+
 namespace sscs {
 
 size_t EventLog::add(double t, EventKind kind, const nlohmann::ordered_json& fields) {
@@ -13,8 +15,13 @@ size_t EventLog::add(double t, EventKind kind, const nlohmann::ordered_json& fie
 }
 
 std::string EventLog::jsonl() const {
+  // In time order: an event found between samples (a rule broken between them) is added at the
+  // sample after it; events of one time keep the order they were added in.
+  std::vector<size_t> order(events_.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return events_[a]["t"].get<double>() < events_[b]["t"].get<double>(); });
   std::string out;
-  for (const auto& e : events_) out += e.dump() + "\n";
+  for (size_t i : order) out += events_[i].dump() + "\n";
   return out;
 }
 

@@ -1,14 +1,19 @@
 #include "simulate/rechecks.h"
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <string>
 #include <variant>
 
 #include "core/units.h"
 
+#include <fmt/format.h>
+
 namespace sscs {
 
-ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& moving, double tolerance) : wc_(wc) {
+ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& moving, double tolerance)
+    : wc_(wc), tolerance_(tolerance) {
   options_.describe_passes = false;
   options_.spatial_tolerance = tolerance;
   std::vector<char> only(wc.constraints.size(), 0);
@@ -21,18 +26,59 @@ ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& 
     bool reads = std::any_of(c.subjects.begin(), c.subjects.end(), [&](int o) { return moving.count(o) > 0; });
     only[i] = kind && reads;
     any = any || only[i];
+    // Its pairs that move: watched between samples.
+    if (only[i] && spatial && (spatial->kind == SpatialCheck::Kind::ClearancePair || spatial->kind == SpatialCheck::Kind::ClearanceSet)) {
+      const std::vector<int>& bs = spatial->kind == SpatialCheck::Kind::ClearancePair ? spatial->others : spatial->objects;
+      for (int a : spatial->objects)
+        for (int b : bs)
+          if (a != b && (spatial->kind == SpatialCheck::Kind::ClearancePair || a < b) && (moving.count(a) || moving.count(b)))
+            watched_.push_back({static_cast<int>(i), a, b, spatial->min_si});
+    }
   }
   if (any) options_.only = std::move(only);
 }
 
-void ConstraintRechecks::check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events) {
+void ConstraintRechecks::watch(ClearanceTracker& tracker) const {
+  for (const Watched& w : watched_) tracker.watch(w.a, w.b, w.gap - tolerance_);
+}
+
+void ConstraintRechecks::check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
+                               const ClearanceTracker* tracker) {
+  // Between the samples: a watched pair nearer than its rule's gap, for a rule not failing at
+  // the last sample, starts failing at the dip (once a rule and interval, its nearest dip).
+  std::set<int> dipped;
+  if (tracker) {
+    std::map<int, std::pair<const Watched*, ClearanceTracker::Dip>> first;
+    for (const Watched& w : watched_) {
+      auto d = tracker->dip(w.a, w.b, t);
+      if (!d || d->t >= t - 1e-9) continue;  // at the sample itself: the check below finds it
+      auto it = first.find(w.constraint);
+      if (it == first.end() || d->distance - w.gap < it->second.second.distance - it->second.first->gap) first.insert_or_assign(w.constraint, std::make_pair(&w, *d));
+    }
+    for (const auto& [index, wd] : first) {
+      const int ci = index;
+      const bool was = std::any_of(failing_.begin(), failing_.end(), [ci](const auto& f) { return f.first.first == ci && f.second; });
+      if (was) continue;
+      const Watched& w = *wd.first;
+      const ClearanceTracker::Dip& d = wd.second;
+      const Constraint& c = wc_.constraints[ci];
+      const std::string message = fmt::format("{} comes within {:g} m of {} between samples (min {:g} m: margin {:g} m)", d.a,
+                                              r9(d.distance), d.b, w.gap, r9(d.distance - w.gap));
+      nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
+                                  {"subjects", {wc_.objects[w.a].name, wc_.objects[w.b].name}}, {"margin", r9(d.distance - w.gap)},
+                                  {"unit", "m"}, {"message", message}, {"between_samples", true}};
+      events.add(d.t, EventKind::Constraint, f);
+      if (c.severity != Severity::Warning) ++failures_;
+      dipped.insert(ci);
+    }
+  }
   CheckReport report = sscs::check(wc_, live, values, options_);
   for (const CheckResult& r : report.results) {
     auto key = std::make_pair(r.constraint, r.subjects);
     bool failing = r.status != Status::Pass;
     bool was = failing_[key];
     failing_[key] = failing;
-    if (!failing || was) continue;
+    if (!failing || was || dipped.count(r.constraint)) continue;  // a dip already started it
     const Constraint& c = wc_.constraints[r.constraint];
     std::vector<std::string> subjects;
     for (int o : r.subjects) subjects.push_back(wc_.objects[o].name);

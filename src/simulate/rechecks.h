@@ -11,6 +11,7 @@
 #include "check/check.h"
 #include "compile/workcell.h"
 #include "geometry/geometry.h"
+#include "simulate/clearance.h"
 #include "simulate/events.h"
 
 namespace sscs {
@@ -21,9 +22,15 @@ class ConstraintRechecks {
   /// `tolerance` (the scenario's sim.check_tolerance).
   ConstraintRechecks(const Workcell& wc, const std::set<int>& moving, double tolerance);
   bool any() const { return !options_.only.empty(); }
+  /// The clearance rules' pairs (a `clearance` between objects, one of them moved) for the
+  /// tracker to watch between samples, each at its gap less the tolerance.
+  void watch(ClearanceTracker& tracker) const;
   /// Checks them against the motion's geometry and slot values at time `t`; each that starts
-  /// failing (it passed, or this is its first check) is an event in `events`.
-  void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events);
+  /// failing (it passed, or this is its first check) is an event in `events`. A clearance rule
+  /// the tracker saw broken between the last sample and this one (a dip) starts failing at the
+  /// dip's time, with its distance and margin, though the samples pass.
+  void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
+             const ClearanceTracker* tracker = nullptr);
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
 
@@ -32,6 +39,12 @@ class ConstraintRechecks {
   CheckOptions options_;
   std::map<std::pair<int, std::vector<int>>, bool> failing_;  ///< (constraint, subjects) -> failing now
   size_t failures_ = 0;
+  double tolerance_ = 0;
+  struct Watched {
+    int constraint = -1, a = -1, b = -1;
+    double gap = 0;  ///< its min, m
+  };
+  std::vector<Watched> watched_;
 };
 
 }  // namespace sscs

@@ -80,7 +80,9 @@ class Run {
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
         world_(wc, geometry, physics_options(plan.settings.timestep, plan.settings.gravity)), clearances_(wc, geometry),
         recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
-        rechecks_(wc, movers(plan), plan.settings.check_tolerance) {}
+        rechecks_(wc, movers(plan), plan.settings.check_tolerance) {
+    rechecks_.watch(clearances_);
+  }
 
   /// The run: each tick, the steps due start and end (grasps and releases with them), the state
   /// is recorded and watched, a frame drawn, the stops looked for, the devices driven along their
@@ -886,7 +888,7 @@ class Run {
     grow_collisions_by_distance(t);
     check_tracking(t);
     check_riders(t);
-    if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_);
+    if (rechecks_.any()) rechecks_.check(t, live_, live_values_, events_, &clearances_);
     clearances_.next_interval(t);
   }
 
