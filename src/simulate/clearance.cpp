@@ -118,7 +118,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
   // A watched pair is news until it cannot come nearer than its gap.
   auto could_be_news = [&](int other) {
     auto it = pairs_.find(key(moving, other));
-    return (it == pairs_.end() ? INFINITY : std::max(it->second.closest(), it->second.watch)) + my_travel + travel_of(other);
+    return (it == pairs_.end() ? INFINITY : std::max(it->second.closest(), it->second.watch())) + my_travel + travel_of(other);
   };
   const std::vector<Proximity> near = nearby_.proximity(moving, skip, kClearanceReach + my_travel, could_be_news, parts);
   // Between the samples, for a pair measured at the last one too: a load grasped since (or
@@ -127,7 +127,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
   const auto before = measured_before_.find(moving);
   for (const Proximity& p : near) {
     Pair& pair = pairs_[key(moving, p.other)];
-    if (pair.dip_at != t) pair.dip.reset(), pair.dip_at = t;  // a dip belongs to its interval
+    if (pair.dip_at != t) pair.dips.clear(), pair.dip_at = t;  // a dip belongs to its interval
     const double other_travel = travel_of(p.other);
     const bool measured_then = before != measured_before_.end() &&
                                std::find(before->second.begin(), before->second.end(), p.other) == before->second.end();
@@ -147,8 +147,10 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
       if (then && mine->keep && mine->poses.size() > 1) {  // halved along the kept poses, the other where it is now
         refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
-        if (pair.watch > -INFINITY && !pair.dip)  // a rule's gap: the first pose nearer, left to right
-          pair.dip = first_dip(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
+        for (double gap : pair.watches)  // each rule's gap: the first pose nearer, left to right
+          if (!pair.dips.count(gap))
+            if (auto d = first_dip(gap, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel))
+              pair.dips.insert_or_assign(gap, *d);
       }
       else if (then)
         keep_bound(pair, moving, p.other, *then, mine->t.front(), p, t, my_travel + other_travel);
@@ -201,32 +203,34 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
   }
 }
 
-std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(const Pair& pair, int moving, int other, const std::vector<char>& parts,
+std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(double gap, int moving, int other, const std::vector<char>& parts,
                                                                   const Path& p, size_t i, size_t j, const Proximity& at_i,
                                                                   const Proximity& at_j, double other_travel) {
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
-  if (std::min({d_i, d_j, (d_i + d_j - D) / 2}) >= pair.watch) return std::nullopt;  // certainly clear of the gap
+  if (std::min({d_i, d_j, (d_i + d_j - D) / 2}) >= gap) return std::nullopt;  // certainly clear of the gap
   if (j - i <= 1) {
-    if (d_j >= pair.watch) return std::nullopt;
+    if (d_j >= gap) return std::nullopt;
     return Dip{p.t[j], d_j, run_part_name(wc_, geometry_, moving, at_j.part), run_part_name(wc_, geometry_, other, at_j.other_part)};
   }
   const size_t m = (i + j) / 2;
   place(moving, p.poses[m]);
   const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
   if (!at_m) return std::nullopt;
-  if (auto early = first_dip(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel)) return early;
-  return first_dip(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
+  if (auto early = first_dip(gap, moving, other, parts, p, i, m, at_i, *at_m, other_travel)) return early;
+  return first_dip(gap, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
 }
 
 void ClearanceTracker::watch(int a, int b, double gap) {
   Pair& pair = pairs_[key(a, b)];
-  pair.watch = std::max(pair.watch, gap);
+  if (std::find(pair.watches.begin(), pair.watches.end(), gap) == pair.watches.end()) pair.watches.push_back(gap);
 }
 
-std::optional<ClearanceTracker::Dip> ClearanceTracker::dip(int a, int b, double t) const {
+std::optional<ClearanceTracker::Dip> ClearanceTracker::dip(int a, int b, double gap, double t) const {
   auto it = pairs_.find(key(a, b));
   if (it == pairs_.end() || it->second.dip_at != t) return std::nullopt;
-  return it->second.dip;
+  auto d = it->second.dips.find(gap);
+  if (d == it->second.dips.end()) return std::nullopt;
+  return d->second;
 }
 
 void ClearanceTracker::measure_penetration(double t, int a, int b) {

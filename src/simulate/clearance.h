@@ -5,6 +5,7 @@
 /// are excused for that pair alone (the move after the grasp, the move that ended at the
 /// release), never for the run, and never a penetration deeper than a contact (a drum lowered
 /// through the drum it then landed on is -0.57 m, not the 0.02 m of some other pair).
+#include <algorithm>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -59,14 +60,16 @@ class ClearanceTracker {
   /// run re-checks): where the certified bound over an interval is below it, the interval is
   /// halved at the kept poses of what moves until the bound clears it or a pose is nearer.
   void watch(int a, int b, double gap);
-  /// A watched pair nearer than its gap between the last two samples: the earliest such pose
-  /// found, how near, and the parts as the run names them.
+  /// A watched pair nearer than a gap between the last two samples: the earliest such pose, how
+  /// near, and the parts as the run names them. Each gap watched on a pair has its own (two
+  /// rules on one pair, 3 cm and 1.5 cm: a pose at 2 cm breaks the first only).
   struct Dip {
     double t = 0, distance = 0;
     std::string a, b;
   };
-  /// The dip of the interval that ended at `t` (the sample being observed), if any.
-  std::optional<Dip> dip(int a, int b, double t) const;
+  /// The dip below `gap` (as watched) of the interval that ended at `t` (the sample being
+  /// observed), if any.
+  std::optional<Dip> dip(int a, int b, double gap, double t) const;
 
   /// The closest approach of the run: the smallest distance of any pair outside the moves
   /// excused, negative for the deepest penetration; none when nothing came within reach. A
@@ -98,9 +101,10 @@ class ClearanceTracker {
     std::vector<std::pair<double, double>> excused;  ///< (from, to) stretches ahead or under way
     double sampled_at = -1;  ///< when the pair was last measured at a sample, and how near it was then
     Proximity sampled;
-    double watch = -INFINITY;  ///< a gap the run re-checks (watch()); -inf: none
-    std::optional<Dip> dip;    ///< nearer than `watch` between the samples ending at dip_at
+    std::vector<double> watches;   ///< gaps the run re-checks (watch())
+    std::map<double, Dip> dips;    ///< per gap: nearer than it between the samples ending at dip_at
     double dip_at = -1;
+    double watch() const { return watches.empty() ? -INFINITY : *std::max_element(watches.begin(), watches.end()); }
     double closest() const { return records.empty() ? INFINITY : records.back().distance; }
     bool is_excused(double t) const;
   };
@@ -131,9 +135,9 @@ class ClearanceTracker {
   void refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
               const Proximity& at_i, const Proximity& at_j, double other_travel);
 
-  /// The earliest kept pose in (i, j] nearer than the pair's watched gap: the interval halved,
-  /// the earlier half searched first, a piece whose bound clears the gap skipped.
-  std::optional<Dip> first_dip(const Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
+  /// The earliest kept pose in (i, j] nearer than `gap`: the interval halved, the earlier half
+  /// searched first, a piece whose bound clears the gap skipped.
+  std::optional<Dip> first_dip(double gap, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
                                size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel);
 
   const Workcell& wc_;

@@ -50,7 +50,7 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
   if (tracker) {
     std::map<int, std::pair<const Watched*, ClearanceTracker::Dip>> first;
     for (const Watched& w : watched_) {
-      auto d = tracker->dip(w.a, w.b, t);
+      auto d = tracker->dip(w.a, w.b, w.gap - tolerance_, t);
       if (!d || d->t >= t - 1e-9) continue;  // at the sample itself: the check below finds it
       auto it = first.find(w.constraint);
       if (it == first.end() || d->distance - w.gap < it->second.second.distance - it->second.first->gap) first.insert_or_assign(w.constraint, std::make_pair(&w, *d));
