@@ -2361,7 +2361,7 @@ def riders(sscs, root):
             if obj not in last1 or math.dist(at, last1[obj]) > 0.005:
                 fail(f"{where}{obj} ends at {last1.get(obj)} welded, at {at} on contacts (more than 5 mm apart)")
         compared += 1
-    # A weld that must break: a tall drum on a pallet a gantry accelerates at 1 m/s^2 tips over
+    # A weld that must break: a tall drum on a pallet a gantry accelerates at 0.5 m/s^2 tips over
     # and falls to the floor, welded or not (a weld without its patch check would carry it upright).
     for weld in ("1", "0"):
         with tempfile.TemporaryDirectory() as tmp:
