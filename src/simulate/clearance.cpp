@@ -12,6 +12,11 @@ namespace sscs {
 
 namespace {
 constexpr double kClearanceReach = 2.0;  // m: clearances beyond this are not tracked
+
+/// The least distance of a pair over an interval whose ends are d_i and d_j apart and over which
+/// the two went D at most: every point stays within D of where it was at either end, so the
+/// distance between is at least the larger of (d_i − x) and (d_j − (D − x)) over x.
+double interval_bound(double d_i, double d_j, double D) { return std::min({d_i, d_j, (d_i + d_j - D) / 2}); }
 }  // namespace
 
 ClearanceTracker::ClearanceTracker(const Workcell& wc, const GeometryModel& geometry)
@@ -164,9 +169,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
 
 void ClearanceTracker::keep_bound(Pair& pair, int moving, int other, const Proximity& at_i, double t_i, const Proximity& at_j,
                                   double t_j, double D) {
-  // Every point stays within D of where it was at either end, so the pair's distance between
-  // is at least the larger of (d_i − x) and (d_j − (D − x)) over x: (d_i + d_j − D) / 2.
-  const double lower = std::min({at_i.distance, at_j.distance, (at_i.distance + at_j.distance - D) / 2});
+  const double lower = interval_bound(at_i.distance, at_j.distance, D);
   const bool first = at_i.distance <= at_j.distance;
   const Proximity& nearer = first ? at_i : at_j;
   keep(pair, {lower, first ? t_i : t_j, run_part_name(wc_, geometry_, moving, nearer.part),
@@ -177,7 +180,7 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
                               size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel) {
   // The bound keep_bound keeps, here to decide whether halving could find news.
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
-  const double lower = std::min({d_i, d_j, (d_i + d_j - D) / 2});
+  const double lower = interval_bound(d_i, d_j, D);
   if (lower >= pair.closest()) return;  // no news
   // Not nearer than the run's closest so far: this stretch cannot be the run's closest approach;
   // its bound, coarse but certain, is kept without halving (the halving is the cost).
@@ -207,7 +210,7 @@ std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(double gap, int
                                                                   const Path& p, size_t i, size_t j, const Proximity& at_i,
                                                                   const Proximity& at_j, double other_travel) {
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
-  if (std::min({d_i, d_j, (d_i + d_j - D) / 2}) >= gap) return std::nullopt;  // certainly clear of the gap
+  if (interval_bound(d_i, d_j, D) >= gap) return std::nullopt;  // certainly clear of the gap
   if (j - i <= 1) {
     if (d_j >= gap) return std::nullopt;
     return Dip{p.t[j], d_j, run_part_name(wc_, geometry_, moving, at_j.part), run_part_name(wc_, geometry_, other, at_j.other_part)};

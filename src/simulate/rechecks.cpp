@@ -61,14 +61,9 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
       if (was) continue;
       const Watched& w = *wd.first;
       const ClearanceTracker::Dip& d = wd.second;
-      const Constraint& c = wc_.constraints[ci];
       const std::string message = fmt::format("{} comes within {:g} m of {} between samples (min {:g} m: margin {:g} m)", d.a,
                                               r9(d.distance), d.b, w.gap, r9(d.distance - w.gap));
-      nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
-                                  {"subjects", {wc_.objects[w.a].name, wc_.objects[w.b].name}}, {"margin", r9(d.distance - w.gap)},
-                                  {"unit", "m"}, {"message", message}, {"between_samples", true}};
-      events.add(d.t, EventKind::Constraint, f);
-      if (c.severity != Severity::Warning) ++failures_;
+      starts_failing(d.t, ci, {w.a, w.b}, d.distance - w.gap, Dim::Length, message, true, events);
       dipped.insert(ci);
     }
   }
@@ -79,17 +74,23 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
     bool was = failing_[key];
     failing_[key] = failing;
     if (!failing || was || dipped.count(r.constraint)) continue;  // a dip already started it
-    const Constraint& c = wc_.constraints[r.constraint];
-    std::vector<std::string> subjects;
-    for (int o : r.subjects) subjects.push_back(wc_.objects[o].name);
-    nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
-                                {"subjects", subjects}};
-    if (r.margin) f["margin"] = r9(*r.margin);
-    f["unit"] = file_unit(r.dim);
-    f["message"] = r.message;
-    events.add(t, EventKind::Constraint, f);
-    if (c.severity != Severity::Warning) ++failures_;
+    starts_failing(t, r.constraint, r.subjects, r.margin, r.dim, r.message, false, events);
   }
+}
+
+void ConstraintRechecks::starts_failing(double t, int constraint, const std::vector<int>& subjects, std::optional<double> margin, Dim dim,
+                                        const std::string& message, bool between_samples, EventLog& events) {
+  const Constraint& c = wc_.constraints[constraint];
+  std::vector<std::string> names;
+  for (int o : subjects) names.push_back(wc_.objects[o].name);
+  nlohmann::ordered_json f = {{"constraint", c.name}, {"severity", c.severity == Severity::Warning ? "warning" : "error"},
+                              {"subjects", names}};
+  if (margin) f["margin"] = r9(*margin);
+  f["unit"] = file_unit(dim);
+  f["message"] = message;
+  if (between_samples) f["between_samples"] = true;
+  events.add(t, EventKind::Constraint, f);
+  if (c.severity != Severity::Warning) ++failures_;
 }
 
 }  // namespace sscs

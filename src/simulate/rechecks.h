@@ -4,6 +4,8 @@
 /// collisions; reach is a property of the design, not of one motion). A constraint that starts
 /// failing is a `constraint` event.
 #include <map>
+#include <optional>
+#include <string>
 #include <set>
 #include <utility>
 #include <vector>
@@ -37,6 +39,10 @@ class ConstraintRechecks {
  private:
   const Workcell& wc_;
   CheckOptions options_;
+  /// A rule that starts failing at t: its `constraint` event, counted when an error.
+  void starts_failing(double t, int constraint, const std::vector<int>& subjects, std::optional<double> margin, Dim dim,
+                      const std::string& message, bool between_samples, EventLog& events);
+
   std::map<std::pair<int, std::vector<int>>, bool> failing_;  ///< (constraint, subjects) -> failing now
   size_t failures_ = 0;
   double tolerance_ = 0;
