@@ -391,6 +391,15 @@ void check_spatial(const Workcell& wc, const SpatialCheck& sc, const GeometryMod
 
 std::string collision_text(const Workcell& wc, const GeometryModel& geometry, int device, const Collision& c) {
   const Device& d = *geometry.objects[device].device;
+  if (c.load >= 0) {  // what the tool holds
+    const std::string load = wc.objects[c.load].name + " (carried)";
+    if (c.other == kFloorObject)
+      return c.other_part < 0 ? fmt::format("{} goes {:g} m below the floor", load, stable(c.depth))
+                              : fmt::format("{} goes {:g} m into the floor of {}", load, stable(c.depth), wc.objects[c.other_part].name);
+    std::string other = wc.objects[c.other].name;
+    if (c.other_part >= 0 && geometry.objects[c.other].device) other += "." + geometry.objects[c.other].device->parts[c.other_part].name;
+    return fmt::format("{} hits {} by {:g} m", load, other, stable(c.depth));
+  }
   if (c.other == kFloorObject)
     return c.other_part < 0 ? fmt::format("part {} goes {:g} m below the floor", d.parts[c.part].name, stable(c.depth))
                             : fmt::format("part {} goes {:g} m into the floor of {}", d.parts[c.part].name, stable(c.depth),
@@ -488,6 +497,15 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     }
   }
   const std::vector<char> is_container = containers(wc);
+  // `carrying`: the load's origin at the target when the tool is at the target with the offset,
+  // so the tool holds it at the offset's inverse; what rides on it keeps its place on it.
+  HeldLoad load;
+  if (rc.carrying >= 0) {
+    const Eigen::Isometry3d X_tool_load = rc.offset.inverse();
+    load.objects.emplace_back(rc.carrying, X_tool_load);
+    const Eigen::Isometry3d X_load_world = st.geometry.objects[rc.carrying].X_world_object.inverse();
+    for (int rider : rc.carried_with) load.objects.emplace_back(rider, X_tool_load * X_load_world * st.geometry.objects[rider].X_world_object);
+  }
   size_t first = out.size();
   std::optional<double> smallest;
   std::string closest;
@@ -527,7 +545,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     auto collision_at = [&](const Eigen::VectorXd& chain_q, bool first) {
       Eigen::VectorXd q = q0;
       chain.to_device(chain_q, q);
-      return clearance.at(world, q, t.object, first);
+      return clearance.at(world, q, t.object, first, {}, load);
     };
     auto accept = [&](const Eigen::VectorXd& chain_q) {
       auto c = collision_at(chain_q, true);
@@ -538,7 +556,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       return !c;
     };
     IkResult ik;
-    const std::optional<Collision> stuck = clearance.of_parts(world, q0, t.object, unmoved);
+    const std::optional<Collision> stuck = clearance.of_parts(world, q0, t.object, unmoved, load);
     if (stuck) {
       // Reached or not within the joint limits decides the message; every pose that reaches it
       // has this collision.
@@ -579,6 +597,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     r.constraint = index;
     r.subjects = {rc.device};
     if (t.object >= 0) r.subjects.push_back(t.object);
+    if (rc.carrying >= 0) r.subjects.push_back(rc.carrying);
     r.dim = Dim::Length;
     r.lhs = ik.position_error;
     r.rhs = rc.position_tol_si;
@@ -625,14 +644,16 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   r.subjects = {rc.device};
   for (const auto& t : rc.targets)
     if (t.object >= 0) r.subjects.push_back(t.object);
+  if (rc.carrying >= 0) r.subjects.push_back(rc.carrying);
   std::sort(r.subjects.begin(), r.subjects.end());
   r.subjects.erase(std::unique(r.subjects.begin(), r.subjects.end()), r.subjects.end());
   r.status = Status::Pass;
   r.dim = Dim::Length;
   r.margin = smallest;
   if (st.describe_passes)
-    r.message = fmt::format("{} reaches {}{}", o.name,
+    r.message = fmt::format("{} reaches {}{}{}", o.name,
                             rc.targets.size() == 1 ? std::string("its target") : fmt::format("all {} targets", rc.targets.size()),
+                            rc.carrying >= 0 ? " carrying " + wc.objects[rc.carrying].name : "",
                             smallest ? fmt::format("; closest to its tolerance: {}", closest) : "");
   out.push_back(std::move(r));
 }

@@ -393,6 +393,25 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
 
 namespace {
 
+/// reach's `carrying`: an object the device can hold, not one of its targets; -1 when absent
+/// or wrong (an input error).
+int carried_load(CompileState& st, const ReachSpec& r, const ReachCheck& rc) {
+  const int o = object_ref(st, r.carrying, "reach carrying");
+  if (o < 0) return -1;
+  const Object& load = st.wc.objects[o];
+  const ObjectType& type = st.wc.types[load.type];
+  std::string why;
+  if (o == rc.device) why = "it is the device itself";
+  else if (type.device) why = fmt::format("it is a device ({})", type.name);
+  else if (type.container) why = fmt::format("it is a container ({}): it holds objects, a tool does not hold it", type.name);
+  else if (rc.device >= 0 && st.wc.related(rc.device, o)) why = fmt::format("{} stands on it (its parent chain)", st.wc.objects[rc.device].name);
+  else if (std::any_of(rc.targets.begin(), rc.targets.end(), [&](const ReachCheck::Target& t) { return t.object == o; }))
+    why = "it is one of the targets (carrying places it at each target)";
+  if (why.empty()) return o;
+  st.diag.error(r.carrying.mark, fmt::format("reach carrying '{}': {}", r.carrying.text, why));
+  return -1;
+}
+
 ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   ReachCheck rc;
   rc.device = object_ref(st, r.device, "reach device");
@@ -481,6 +500,14 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
   if (r.angle_tol.present) rc.angle_tol_si = st.number_now(r.angle_tol, Dim::Angle, "angle_tol").value_or(rc.angle_tol_si);
   for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})
     if (!(v > 0)) st.diag.error(s->mark, fmt::format("{} must be positive, found {}", s == &r.position_tol ? "position_tol" : "angle_tol", s->text));
+  rc.carrying = carried_load(st, r, rc);
+  if (rc.carrying >= 0)
+    for (size_t o = 0; o < st.wc.objects.size(); ++o)
+      for (int up = st.wc.objects[o].parent; up >= 0; up = st.wc.objects[up].parent)
+        if (up == rc.carrying) {
+          rc.carried_with.push_back(static_cast<int>(o));
+          break;
+        }
   return rc;
 }
 
@@ -583,6 +610,7 @@ void compile_constraints(CompileState& st) {
       if (rc.device >= 0) c.subjects.push_back(rc.device);
       for (const ReachCheck::Target& t : rc.targets)
         if (t.object >= 0) c.subjects.push_back(t.object);
+      if (rc.carrying >= 0) c.subjects.push_back(rc.carrying);
       c.body = std::move(rc);
     }
     finish_subjects(c.subjects);

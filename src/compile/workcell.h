@@ -181,6 +181,11 @@ struct ReachCheck {
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  ///< composed with the target frame
   double position_tol_si = 1e-3;
   double angle_tol_si = 0.5 * std::numbers::pi / 180;
+  /// `carrying`: the object the tool holds (-1: none), with its origin at each target and the
+  /// tool at the target composed with the offset, and what moves with it (its descendants in the
+  /// parent chain: drums on a carried pallet).
+  int carrying = -1;
+  std::vector<int> carried_with;
 };
 
 struct Constraint {

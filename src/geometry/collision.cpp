@@ -733,10 +733,8 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
   const auto& objects = impl_->geometry.objects;
   for (size_t o = 0; o < objects.size(); ++o) {
     int other = static_cast<int>(o);
-    if (other == object || objects[o].bbox_world.isEmpty()) continue;
-    const Eigen::AlignedBox3d& b = objects[o].bbox_world;
-    if ((b.min().array() > box.max_.array() + kTouchTolerance).any() || (b.max().array() < box.min_.array() - kTouchTolerance).any())
-      continue;
+    // Where the object is now (a load a run's planning set down elsewhere), not where the vault has it.
+    if (other == object || objects[o].shapes.empty() || box_gap(box, impl_->bounds(other)) > kTouchTolerance) continue;
     if (std::find(ignore.begin(), ignore.end(), other) != ignore.end()) continue;
     const bool support = std::find(stands_on.begin(), stands_on.end(), other) != stands_on.end();
     const auto& theirs = impl_->of(other);
@@ -806,6 +804,42 @@ std::optional<std::pair<double, double>> z_over(const Shape& shape, const Eigen:
   return range;
 }
 
+/// The world boxes of floor blocks, for a quick test before the exact one.
+std::vector<Eigen::AlignedBox3d> block_bounds(const std::vector<FloorBlock>& blocks) {
+  std::vector<Eigen::AlignedBox3d> out;
+  for (const FloorBlock& b : blocks) {
+    Shape box;
+    box.box_size = b.size;
+    out.push_back(shape_bounds(box, b.X_world_centre));
+  }
+  return out;
+}
+
+/// How deep one shape placed at `X` goes into the floors: below the plane at `plane` (its lowest
+/// point), or into a block of `blocks` (its exact shape over the block's footprint, clipped).
+/// Collision::other is kFloorObject, other_part the container whose floor it is (-1: the plane).
+std::optional<Collision> shape_into_floors(const Shape& shape, const Eigen::Isometry3d& X, double plane,
+                                           const std::vector<FloorBlock>& blocks, const std::vector<Eigen::AlignedBox3d>& bounds_of) {
+  const Eigen::AlignedBox3d bounds = shape_bounds(shape, X);
+  std::optional<Collision> here;
+  if (const double below = plane - bounds.min().z(); below > kTouchTolerance) here = Collision{kFloorObject, -1, -1, below};
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    if (!bounds.intersects(bounds_of[k])) continue;
+    // How far into the block the shape over its footprint goes, from above or from below, in
+    // the block's frame.
+    const Eigen::Vector3d half = blocks[k].size / 2;
+    auto z = z_over(shape, blocks[k].X_world_centre.inverse() * X, Eigen::AlignedBox2d(-half.head<2>(), half.head<2>()));
+    if (!z || z->first >= half.z() || z->second <= -half.z()) continue;
+    const double depth = std::min(half.z() - z->first, z->second + half.z());
+    if (depth > kTouchTolerance && (!here || depth > here->depth)) here = Collision{kFloorObject, -1, blocks[k].container, depth};
+  }
+  return here;
+}
+
+void keep_deepest(std::optional<Collision>& deepest, const std::optional<Collision>& c) {
+  if (c && (!deepest || c->depth > deepest->depth)) deepest = c;
+}
+
 }  // namespace
 
 std::optional<Collision> CollisionWorld::into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
@@ -813,32 +847,69 @@ std::optional<Collision> CollisionWorld::into_floors(int object, const std::vect
                                                      const std::vector<FloorBlock>& blocks) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return std::nullopt;
-  std::vector<Eigen::AlignedBox3d> block_bounds;
-  for (const FloorBlock& b : blocks) {
-    Shape box;
-    box.box_size = b.size;
-    block_bounds.push_back(shape_bounds(box, b.X_world_centre));
-  }
+  const std::vector<Eigen::AlignedBox3d> bounds_of = block_bounds(blocks);
   std::optional<Collision> deepest;
   for (size_t p = 0; p < g.device->parts.size(); ++p) {
     if (p >= parts.size() || !parts[p]) continue;
     for (const Shape& shape : g.device->parts[p].shapes) {
-      const Eigen::Isometry3d X = X_world_part[p] * shape.X_object_shape;
-      const Eigen::AlignedBox3d bounds = shape_bounds(shape, X);
-      std::optional<Collision> here;
-      if (const double below = plane - bounds.min().z(); below > kTouchTolerance) here = Collision{kFloorObject, static_cast<int>(p), -1, below};
-      for (size_t k = 0; k < blocks.size(); ++k) {
-        if (!bounds.intersects(block_bounds[k])) continue;
-        // How far into the block the part over its footprint goes, from above or from below,
-        // in the block's frame.
-        const Eigen::Vector3d half = blocks[k].size / 2;
-        auto z = z_over(shape, blocks[k].X_world_centre.inverse() * X, Eigen::AlignedBox2d(-half.head<2>(), half.head<2>()));
-        if (!z || z->first >= half.z() || z->second <= -half.z()) continue;
-        const double depth = std::min(half.z() - z->first, z->second + half.z());
-        if (depth > kTouchTolerance && (!here || depth > here->depth)) here = Collision{kFloorObject, static_cast<int>(p), blocks[k].container, depth};
-      }
-      if (here && (!deepest || here->depth > deepest->depth)) deepest = here;
+      std::optional<Collision> here = shape_into_floors(shape, X_world_part[p] * shape.X_object_shape, plane, blocks, bounds_of);
+      if (here) here->part = static_cast<int>(p);
+      keep_deepest(deepest, here);
     }
+  }
+  return deepest;
+}
+
+std::optional<Collision> CollisionWorld::held_collision(int device, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                                        const std::vector<std::pair<int, Eigen::Isometry3d>>& held,
+                                                        const std::vector<int>& ignore, int target, const std::vector<char>& tool_parts,
+                                                        bool first, double plane, const std::vector<FloorBlock>& blocks) {
+  const auto& objects = impl_->geometry.objects;
+  // The device's parts but the tool's, where these joint values put them.
+  auto parts = impl_->placed(*objects[device].device, X_world_part);
+  std::erase_if(parts, [&](const auto& placed) { return placed.first < static_cast<int>(tool_parts.size()) && tool_parts[placed.first]; });
+  const std::vector<Eigen::AlignedBox3d> bounds_of = block_bounds(blocks);
+  auto is_held = [&](int o) { return std::any_of(held.begin(), held.end(), [&](const auto& h) { return h.first == o; }); };
+  std::optional<Collision> deepest;
+  for (const auto& carried : held) {
+    const int load = carried.first;  // (clang 15 captures no structured binding)
+    const Eigen::Isometry3d& X_world_load = carried.second;
+    std::vector<std::unique_ptr<fcl::CollisionObjectd>> mine;
+    fcl::AABBd box;
+    for (const Shape& s : objects[load].shapes) {
+      const Eigen::Isometry3d X = X_world_load * s.X_object_shape;
+      keep_deepest(deepest, [&] {
+        auto c = shape_into_floors(s, X, plane, blocks, bounds_of);
+        if (c) c->load = load;
+        return c;
+      }());
+      auto obj = std::make_unique<fcl::CollisionObjectd>(impl_->geometry_of(s), fcl::Transform3d(X.matrix()));
+      obj->setUserData(const_cast<Shape*>(&s));  // read back by shape_of()
+      obj->computeAABB();
+      if (mine.empty()) box = obj->getAABB();
+      else box += obj->getAABB();
+      mine.push_back(std::move(obj));
+    }
+    if (mine.empty()) continue;
+    auto meet = [&](const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b, double limit, Collision c) {
+      if (!a->getAABB().overlap(b->getAABB())) return;
+      const double enough = first ? limit : INFINITY;
+      c.depth = remembered(impl_->memo, PairQuery::Penetration, a, b, enough, [&] { return penetration(a, b, enough); });
+      if (c.depth > limit) keep_deepest(deepest, c);
+    };
+    for (const auto& m : mine)
+      for (const auto& [p, s] : parts) meet(m.get(), s.get(), kTouchTolerance, Collision{device, -1, p, 0, load});
+    for (size_t o = 0; o < objects.size(); ++o) {
+      const int other = static_cast<int>(o);
+      if (other == device || objects[o].shapes.empty() || is_held(other)) continue;
+      if (std::find(ignore.begin(), ignore.end(), other) != ignore.end()) continue;
+      if (box_gap(box, impl_->bounds(other)) > kTouchTolerance) continue;
+      const auto& theirs = impl_->of(other);
+      const double limit = other == target ? kTargetTouch : kTouchTolerance;
+      for (const auto& m : mine)
+        for (size_t k = 0; k < theirs.size(); ++k) meet(m.get(), theirs[k].get(), limit, Collision{other, -1, objects[o].shapes[k].part, 0, load});
+    }
+    if (first && deepest) return deepest;
   }
   return deepest;
 }
@@ -859,23 +930,31 @@ DeviceClearance::DeviceClearance(const Workcell& wc, const GeometryModel& geomet
 }
 
 std::optional<Collision> DeviceClearance::at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
-                                             const std::vector<int>& ignore) const {
+                                             const std::vector<int>& ignore, const HeldLoad& load) const {
   const ObjectGeometry& g = geometry_.objects[device_];
   std::vector<Eigen::Isometry3d> X = g.device->part_poses(q);
   for (auto& x : X) x = g.X_world_object * x;
   std::vector<int> skip = containers_;
   skip.insert(skip.end(), ignore.begin(), ignore.end());
+  for (const auto& [o, X_tool_o] : load.objects) skip.push_back(o);  // the tool holds them
   auto c = world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, first);
   if (!c) c = world.into_floors(device_, X, moved_, plane_, blocks_);
+  if (load.empty() || (c && first)) return c;
+  const Eigen::Isometry3d X_world_tool = X[g.device->tool_part] * g.device->X_part_tool;
+  std::vector<std::pair<int, Eigen::Isometry3d>> held;
+  for (const auto& [o, X_tool_o] : load.objects) held.emplace_back(o, X_world_tool * X_tool_o);
+  keep_deepest(c, world.held_collision(device_, X, held, skip, target, tool_parts_, first, plane_, blocks_));
   return c;
 }
 
 std::optional<Collision> DeviceClearance::of_parts(CollisionWorld& world, const Eigen::VectorXd& q, int target,
-                                                   const std::vector<char>& parts) const {
+                                                   const std::vector<char>& parts, const HeldLoad& load) const {
   const ObjectGeometry& g = geometry_.objects[device_];
   std::vector<Eigen::Isometry3d> X = g.device->part_poses(q);
   for (auto& x : X) x = g.X_world_object * x;
-  return world.device_collision(device_, X, containers_, target, tool_parts_, stands_on_, false, parts);
+  std::vector<int> skip = containers_;
+  for (const auto& [o, X_tool_o] : load.objects) skip.push_back(o);
+  return world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, false, parts);
 }
 
 void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {

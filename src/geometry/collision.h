@@ -27,6 +27,14 @@ struct Collision {
   int part = -1;        ///< the device's part
   int other_part = -1;  ///< the other part (self-collision, or a part of another device)
   double depth = 0;     ///< penetration depth, m
+  int load = -1;        ///< a load the device holds that collides (part is then -1; other may be the device)
+};
+
+/// What a device's tool holds, as a grasp holds it: the load and what rides on it, each at a
+/// fixed pose in the tool's frame. Collision checks of the device then check these shapes too.
+struct HeldLoad {
+  std::vector<std::pair<int, Eigen::Isometry3d>> objects;  ///< object, X_tool_object
+  bool empty() const { return objects.empty(); }
 };
 
 /// How close one object came to another: the nearest pair of their shapes.
@@ -113,6 +121,16 @@ class CollisionWorld {
   std::optional<Collision> into_floors(int object, const std::vector<Eigen::Isometry3d>& X_world_part,
                                        const std::vector<char>& parts, double plane, const std::vector<FloorBlock>& blocks);
 
+  /// The deepest collision of the objects in `held` (object, world pose: a load a device's tool
+  /// holds and its riders) with everything but `ignore`, each other and device `device`'s tool
+  /// parts (`tool_parts`): with the device's other parts placed at `X_world_part`, other objects
+  /// where they are now (`target` may be touched by kTargetTouch), and the floors (`plane`,
+  /// `blocks`, as into_floors). `first`: see device_collision.
+  std::optional<Collision> held_collision(int device, const std::vector<Eigen::Isometry3d>& X_world_part,
+                                          const std::vector<std::pair<int, Eigen::Isometry3d>>& held, const std::vector<int>& ignore,
+                                          int target, const std::vector<char>& tool_parts, bool first, double plane,
+                                          const std::vector<FloorBlock>& blocks);
+
   /// Places `object` at a new world pose (a carried or fallen object).
   void move(int object, const Eigen::Isometry3d& X_world_object);
   /// Places a device's parts at new world poses (one per part: its current joint values).
@@ -167,14 +185,16 @@ class DeviceClearance {
   DeviceClearance(const Workcell& wc, const GeometryModel& geometry, int device);
   /// The deepest collision of the device with its joints at `q` (the device's joint vector) in
   /// `world` as it is placed now, or nullopt. `target`: the object the tool meets (-1: none);
-  /// `ignore`: further objects (a load the tool holds). `first`: see device_collision.
+  /// `ignore`: further objects. `load`: what the tool holds, checked with the device (free of
+  /// everything but the tool, which holds it). `first`: see device_collision.
   std::optional<Collision> at(CollisionWorld& world, const Eigen::VectorXd& q, int target, bool first,
-                              const std::vector<int>& ignore = {}) const;
+                              const std::vector<int>& ignore = {}, const HeldLoad& load = {}) const;
   /// The same for the parts marked in `parts` alone (with each other and with other objects; not
   /// the floors, which only moving parts are held to): a search that moves only the other parts
   /// finds these where they are at `q` for every candidate.
+  /// `load`: objects the tool holds, elsewhere now (left out).
   std::optional<Collision> of_parts(CollisionWorld& world, const Eigen::VectorXd& q, int target,
-                                    const std::vector<char>& parts) const;
+                                    const std::vector<char>& parts, const HeldLoad& load = {}) const;
 
  private:
   const GeometryModel& geometry_;

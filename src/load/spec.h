@@ -281,6 +281,7 @@ struct ReachSpec {
   bool match_orientation = false;
   PoseSpec offset;
   Scalar position_tol, angle_tol;
+  Scalar carrying;  ///< an object held at the tool
 };
 
 /// A value kept on the heap, so that rare, large alternatives do not make every variant large

@@ -234,6 +234,7 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     }
     re.position_tol = load::scalar(r.take("position_tol"), "position_tol", diag);
     re.angle_tol = load::scalar(r.take("angle_tol"), "angle_tol", diag);
+    re.carrying = load::scalar(r.take("carrying"), "reach carrying", diag);
     out = std::move(re);
   }
   r.finish();

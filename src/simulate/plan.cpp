@@ -143,6 +143,37 @@ class Planner {
     }
   }
 
+  /// Whether object o is `load` or moves with it: set down on it, or standing on it (its parent
+  /// chain), as object_pose places it.
+  bool moves_with(int o, int load) const {
+    for (int at = o; at >= 0;) {
+      if (at == load) return true;
+      if (auto on = set_on_.find(at); on != set_on_.end()) {
+        at = on->second.first;
+      } else {
+        const int up = wc_.objects[at].parent;
+        if (moved_.count(at) || (up >= 0 && wc_.types[wc_.objects[up].type].container)) return false;
+        at = up;
+      }
+    }
+    return false;
+  }
+
+  /// What device d's tool holds now, and what rides on it, at their poses in the tool's frame:
+  /// a move_to's joint values are chosen free of collision for these too (of two solutions for
+  /// one tool pose, not the one whose forearm the held drum goes into; and a target where the
+  /// load itself would be in something has no free solution, so the nearest is taken and the
+  /// run shows the collision).
+  HeldLoad held_load(int d, const DeviceState& st) const {
+    HeldLoad load;
+    if (st.held < 0) return load;
+    const Eigen::Isometry3d X_tool_world = tool_world(d, st.q).inverse();
+    for (size_t o = 0; o < wc_.objects.size(); ++o)
+      if (!geometry_.objects[o].device && moves_with(static_cast<int>(o), st.held))
+        load.objects.emplace_back(static_cast<int>(o), X_tool_world * object_pose(static_cast<int>(o)));
+    return load;
+  }
+
   /// World pose of an object now: where planning last put it (carried, placed), else where
   /// its parent's move took it (a drum on a pallet a forklift carried: the arm went to where
   /// the drum stood in the vault, 1 m from it), else its pose. What the physics then does (a
@@ -322,12 +353,11 @@ class Planner {
     auto [it, fresh] = clearances_.try_emplace(d, wc_, geometry_, d);
     const DeviceClearance& clearance = it->second;
     CollisionWorld& scene = scene_now();
-    std::vector<int> held;
-    if (st.held >= 0) held.push_back(st.held);
+    const HeldLoad load = held_load(d, st);
     auto free = [&](const Eigen::VectorXd& chain_q) {
       Eigen::VectorXd q = st.q;
       chain.to_device(chain_q, q);
-      return !clearance.at(scene, q, target_object, true, held);
+      return !clearance.at(scene, q, target_object, true, {}, load);
     };
     IkResult r = solve_ik(chain, target, chain.from_device(st.q), ik_options(), free);
     if (r.status == IkResult::Status::Rejected) r = solve_ik(chain, target, chain.from_device(st.q), ik_options());

@@ -2380,6 +2380,81 @@ def riders(sscs, root):
           "on contacts); a tall rider tips off an accelerating pallet either way")
 
 
+def carrying(sscs, root):
+    """Issue 36, item 2: `reach` with `carrying:` checks the load's shape where the tool holds it.
+    A gantry sets a drum (three sizes) into level 1 of a random one-bay pallet rack, from above
+    between the level-2 beams: the empty gripper always fits; with the drum, the verdict and
+    margin are the drum's overlap with the level-2 beams worked out by hand (the lesser of how far
+    its side reaches over a beam and its top above the beams' underside; touching passes), and a
+    drum standing on a carried pallet (its parent) counts as the pallet does."""
+    rng = random.Random(362)
+    drums = {"drum": (0.572, 0.851), "drum_30gal": (0.470, 0.737), "drum_85gal": (0.711, 0.902)}
+    fails = passes = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "vault.yaml")
+        for case in range(30):
+            kind = rng.choice(sorted(drums))
+            diameter, height = drums[kind]
+            depth = rng.uniform(0.5, 0.95)
+            beam_w = rng.uniform(0.04, 0.12)
+            beam_h = rng.uniform(0.08, 0.15)
+            first = rng.uniform(0.15, 0.4)
+            level = rng.uniform(0.75, 1.15)
+            x, y = rng.uniform(1.5, 3.5), rng.uniform(1.0, 2.2)
+            depth, beam_w, beam_h, first, level = (round(v, 4) for v in (depth, beam_w, beam_h, first, level))
+            lateral = beam_w - (depth / 2 - diameter / 2)   # how far the drum's side reaches over a beam
+            vertical = height - (level - beam_h)             # its top above the level-2 beams' underside
+            if min(abs(lateral), abs(vertical)) < 1e-4:
+                continue
+            expect = min(lateral, vertical) if lateral > 1e-6 and vertical > 1e-6 else None
+            rack = (f"{{type: pallet_rack, name: R, parent: Cell, location: [{x:.4f}, {y:.4f}, 0], bays: 1, positions: 1, "
+                    f"bay_width: 0.9 m, depth: {depth:.4f} m, beam_width: {beam_w:.4f} m, beam_height: {beam_h:.4f} m, "
+                    f"first_beam_height: {first:.4f} m, levels: 2, level_height: {level:.4f} m}}")
+            reach = "{device: G, targets: R.slot_1_1_1, orientation: match, offset: {xyz: [0, 0, %.4f], rpy: [180, 0, 0]}" % height
+            with open(path, "w") as f:
+                f.write("sscs: 1\nvault: Carry\nobjects:\n  - {type: room, name: Cell, length: 10 m, width: 8 m, height: 6 m}\n"
+                        "  - {type: gantry, name: G, parent: Cell, location: [0, 0, 0]}\n"
+                        f"  - {{type: {kind}, name: Load, parent: Cell, location: [5.2, 3.0, 0]}}\n  - {rack}\n"
+                        f"constraints:\n  - {{name: empty, reach: {reach}}}}}\n  - {{name: carried, reach: {reach}, carrying: Load}}}}\n")
+            p = run(sscs, root, ["check", path, "--format", "json"])
+            if p.returncode not in (0, 1):
+                fail(f"case {case}: check exited {p.returncode}", p)
+            results = {r["constraint"]: r for r in json.loads(p.stdout)["results"]}
+            if results["empty"]["status"] != "pass":
+                fail(f"case {case}: the empty gripper does not fit: {results['empty']['message']}", p)
+            got = results["carried"]
+            if "Load" not in got["subject"]:
+                fail(f"case {case}: the carried load is not a subject: {got['subject']}", p)
+            if expect is None:
+                if got["status"] != "pass":
+                    fail(f"case {case}: {kind} in a rack {depth:.3f} deep, levels {level:.3f} apart: expected to fit, got {got['message']}", p)
+                passes += 1
+            else:
+                if got["status"] != "fail" or "Load (carried) hits R by" not in got["message"] or abs(got["margin"] + expect) > 1e-6:
+                    fail(f"case {case}: {kind} in a rack {depth:.3f} deep, levels {level:.3f} apart: expected the load to hit R "
+                         f"by {expect:.6f} m, got {got['status']} margin {got['margin']}: {got['message']}", p)
+                fails += 1
+        # A drum standing on a carried pallet (its parent) moves with it: the pallet, centred in
+        # a bay 0.9 m deep, fits between the beams; the drum on it, 0.25 m from the pallet's
+        # front edge, reaches 0.036 m over the level-2 front beam (and its top 0.197 m above it).
+        with open(path, "w") as f:
+            f.write("sscs: 1\nvault: Carry\nobjects:\n  - {type: room, name: Cell, length: 10 m, width: 8 m, height: 6 m}\n"
+                    "  - {type: gantry, name: G, parent: Cell, location: [0, 0, 0]}\n"
+                    "  - {type: pallet, name: P, parent: Cell, location: [4.6, 2.6, 0]}\n"
+                    "  - {type: drum, name: D, parent: P, location: [0.3, 0.25, 0.144]}\n"
+                    "  - {type: pallet_rack, name: R, parent: Cell, location: [2, 1.5, 0], bays: 1, positions: 1, bay_width: 1.4 m, "
+                    "depth: 0.9 m, levels: 2, level_height: 0.9 m}\n"
+                    "constraints:\n  - {name: carried, reach: {device: G, targets: {xyz: [2.176, 1.55, 0.15]}, orientation: match, "
+                    "offset: {xyz: [0.6, 0.4, 1.2], rpy: [180, 0, 0]}, carrying: P}}\n")
+        p = run(sscs, root, ["check", path, "--format", "json"])
+        got = json.loads(p.stdout)["results"][0]
+        if got["status"] != "fail" or "D (carried) hits R by" not in got["message"] or abs(got["margin"] + 0.036) > 1e-6:
+            fail(f"a drum on a carried pallet: expected it to hit the level-2 beam by 0.036 m, got {got['message']}", p)
+    if fails < 8 or passes < 8:
+        fail(f"the random racks should both fit and not fit the drum often: {passes} fit, {fails} did not")
+    print(f"carrying: {passes} racks fit the carried drum, {fails} did not, margins as worked out by hand; a pallet's rider counted")
+
+
 def run_truth(sscs, root):
     """What a run says is what happened: tests/e2e/run_truth.py over tests/data/run-truth."""
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -2387,7 +2462,7 @@ def run_truth(sscs, root):
     truth.run_truth(sscs, root, run, fail)
 
 
-MODES = {"riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+MODES = {"carrying": carrying, "riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 

@@ -196,5 +196,54 @@ TEST_F(Planning, MoveToEndsAtItsTargetForEveryDeviceKind) {
   }
 }
 
+// A planar arm of three links (1 m, 1 m, 0.5 m) turning about z: a tool pose has an elbow-left
+// and an elbow-right solution, its wrist at the same point.
+const char* kPlanar3 = R"(sscs: 1
+type: planar3
+kind: device
+parts:
+  - {name: base, geometry: [{cylinder: {radius: 0.1, length: 0.4, xyz: [0, 0, 0.2]}}]}
+  - name: l1
+    parent: base
+    joint: {name: a, type: revolute, axis: [0, 0, 1], xyz: [0, 0, 0.5], limits: {min: -170, max: 170, velocity: 90, acceleration: 180}}
+    geometry: [{box: {size: [1, 0.05, 0.05], xyz: [0.5, 0, 0]}}]
+  - name: l2
+    parent: l1
+    joint: {name: b, type: revolute, axis: [0, 0, 1], xyz: [1, 0, 0], limits: {min: -170, max: 170, velocity: 90, acceleration: 180}}
+    geometry: [{box: {size: [1, 0.05, 0.05], xyz: [0.5, 0, 0]}}]
+  - name: l3
+    parent: l2
+    joint: {name: c, type: revolute, axis: [0, 0, 1], xyz: [1, 0, 0], limits: {min: -170, max: 170, velocity: 90, acceleration: 180}}
+    geometry: [{box: {size: [0.5, 0.05, 0.05], xyz: [0.25, 0, 0]}}]
+tool: {part: l3, xyz: [0.5, 0, 0]}
+)";
+
+TEST_F(Planning, MoveToChoosesJointValuesWhereTheCarriedLoadIsFree) {
+  // The tool to (1.5, 0) facing +x: the wrist at (1, 0), the elbow at (0.5, +0.866) or (0.5,
+  // -0.866). The held bracket (a block at the tool, a plate on it) reaches back beside the wrist, on the side of the
+  // elbow the empty arm takes: there it is in the second link, so carrying it the arm takes the
+  // other elbow.
+  const std::string to = "  - {device: A, move_to: {target: {xyz: [1.5, 0, 0.5]}}}\n";
+  auto elbow_side = [&](const std::string& bracket_side, bool carrying) {
+    const std::string bracket = fmt::format("sscs: 1\ntype: bracket\ngeometry:\n  - box: {{size: [0.05, 0.05, 0.05], xyz: [0.025, 0, 0]}}\n"
+                                            "  - box: {{size: [0.3, 0.25, 0.05], xyz: [-0.65, {}, 0]}}\n",
+                                            bracket_side == "+" ? 0.275 : -0.275);
+    diag = Diagnostics{};
+    auto p = plan("  - {type: planar3, name: A}\n  - {type: bracket, name: B, location: [2.5, 0, 0.5]}\n",
+                  (carrying ? "  - {device: A, grasp: B}\n" : "") + to, type_dir({{"planar3", kPlanar3}, {"bracket", bracket}}));
+    EXPECT_TRUE(p && !p->failure) << diag.format(sources);
+    if (!p || p->failure) return 0.0;
+    const Eigen::VectorXd q = p->track(wc_.find_object("A"))->at(p->end);
+    EXPECT_LT((tool(*p, "A", p->end).translation() - Eigen::Vector3d(1.5, 0, 0.5)).norm(), 1e-3);
+    return std::sin(q[0]);  // the elbow's y
+  };
+  const double empty = elbow_side("+", false);
+  ASSERT_NE(empty, 0.0);
+  const std::string side = empty > 0 ? "+" : "-";
+  EXPECT_GT(elbow_side(side, false) * empty, 0) << "the empty arm does not care where the bracket is";
+  EXPECT_LT(elbow_side(side, true) * empty, 0) << "carrying the bracket on the elbow's side, the other elbow";
+  EXPECT_GT(elbow_side(side == "+" ? "-" : "+", true) * empty, 0) << "the bracket on the other side leaves the first elbow free";
+}
+
 }  // namespace
 }  // namespace sscs::testing
