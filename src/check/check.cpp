@@ -689,7 +689,12 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
   State values{slot_values, geometry, options.describe_passes, options};
   CheckReport report;
   report.results.reserve(wc.constraints.size());
-  CollisionWorld world(geometry);
+  // Built for the first spatial or reach check (a run re-checks bounds at every step: none).
+  std::optional<CollisionWorld> collisions;
+  auto world = [&]() -> CollisionWorld& {
+    if (!collisions) collisions.emplace(geometry);
+    return *collisions;
+  };
   for (size_t i = 0; i < wc.constraints.size(); ++i) {
     if (!options.only.empty() && !options.only[i]) continue;
     const Constraint& c = wc.constraints[i];
@@ -710,13 +715,13 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
     }
     if (const auto* sc = std::get_if<SpatialCheck>(&c.body)) {
       size_t first = report.results.size();
-      check_spatial(wc, *sc, geometry, world, options.spatial_tolerance, static_cast<int>(i), report.results);
+      check_spatial(wc, *sc, geometry, world(), options.spatial_tolerance, static_cast<int>(i), report.results);
       for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
       continue;
     }
     if (const auto* rc = std::get_if<ReachCheck>(&c.body)) {
       size_t first = report.results.size();
-      check_reach(wc, *rc, values, world, static_cast<int>(i), report.results);
+      check_reach(wc, *rc, values, world(), static_cast<int>(i), report.results);
       for (size_t k = first; k < report.results.size(); ++k) tally(report.results[k]);
       continue;
     }

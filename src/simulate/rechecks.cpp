@@ -12,6 +12,27 @@
 
 namespace sscs {
 
+namespace {
+
+/// Whether an operand reads the motion: a moved object's pose or bounding box, or an attribute
+/// of a moved device (its joints), directly or through an aggregate.
+bool reads_motion(const Operand& op, const Workcell& wc, const std::set<int>& moving) {
+  switch (op.kind) {
+    case Operand::Kind::Constant:
+      return false;
+    case Operand::Kind::Aggregate:
+      return op.members && std::any_of(op.members->begin(), op.members->end(), [&](const Operand& m) { return reads_motion(m, wc, moving); });
+    case Operand::Kind::BoundingBox:
+      return moving.count(op.object) > 0;
+    case Operand::Kind::Slot:
+      if (op.object < 0 || !moving.count(op.object)) return false;
+      return op.slot < wc.objects[op.object].first_slot + kFirstAttributeSlot || wc.types[wc.objects[op.object].type].device;
+  }
+  return false;
+}
+
+}  // namespace
+
 ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& moving, double tolerance)
     : wc_(wc), tolerance_(tolerance) {
   options_.describe_passes = false;
@@ -35,6 +56,19 @@ ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& 
             watched_.push_back({static_cast<int>(i), a, b, spatial->min_si});
     }
   }
+  // The bounds and expressions among them that read the motion: at every physics step too.
+  std::vector<char> step(wc.constraints.size(), 0);
+  bool any_step = false;
+  for (size_t i = 0; any && i < wc.constraints.size(); ++i) {
+    if (!only[i]) continue;
+    const Constraint& c = wc.constraints[i];
+    if (const auto* b = std::get_if<BoundCheck>(&c.body)) step[i] = reads_motion(b->lhs, wc, moving) || reads_motion(b->rhs, wc, moving);
+    else if (const auto* e = std::get_if<ExprCheck>(&c.body))
+      step[i] = std::any_of(e->inputs.begin(), e->inputs.end(), [&](const Operand& op) { return reads_motion(op, wc, moving); });
+    any_step = any_step || step[i];
+  }
+  step_options_ = options_;
+  if (any_step) step_options_.only = std::move(step);
   if (any) options_.only = std::move(only);
 }
 
@@ -67,14 +101,22 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
       dipped.insert(ci);
     }
   }
-  CheckReport report = sscs::check(wc_, live, values, options_);
+  judge(t, sscs::check(wc_, live, values, options_), dipped, false, events);
+}
+
+void ConstraintRechecks::check_step(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events) {
+  judge(t, sscs::check(wc_, live, values, step_options_), {}, true, events);
+}
+
+void ConstraintRechecks::judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples,
+                               EventLog& events) {
   for (const CheckResult& r : report.results) {
     auto key = std::make_pair(r.constraint, r.subjects);
     bool failing = r.status != Status::Pass;
     bool was = failing_[key];
     failing_[key] = failing;
-    if (!failing || was || dipped.count(r.constraint)) continue;  // a dip already started it
-    starts_failing(t, r.constraint, r.subjects, r.margin, r.dim, r.message, false, events);
+    if (!failing || was || already.count(r.constraint)) continue;  // a dip already started it
+    starts_failing(t, r.constraint, r.subjects, r.margin, r.dim, r.message, between_samples, events);
   }
 }
 

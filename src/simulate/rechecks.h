@@ -33,12 +33,22 @@ class ConstraintRechecks {
   /// dip's time, with its distance and margin, though the samples pass.
   void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
              const ClearanceTracker* tracker = nullptr);
+  /// Whether some `bound` or `expr` re-checked reads the motion itself (a moved object's
+  /// location, orientation or bounding box, a device's joint values): those are also checked
+  /// at every physics step between the samples (`check_step`).
+  bool every_step() const { return !step_options_.only.empty(); }
+  /// Checks those at time `t` (a physics step between samples): one that starts failing is an
+  /// event there, `between_samples: true`.
+  void check_step(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events);
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
 
  private:
   const Workcell& wc_;
   CheckOptions options_;
+  CheckOptions step_options_;  ///< the bounds and expressions that read the motion
+  /// Records each result's state; one that starts failing is an event at t.
+  void judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples, EventLog& events);
   /// A rule that starts failing at t: its `constraint` event, counted when an error.
   void starts_failing(double t, int constraint, const std::vector<int>& subjects, std::optional<double> margin, Dim dim,
                       const std::string& message, bool between_samples, EventLog& events);

@@ -108,6 +108,10 @@ class Run {
         recorder_.record(t);
         observe(t);
         observed_at = t;
+      } else if (rechecks_.every_step()) {
+        // Between the samples, the bounds and expressions that read the motion, at every step.
+        pose_live(false);
+        rechecks_.check_step(t, live_, live_values_, events_);
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
       if (plan_failed(t) || settled(t) || out_of_time(t, k)) break;
@@ -821,18 +825,20 @@ class Run {
     return out;
   }
 
-  /// At the trajectory rate: clearances between what moves and everything else, and the
-  /// constraints that depend on the motion.
-  void observe(double t) {
+  /// Places the run's state now in the live model (device parts, moved objects, their joint and
+  /// pose values) and, with `clearance`, in the clearance tracker; returns the loads held.
+  std::vector<int> pose_live(bool clearance) {
     const ScenePose now = scene_pose();
     std::vector<int> loads;
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
       const Eigen::Isometry3d& X_world_object = geometry_.objects[dr.object].X_world_object;
       const std::vector<Eigen::Isometry3d>& X_object_part = now.X_object_part[dr.object];
-      std::vector<Eigen::Isometry3d> X_world_part;
-      for (const Eigen::Isometry3d& X : X_object_part) X_world_part.push_back(X_world_object * X);
-      clearances_.move_parts(dr.object, X_world_part);
+      if (clearance) {
+        std::vector<Eigen::Isometry3d> X_world_part;
+        for (const Eigen::Isometry3d& X : X_object_part) X_world_part.push_back(X_world_object * X);
+        clearances_.move_parts(dr.object, X_world_part);
+      }
       repose(live_.objects[dr.object], X_world_object, &X_object_part);
       Eigen::VectorXd q = world_.joints(dr.object);
       const Object& obj = wc_.objects[dr.object];
@@ -842,7 +848,7 @@ class Run {
     for (size_t o = 0; o < wc_.objects.size(); ++o) {
       if (!world_.dynamic(static_cast<int>(o))) continue;
       const Eigen::Isometry3d& X = now.X_world_object[o];
-      clearances_.move(static_cast<int>(o), X);
+      if (clearance) clearances_.move(static_cast<int>(o), X);
       repose(live_.objects[o], X);
       const Object& obj = wc_.objects[o];
       const Eigen::Isometry3d X_world_parent =
@@ -854,6 +860,13 @@ class Run {
         live_values_[obj.first_slot + kOrientationSlot + k] = rpy[k];
       }
     }
+    return loads;
+  }
+
+  /// At the trajectory rate: clearances between what moves and everything else, and the
+  /// constraints that depend on the motion.
+  void observe(double t) {
+    const std::vector<int> loads = pose_live(true);
     // Each device's moving parts against everything but the loads it handles (the one it holds,
     // the next it takes, the last it let go): those it may touch, not go into.
     for (const DeviceRun& dr : devices_) {

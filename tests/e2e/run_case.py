@@ -2235,6 +2235,19 @@ def certified(sscs, root):
     # rule gaps (some kept, some broken).
     rules = agreed = 0
     with tempfile.TemporaryDirectory() as tmp:
+        def constraint_events(name, vault, steps):
+            """The constraint events and exit status of `steps` in `vault` logged at 1000 Hz, then
+            at a random 1, 2 or 4 Hz."""
+            open(os.path.join(tmp, "vault.yaml"), "w").write(vault)
+            found = []
+            for rate in (1000, rng.choice([1, 2, 4])):
+                path, out = os.path.join(tmp, f"{name}{rate}.yaml"), os.path.join(tmp, f"out-{name}{rate}")
+                open(path, "w").write(f"sscs: 1\nscenario: {name}-{rate}\nvault: vault.yaml\nsim: {{timestep: 1 ms, limit: 60 s}}\n"
+                                      f"record:\n  trajectory: {{rate: {rate} Hz}}\nsteps:\n{steps}")
+                p = run(sscs, root, ["simulate", path, "--out", out, "--quiet", "--no-frames", "--force"])
+                found.append(([json.loads(line) for line in open(os.path.join(out, "events.jsonl")) if json.loads(line)["kind"] == "constraint"],
+                              p.returncode))
+            return found
         for case in range(8):
             gap = round(rng.uniform(0.005, 0.06), 4)
             y = round(2.67 + rng.uniform(-0.02, 0.03), 4)
@@ -2246,18 +2259,9 @@ def certified(sscs, root):
                      # A second rule on the same pair, wider and a warning: a pose that breaks it
                      # alone breaks only it (a new user saw the narrower one reported broken).
                      f"  - {{name: keep well off the post, clearance: {{a: G, b: Post, min: {round(gap * 1.7, 4)} m}}, severity: warning}}\n")
-            open(os.path.join(tmp, "vault.yaml"), "w").write(vault)
-            found = {}
-            for rate in (1000, rng.choice([1, 2, 4])):
-                open(os.path.join(tmp, f"s{rate}.yaml"), "w").write(
-                    f"sscs: 1\nscenario: post-{rate}\nvault: vault.yaml\nsim: {{timestep: 1 ms, limit: 60 s}}\n"
-                    f"record:\n  trajectory: {{rate: {rate} Hz}}\nsteps:\n  - {{device: G, move_joints: {{x: 0.5, y: 1.0, z: 1.0}}}}\n"
-                    f"  - {{device: G, move_joints: {{x: {rng.uniform(5, 5.9):.3f}}}}}\n")
-                out = os.path.join(tmp, f"out{rate}")
-                p = run(sscs, root, ["simulate", os.path.join(tmp, f"s{rate}.yaml"), "--out", out, "--quiet", "--no-frames", "--force"])
-                found[rate] = sorted((json.loads(line) for line in open(os.path.join(out, "events.jsonl"))
-                                      if json.loads(line)["kind"] == "constraint"), key=lambda e: (e["constraint"], e["t"])), p.returncode
-            (ref, ref_rc), (low, low_rc) = found[1000], [v for r, v in found.items() if r != 1000][0]
+            (ref, ref_rc), (low, low_rc) = constraint_events(
+                "post", vault, f"  - {{device: G, move_joints: {{x: 0.5, y: 1.0, z: 1.0}}}}\n  - {{device: G, move_joints: {{x: {rng.uniform(5, 5.9):.3f}}}}}\n")
+            ref, low = (sorted(events, key=lambda e: (e["constraint"], e["t"])) for events in (ref, low))
             what = f"post rule case {case} (min {gap} m):\n{vault}"
             if len(ref) != len(low) or ref_rc != low_rc:
                 fail(f"{what}the rule's events at 1000 Hz {ref} and at a low rate {low} differ")
@@ -2268,9 +2272,36 @@ def certified(sscs, root):
                     fail(f"{what}the rule broken at {a['t']} s by {a['margin']} m at 1000 Hz, at {b['t']} s by {b['margin']} m at a low rate")
             rules += 1
             agreed += bool(ref)
+        # Bounds and expressions that read the motion, checked at every physics step: a gantry
+        # carrying a drum travels 2 m while lowering it to a random height, and turns straight
+        # back up, with a rule on the drum's bounding box and one on the bridge's travel, both
+        # broken only around that instant; at 1-4 Hz the samples straddle it, and the run reports
+        # the same events, at the same step and margin, as at 1000 Hz.
+        values = 0
+        for case in range(6):
+            bottom = round(rng.uniform(0.4, 1.0), 3)  # the drum's bottom at the lowest point (m)
+            x_limit = round(2 - rng.uniform(0.005, 0.1), 4)
+            drum_floor = round(bottom + rng.uniform(0.005, 0.08), 4)
+            vault = ("sscs: 1\nvault: ValueRules\nobjects:\n  - {type: room, name: Cell, length: 12 m, width: 8 m, height: 6 m}\n"
+                     "  - {type: gantry, name: G, parent: Cell, location: [1, 1, 0], x_stroke: 6 m, y_stroke: 3 m}\n"
+                     "  - {type: drum, name: D, parent: Cell, location: [1.9, 1.5, 0]}\n"
+                     f"constraints:\n  - {{name: drum kept high, bound: [D.bbox.min.z, GE, {drum_floor} m]}}\n"
+                     f"  - {{name: bridge travel, expr: \"G.x + 0 * G.z <= {x_limit}\"}}\n")
+            (ref, ref_rc), (low, low_rc) = constraint_events(
+                "values", vault, "  - {device: G, move_joints: {x: 0, y: 0, z: 1.049}}\n  - {device: G, grasp: D}\n"
+                f"  - {{device: G, move_joints: {{z: 0}}}}\n  - {{device: G, move_joints: {{x: 2, z: {1.049 - bottom:.3f}}}}}\n"
+                "  - {device: G, move_joints: {x: 0.5, z: 0}}\n")
+            what = f"value rule case {case}:\n{vault}"
+            if ref_rc != low_rc or [(e["constraint"], e["t"], e["margin"]) for e in ref] != [(e["constraint"], e["t"], e["margin"]) for e in low]:
+                fail(f"{what}the rules' events at 1000 Hz {ref} and at a low rate {low} differ")
+            if not any(e.get("between_samples") for e in low) and ref:
+                fail(f"{what}no event between the samples at the low rate: {low}")
+            values += len(ref)
+        if values < 6:
+            fail(f"the value rules should break in most cases: {values} events")
     print(f"certified: {checked} random moves of {len(devices)} devices past posts, the bound at 1-4 Hz within [-2 mm, "
           f"+{slack * 1000:g} mm] of 1000 Hz; {plates} past or through 5 mm plates; {rules} post rules ({agreed} broken) "
-          "judged at 1-4 Hz as at 1000 Hz")
+          f"judged at 1-4 Hz as at 1000 Hz; bound and expr rules broken between samples at the same step and margin ({values} events)")
 
 
 def riders(sscs, root):
