@@ -82,6 +82,12 @@ class ClearanceTracker {
   /// from the sample on), every pose, to bound each pair's distance between the samples from
   /// below: a gripper passing a post between two samples 0.5 s apart is seen.
   void follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path);
+  /// How far the points of each part of `object` (one entry for an object) may have gone since
+  /// the last sample, from the steps followed; nullptr when it is not followed (it stands).
+  const std::vector<double>* travelled(int object) const {
+    const Path* p = path(object);
+    return p && !p->travelled.empty() ? &p->travelled.back() : nullptr;
+  }
   /// At the sample at `t`, after every measure(): the paths start again from where everything is.
   void next_interval(double t);
   /// Closer than this to the measured distance (m), or than kCertifyFraction of it, a lower

@@ -69,6 +69,13 @@ ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& 
   }
   step_options_ = options_;
   if (any_step) step_options_.only = std::move(step);
+  for (size_t i = 0; any && i < wc.constraints.size(); ++i) {
+    const auto* spatial = std::get_if<SpatialCheck>(&wc.constraints[i].body);
+    if (!only[i] || !spatial || spatial->kind != SpatialCheck::Kind::Inside || spatial->container < 0) continue;
+    Inside in{static_cast<int>(i), spatial->container, spatial->faces, spatial->min_si, std::max(spatial->eps_si, tolerance), {}};
+    for (int o : spatial->objects) in.members.push_back({o, -INFINITY, {}});
+    inside_.push_back(std::move(in));
+  }
   if (any) options_.only = std::move(only);
 }
 
@@ -101,11 +108,67 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
       dipped.insert(ci);
     }
   }
-  judge(t, sscs::check(wc_, live, values, options_), dipped, false, events);
+  const CheckReport report = sscs::check(wc_, live, values, options_);
+  judge(t, report, dipped, false, events);
+  note_inside(report);
 }
 
 void ConstraintRechecks::check_step(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events) {
   judge(t, sscs::check(wc_, live, values, step_options_), {}, true, events);
+}
+
+void ConstraintRechecks::note_inside(const CheckReport& report) {
+  for (Inside& in : inside_) {
+    bool seen = false;
+    double margin = INFINITY;  // the rule's: the least of its objects'
+    for (const CheckResult& r : report.results) {
+      if (r.constraint != in.constraint) continue;
+      seen = true;
+      margin = r.status != Status::Pass ? -INFINITY : std::min(margin, r.margin.value_or(-INFINITY));  // in m: inside's unit
+    }
+    if (!seen) continue;
+    for (Inside::Member& m : in.members) {
+      m.margin = margin;
+      m.travelled_then.clear();
+    }
+  }
+}
+
+void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tracker, const std::function<void()>& pose,
+                                           const GeometryModel& live, const std::vector<double>& values, EventLog& events) {
+  // How far any point of `o` may have gone since `then` (per part; empty: since the sample).
+  auto went = [&](int o, const std::vector<double>& then) {
+    const std::vector<double>* now = tracker.travelled(o);
+    double most = 0;
+    for (size_t part = 0; now && part < now->size(); ++part) most = std::max(most, (*now)[part] - (part < then.size() ? then[part] : 0.0));
+    return most;
+  };
+  std::vector<char> only(wc_.constraints.size(), 0);
+  bool any = false;
+  for (Inside& in : inside_) {
+    if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return !std::isfinite(m.margin); }))
+      continue;  // failing at the sample: it cannot start failing
+    const double container_went = went(in.container, {});
+    for (Inside::Member& m : in.members) {
+      // Its margin can have shrunk by no more than it and the container went; through a face
+      // not counted it may leave however far it is from the counted ones.
+      const double moved = went(m.object, m.travelled_then) + container_went;
+      if (in.faces == SpatialCheck::All ? m.margin + in.eps - moved > 0 : moved == 0) continue;
+      pose();
+      std::string why;
+      const std::optional<double> now = inside_margin(live, m.object, in.container, &why, in.faces, in.min);
+      m.margin = now.value_or(-INFINITY);
+      const std::vector<double>* travelled = tracker.travelled(m.object);
+      m.travelled_then = travelled ? *travelled : std::vector<double>();
+      if (m.margin < -in.eps) only[in.constraint] = any = true;  // out: the rule's own check says how
+    }
+  }
+  if (!any) return;
+  CheckOptions exact = options_;
+  exact.only = std::move(only);
+  const CheckReport report = sscs::check(wc_, live, values, exact);
+  judge(t, report, {}, true, events);
+  note_inside(report);
 }
 
 void ConstraintRechecks::judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples,

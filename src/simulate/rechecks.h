@@ -3,6 +3,8 @@
 /// containment that read a device or an object the plan moves (overlaps are the physics'
 /// collisions; reach is a property of the design, not of one motion). A constraint that starts
 /// failing is a `constraint` event.
+#include <cmath>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -40,6 +42,16 @@ class ConstraintRechecks {
   /// Checks those at time `t` (a physics step between samples): one that starts failing is an
   /// event there, `between_samples: true`.
   void check_step(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events);
+  /// Whether some `inside` rule is re-checked: between the samples, each is judged by a bound,
+  /// its margin at its last exact check less how far any of its objects may have gone since
+  /// (the clearance tracker's travel); where that no longer clears the tolerance, exactly at
+  /// that step (`check_inside_step`).
+  bool watches_inside() const { return !inside_.empty(); }
+  /// Between samples at time `t` (after the step the tracker followed): the `inside` rules whose
+  /// bound no longer clears, checked exactly; `pose` places the run's state now in `live` and
+  /// `values` first (once, when some rule must be checked).
+  void check_inside_step(double t, const ClearanceTracker& tracker, const std::function<void()>& pose, const GeometryModel& live,
+                         const std::vector<double>& values, EventLog& events);
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
 
@@ -61,6 +73,23 @@ class ConstraintRechecks {
     double gap = 0;  ///< its min, m
   };
   std::vector<Watched> watched_;
+  /// An `inside` rule watched between samples: per object, a lower bound of its margin (its
+  /// own, measured exactly at a step, or the rule's at the sample: -inf when failing then) and
+  /// how far it had gone by then.
+  struct Inside {
+    int constraint = -1, container = -1;
+    uint8_t faces = SpatialCheck::All;
+    double min = 0, eps = 0;
+    struct Member {
+      int object = -1;
+      double margin = -INFINITY;
+      std::vector<double> travelled_then;  ///< per part; empty: none (the sample)
+    };
+    std::vector<Member> members;
+  };
+  std::vector<Inside> inside_;
+  /// Records the `inside` rules' margins from a sample's report.
+  void note_inside(const CheckReport& report);
 };
 
 }  // namespace sscs

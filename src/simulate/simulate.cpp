@@ -108,10 +108,19 @@ class Run {
         recorder_.record(t);
         observe(t);
         observed_at = t;
-      } else if (rechecks_.every_step()) {
-        // Between the samples, the bounds and expressions that read the motion, at every step.
-        pose_live(false);
-        rechecks_.check_step(t, live_, live_values_, events_);
+      } else {
+        // Between the samples: the bounds and expressions that read the motion at every step,
+        // the `inside` rules where the bound from their objects' travel no longer clears.
+        bool posed = false;
+        auto pose = [&] {
+          if (!posed) pose_live(false);
+          posed = true;
+        };
+        if (rechecks_.every_step()) {
+          pose();
+          rechecks_.check_step(t, live_, live_values_, events_);
+        }
+        if (rechecks_.watches_inside()) rechecks_.check_inside_step(t, clearances_, pose, live_, live_values_, events_);
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
       if (plan_failed(t) || settled(t) || out_of_time(t, k)) break;
