@@ -113,6 +113,8 @@ class ClearanceTracker {
     double watch() const { return watches.empty() ? -INFINITY : *std::max_element(watches.begin(), watches.end()); }
     double closest() const { return records.empty() ? INFINITY : records.back().distance; }
     bool is_excused(double t) const;
+    /// Excused over the whole of [from, to] (by one stretch).
+    bool excused_over(double from, double to) const;
   };
   using Key = std::pair<int, int>;  ///< (lower object, higher object)
   static Key key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
