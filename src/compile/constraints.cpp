@@ -396,6 +396,16 @@ namespace {
 /// reach's `carrying`: an object the device can hold, not one of its targets; -1 when absent
 /// or wrong (an input error).
 int carried_load(CompileState& st, const ReachSpec& r, const ReachCheck& rc) {
+  if (!r.carrying.present || r.carrying.null) return -1;
+  const std::string& text = r.carrying.text;
+  if (text.empty() || text.find_first_of("*?") != std::string::npos || text.starts_with("type:") || text.starts_with("at:") ||
+      (text.find('.') != std::string::npos && st.wc.find_object(text.substr(0, text.find('.'))) >= 0)) {
+    st.diag.error(r.carrying.mark, fmt::format("reach carrying: expected the name of one object, found '{}'{}", text,
+                                               text.find('.') != std::string::npos ? " (a frame is not an object: name the object)"
+                                               : text.empty()                      ? ""
+                                                                                   : " (a selector: carrying holds one object)"));
+    return -1;
+  }
   const int o = object_ref(st, r.carrying, "reach carrying");
   if (o < 0) return -1;
   const Object& load = st.wc.objects[o];
@@ -407,6 +417,13 @@ int carried_load(CompileState& st, const ReachSpec& r, const ReachCheck& rc) {
   else if (rc.device >= 0 && st.wc.related(rc.device, o)) why = fmt::format("{} stands on it (its parent chain)", st.wc.objects[rc.device].name);
   else if (std::any_of(rc.targets.begin(), rc.targets.end(), [&](const ReachCheck::Target& t) { return t.object == o; }))
     why = "it is one of the targets (carrying places it at each target)";
+  else if (auto rider = std::find_if(rc.targets.begin(), rc.targets.end(), [&](const ReachCheck::Target& t) {
+             for (int up = t.object >= 0 ? st.wc.objects[t.object].parent : -1; up >= 0; up = st.wc.objects[up].parent)
+               if (up == o) return true;
+             return false;
+           });
+           rider != rc.targets.end())
+    why = fmt::format("target {} stands on it (its parent chain), and would be carried with it", rider->text);
   if (why.empty()) return o;
   st.diag.error(r.carrying.mark, fmt::format("reach carrying '{}': {}", r.carrying.text, why));
   return -1;
