@@ -16,6 +16,9 @@ constexpr double kAngleWeight = 1000;
 constexpr int kStartsPerJoint = 96;
 constexpr int kRefined = 16;
 constexpr int kIterations = 200;
+/// closest_free: the accepted starts improved, and the smallest step of a joint (m or rad).
+constexpr int kFreeStarts = 6;
+constexpr double kFreeStep = 1e-5;
 
 /// The i-th point of the Halton sequence in dimension `dim` (prime bases): evenly spread,
 /// deterministic starts over the joint box.
@@ -117,13 +120,10 @@ class Search {
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_;
 };
 
-}  // namespace
-
-ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
-                           const std::function<bool(const Eigen::VectorXd&)>& accept) {
-  Search search(chain, target, orientation);
+/// The starts of a search: the middle of the joint box, the seed (clamped into it), and a
+/// Halton set over it.
+std::vector<Eigen::VectorXd> spread_starts(const Chain& chain, const Eigen::VectorXd& seed) {
   const int n = chain.size();
-  // Starts: the seed, the middle of the box, and a Halton set over it; the best by cost go on.
   std::vector<Eigen::VectorXd> starts;
   Eigen::VectorXd mid(n);
   for (int k = 0; k < n; ++k) {
@@ -144,6 +144,15 @@ ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, 
     }
     starts.push_back(q);
   }
+  return starts;
+}
+
+}  // namespace
+
+ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
+                           const std::function<bool(const Eigen::VectorXd&)>& accept) {
+  Search search(chain, target, orientation);
+  const std::vector<Eigen::VectorXd> starts = spread_starts(chain, seed);
   std::vector<std::pair<double, size_t>> ranked;
   for (size_t i = 0; i < starts.size(); ++i) ranked.emplace_back(search.residual(starts[i], false).cost, i);
   std::stable_sort(ranked.begin(), ranked.end());
@@ -168,6 +177,55 @@ ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, 
     out.position_error = r.e.head<3>().norm();
     out.angle_error = orientation ? r.e.tail<3>().norm() / kAngleWeight : 0.0;
     break;
+  }
+  return out;
+}
+
+ClosestReach closest_free(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
+                         const std::function<bool(const Eigen::VectorXd&)>& accept) {
+  Search search(chain, target, orientation);
+  const int n = chain.size();
+  std::vector<std::pair<double, Eigen::VectorXd>> free;  // the accepted starts, by cost
+  for (const Eigen::VectorXd& q : spread_starts(chain, seed))
+    if (accept(q)) free.emplace_back(search.residual(q, false).cost, q);
+  std::stable_sort(free.begin(), free.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  ClosestReach out;
+  double best = INFINITY;
+  for (size_t s = 0; s < free.size() && static_cast<int>(s) < kFreeStarts; ++s) {
+    auto [cost, q] = free[s];
+    // Pattern search: one joint at a time, a step either way taken when accepted and better;
+    // the step halves when none is, from a tenth of the joint's range down to kFreeStep.
+    std::vector<double> step(n);
+    for (int k = 0; k < n; ++k) step[k] = (range(chain, k).second - range(chain, k).first) / 10;
+    for (bool any = true; any;) {
+      any = false;
+      for (int k = 0; k < n; ++k) {
+        if (step[k] < kFreeStep) continue;
+        any = true;
+        bool moved = false;
+        for (double sign : {1.0, -1.0}) {
+          Eigen::VectorXd next = q;
+          next[k] = std::clamp(q[k] + sign * step[k], range(chain, k).first, range(chain, k).second);
+          if (next[k] == q[k]) continue;
+          const double c = search.residual(next, false).cost;
+          if (c < cost && accept(next)) {
+            q = next;
+            cost = c;
+            moved = true;
+            break;
+          }
+        }
+        if (!moved) step[k] /= 2;
+      }
+    }
+    if (cost < best) {
+      best = cost;
+      const Residual r = search.residual(q, false);
+      out.found = true;
+      out.q = q;
+      out.position_error = r.e.head<3>().norm();
+      out.angle_error = orientation ? r.e.tail<3>().norm() / kAngleWeight : 0.0;
+    }
   }
   return out;
 }

@@ -30,4 +30,12 @@ struct ClosestReach {
 ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
                            const std::function<bool(const Eigen::VectorXd&)>& accept = {});
 
+/// The closest accepted configuration found when the closest of all collides: from the accepted
+/// ones among closest_reach's starts, the best few by cost, each improved by a pattern search
+/// that moves one joint at a time and keeps only accepted, better moves, down to steps of 1e-5.
+/// The answer is a configuration `accept` takes, so its error is never below the true smallest
+/// (a margin from it is never better than the truth); found is false when no start is accepted.
+ClosestReach closest_free(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
+                         const std::function<bool(const Eigen::VectorXd&)>& accept);
+
 }  // namespace sscs

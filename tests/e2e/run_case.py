@@ -2503,9 +2503,30 @@ def carrying(sscs, root):
         got = json.loads(p.stdout)["results"][0]
         if got["status"] != "fail" or "D (carried) hits R by" not in got["message"] or abs(got["margin"] + 0.036) > 1e-6:
             fail(f"a drum on a carried pallet: expected it to hit the level-2 beam by 0.036 m, got {got['message']}", p)
+        # Beyond the gantry's x travel (its tool stops at x = 6.9 m, 0.2 m short), carrying a drum
+        # to where another stands: the closest pose has the two drums in each other, so the
+        # margin is the closest free pose's, worked out by hand: the carried drum sidesteps in y
+        # until the drums' centres are a diameter apart (a new user found the 0.2 m of the
+        # colliding pose reported).
+        for case in range(5):
+            x2 = round(rng.uniform(6.36, 6.5), 3)
+            sidestep = math.sqrt(0.572 ** 2 - (6.9 - x2) ** 2)
+            expect = math.sqrt(0.2 ** 2 + sidestep ** 2)
+            with open(path, "w") as f:
+                f.write("sscs: 1\nvault: Beyond\nobjects:\n  - {type: room, name: Hall, length: 12 m, width: 8 m, height: 5 m}\n"
+                        "  - {type: gantry, name: G, parent: Hall, location: [1, 1, 0]}\n"
+                        "  - {type: drum, name: Drum_1, parent: Hall, location: [3, 3, 0]}\n"
+                        f"  - {{type: drum, name: Drum_2, parent: Hall, location: [{x2}, 3, 0]}}\n"
+                        "constraints:\n  - {name: c, reach: {device: G, targets: {xyz: [7.1, 3, 0]}, orientation: match, "
+                        "offset: {xyz: [0, 0, 0.851], rpy: [180, 0, 0]}, carrying: Drum_1}}\n")
+            p = run(sscs, root, ["check", path, "--format", "json"])
+            got = json.loads(p.stdout)["results"][0]
+            if got["status"] != "fail" or abs(got["margin"] + expect) > 1e-4:
+                fail(f"beyond the travel, Drum_2 at x {x2}: expected margin {-expect:.6f} (the closest free pose), got {got['margin']}: "
+                     f"{got['message']}", p)
     if fails < 8 or passes < 8:
         fail(f"the random racks should both fit and not fit the drum often: {passes} fit, {fails} did not")
-    print(f"carrying: {passes} racks fit the carried drum, {fails} did not, margins as worked out by hand; a pallet's rider counted")
+    print(f"carrying: {passes} racks fit the carried drum, {fails} did not, margins as worked out by hand; a pallet's rider counted; 5 closest free poses beyond the travel as by hand")
 
 
 def run_truth(sscs, root):
