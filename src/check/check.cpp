@@ -459,6 +459,32 @@ IkResult reach_by_approach(const Chain& chain, const Eigen::Isometry3d& target, 
   return rejected;
 }
 
+/// With a free orientation, every solution found collides: the sampled approach directions may
+/// straddle a narrow free turn (a forklift's pallet clear of an upright only turned by 8 deg,
+/// where the collision is as deep at every other turn: no slope to follow). From the least deep
+/// collision found (`from`), the tool is turned about each of its axes in 1-degree steps, the
+/// nearest turns first, the position held, until a solution `accept` takes.
+IkResult reach_by_turning(const Chain& chain, const Eigen::Isometry3d& target, const Eigen::VectorXd& from, const IkOptions& base,
+                          const std::function<bool(const Eigen::VectorXd&)>& accept, const IkResult& rejected) {
+  IkOptions opt = base;
+  opt.orientation = true;
+  opt.angle_tol = 1e-3;
+  opt.max_attempts = 2;
+  const Eigen::Matrix3d R0 = chain.forward(from).linear();
+  for (int deg = 1; deg <= 180; ++deg)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int sign : {1, -1}) {
+        if (deg == 180 && sign < 0) continue;
+        Eigen::Isometry3d X = target;
+        X.linear() = R0 * Eigen::AngleAxisd(sign * deg * kRadPerDeg, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+        IkResult r = solve_ik(chain, X, from, opt, accept);
+        if (!r.ok()) continue;
+        r.angle_error = 0;  // the orientation was free
+        return r;
+      }
+  return rejected;
+}
+
 /// reach: inverse kinematics for every target from the instance's joint values; a solution
 /// must be within limits and collision-free. Failing targets one result each, else one pass.
 void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, CollisionWorld& world, int index,
@@ -569,6 +595,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       ik = solve_ik(chain, X_root_world * X_world_target, seed, opt, accept);
       if (ik.status == IkResult::Status::Rejected && !rc.match_orientation)
         ik = reach_by_approach(chain, X_root_world * X_world_target, seed, opt, accept, ik);
+      if (ik.status == IkResult::Status::Rejected && !rc.match_orientation && hit)
+        ik = reach_by_turning(chain, X_root_world * X_world_target, hit_q, opt, accept, ik);
       if (ik.status == IkResult::Status::Rejected && hit) hit = collision_at(hit_q, false);
     }
     // Not reached: the margin is minus the closest the device comes, over every configuration
