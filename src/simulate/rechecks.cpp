@@ -143,8 +143,7 @@ void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tra
     for (size_t part = 0; now && part < now->size(); ++part) most = std::max(most, (*now)[part] - (part < then.size() ? then[part] : 0.0));
     return most;
   };
-  std::vector<char> only(wc_.constraints.size(), 0);
-  bool any = false;
+  std::vector<char> only;  // the rules to check exactly: allocated only at a step that has one
   for (Inside& in : inside_) {
     if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return !std::isfinite(m.margin); }))
       continue;  // failing at the sample: it cannot start failing
@@ -160,10 +159,13 @@ void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tra
       m.margin = now.value_or(-INFINITY);
       const std::vector<double>* travelled = tracker.travelled(m.object);
       m.travelled_then = travelled ? *travelled : std::vector<double>();
-      if (m.margin < -in.eps) only[in.constraint] = any = true;  // out: the rule's own check says how
+      if (m.margin < -in.eps) {  // out: the rule's own check says how
+        only.resize(wc_.constraints.size(), 0);
+        only[in.constraint] = 1;
+      }
     }
   }
-  if (!any) return;
+  if (only.empty()) return;
   CheckOptions exact = options_;
   exact.only = std::move(only);
   const CheckReport report = sscs::check(wc_, live, values, exact);

@@ -109,18 +109,7 @@ class Run {
         observe(t);
         observed_at = t;
       } else {
-        // Between the samples: the bounds and expressions that read the motion at every step,
-        // the `inside` rules where the bound from their objects' travel no longer clears.
-        bool posed = false;
-        auto pose = [&] {
-          if (!posed) pose_live(false);
-          posed = true;
-        };
-        if (rechecks_.every_step()) {
-          pose();
-          rechecks_.check_step(t, live_, live_values_, events_);
-        }
-        if (rechecks_.watches_inside()) rechecks_.check_inside_step(t, clearances_, pose, live_, live_values_, events_);
+        recheck_between_samples(t);
       }
       if (options_.on_frame && t >= frames_ * options_.frame_interval - dt / 2) options_.on_frame(frames_++, t, scene_pose());
       if (plan_failed(t) || settled(t) || out_of_time(t, k)) break;
@@ -870,6 +859,22 @@ class Run {
       }
     }
     return loads;
+  }
+
+  /// At a physics step between the samples: the bounds and expressions that read the motion, and
+  /// the `inside` rules where the bound from their objects' travel no longer clears (the live
+  /// model posed once, and only when one of them needs it).
+  void recheck_between_samples(double t) {
+    bool posed = false;
+    auto pose = [&] {
+      if (!posed) pose_live(false);
+      posed = true;
+    };
+    if (rechecks_.every_step()) {
+      pose();
+      rechecks_.check_step(t, live_, live_values_, events_);
+    }
+    if (rechecks_.watches_inside()) rechecks_.check_inside_step(t, clearances_, pose, live_, live_values_, events_);
   }
 
   /// At the trajectory rate: clearances between what moves and everything else, and the
