@@ -65,6 +65,7 @@ struct ScenarioSpec {
   std::vector<std::pair<std::string, Scalar>> set;  ///< parameter overrides
   Scalar timestep, limit;
   Scalar check_tolerance;         ///< sim.check_tolerance: spatial re-checks during the run
+  Scalar mode;                    ///< sim.mode: physics (default) or fast
   bool gravity = true;
   Scalar trajectory_rate;
   bool frames = false;

@@ -198,6 +198,7 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
   sc.gravity = load::boolean(sim.take("gravity"), "gravity", diag, true);
   sc.limit = load::scalar(sim.take("limit"), "limit", diag);
   sc.check_tolerance = load::scalar(sim.take("check_tolerance"), "check_tolerance", diag);
+  sc.mode = load::scalar(sim.take("mode"), "mode", diag);
   if (sim.ok()) sim.finish();
   MapReader record(root.take("record"), "record", diag);
   if (record.ok()) {

@@ -67,6 +67,12 @@ class ScenarioCompiler {
       else if (x) s.check_tolerance = *x;
     }
     positive(spec.trajectory_rate, Dim::Frequency, "trajectory rate", s.rate);
+    if (spec.mode.present) {
+      if (spec.mode.text == "fast") s.mode = SimMode::Fast;
+      else if (spec.mode.text != "physics")
+        diag_.error(spec.mode.mark, fmt::format("sim.mode must be physics or fast, found '{}'{}", spec.mode.text,
+                                                did_you_mean(spec.mode.text, {"physics", "fast"})));
+    }
     s.gravity = spec.gravity;
     s.frames = spec.frames;
     auto count = [&](const Scalar& v, const char* what, int& out) {

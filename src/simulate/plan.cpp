@@ -24,6 +24,7 @@
 namespace sscs {
 
 const char* step_kind_name(StepKind kind) { return kStepActionNames[static_cast<size_t>(kind)]; }
+const char* sim_mode_name(SimMode m) { return m == SimMode::Fast ? "fast" : "physics"; }
 
 namespace {
 

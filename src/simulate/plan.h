@@ -28,7 +28,13 @@ namespace sscs {
 /// plan is made and again when the run takes it, where the physics has it then.
 constexpr double kGraspReach = 0.02;
 
+/// How a run moves things (campaign-format.md, "Modes"): everything in ODE at the timestep, or
+/// devices and what they carry kinematically with physics only where it decides something.
+enum class SimMode : uint8_t { Physics, Fast };
+const char* sim_mode_name(SimMode m);
+
 struct SimSettings {
+  SimMode mode = SimMode::Physics;
   double timestep = 1e-3;  ///< s
   double limit = 60;       ///< s of simulated time
   double check_tolerance = 1e-4;  ///< m: spatial re-checks during the run hold within this (contacts sink)

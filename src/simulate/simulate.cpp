@@ -78,7 +78,7 @@ class Run {
  public:
   Run(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options)
       : wc_(wc), geometry_(geometry), plan_(plan), options_(options),
-        world_(wc, geometry, physics_options(plan.settings.timestep, plan.settings.gravity)), clearances_(wc, geometry),
+        world_(wc, geometry, physics_options(plan.settings.timestep, plan.settings.gravity, plan.settings.mode == SimMode::Fast)), clearances_(wc, geometry),
         recorder_(wc, geometry, world_, tracked(plan)), live_(geometry), live_values_(wc.values),
         rechecks_(wc, movers(plan), plan.settings.check_tolerance) {
     rechecks_.watch(clearances_);
@@ -636,6 +636,7 @@ class Run {
           if (auto ep = collision_of_.find(key); ep != collision_of_.end()) grow_collision(collisions_[ep->second], t, c.depth, &c.point);
           continue;
         }
+        hand_over(t, c);
         CollisionEpisode ep;
         ep.a = c.a;
         ep.b = c.b;
@@ -698,6 +699,21 @@ class Run {
           over_limit_.erase(key);
         }
       }
+    }
+  }
+
+  /// Fast mode: a device that meets something (its part or its load, a collision) goes on in
+  /// physics from here (PhysicsWorld::hand_over): whether it is stopped, deflected or pushes
+  /// through is not decided kinematically.
+  void hand_over(double t, const PhysicsContact& c) {
+    if (plan_.settings.mode != SimMode::Fast) return;
+    for (auto [o, part] : {std::pair{c.a, c.part_a}, std::pair{c.b, c.part_b}}) {
+      int device = part >= 0 ? o : -1;
+      const int load = moving_load(o);
+      for (const DeviceRun& dr : devices_)
+        if (load >= 0 && world_.held(dr.object) == load) device = dr.object;
+      if (device >= 0 && world_.hand_over(device))
+        handed_.push_back({wc_.objects[device].name, r9(t), fmt::format("{} meets {}", part_name(c.a, c.part_a), part_name(c.b, c.part_b))});
     }
   }
 
@@ -1037,6 +1053,8 @@ class Run {
     f.scenario = options_.scenario_name;
     f.vault = wc_.name;
     f.status = run_status_name(s.status);
+    f.mode = sim_mode_name(plan_.settings.mode);
+    f.handed_to_physics = handed_;
     if (std::isfinite(s.cycle_time)) f.cycle_time = r9(s.cycle_time);
     f.simulated_time = r9(s.simulated);
     if (!s.stopped_by.empty()) f.stopped = RunSummaryFile::Stopped{s.stopped_by, r9(s.stopped_at), s.stop_message};
@@ -1129,6 +1147,7 @@ class Run {
   bool failed_ = false;
   std::string stopped_by_, stop_message_;
   bool interrupted_ = false;
+  std::vector<RunSummaryFile::HandOver> handed_;  // fast mode: devices that went on in physics
   std::vector<char> started_, ended_;  // per step
   double settle_until_ = -1;           // after the last step: when loose objects must rest by
   std::chrono::steady_clock::time_point wall_start_;

@@ -77,6 +77,12 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
   j["scenario"] = scenario;
   j["vault"] = vault;
   j["status"] = status;
+  j["mode"] = mode;
+  if (mode == "fast") {
+    json h = json::array();
+    for (const HandOver& x : handed_to_physics) h.push_back({{"device", x.device}, {"t", x.t}, {"why", x.why}});
+    j["handed_to_physics"] = std::move(h);
+  }
   j["cycle_time"] = or_null(cycle_time);
   j["simulated_time"] = simulated_time;
   if (stopped) {
@@ -142,6 +148,7 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
   s.scenario = r.text(j, "scenario", "summary");
   s.vault = r.text(j, "vault", "summary");
   s.status = r.text(j, "status", "summary");
+  s.mode = r.maybe_text(j, "mode", "summary").value_or("physics");
   s.cycle_time = r.maybe_number(j, "cycle_time", "summary");
   s.simulated_time = r.number(j, "simulated_time", "summary");
   if (const json* st = r.object(j, "stopped", "summary", false))

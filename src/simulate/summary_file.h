@@ -13,6 +13,14 @@ namespace sscs {
 
 struct RunSummaryFile {
   std::string scenario, vault, status;  ///< status: ok, violations or failed
+  std::string mode = "physics";         ///< sim.mode: physics or fast (files before it: physics)
+  /// Fast mode: the devices that went on in physics, when, and why (a collision).
+  struct HandOver {
+    std::string device;
+    double t = 0;
+    std::string why;
+  };
+  std::vector<HandOver> handed_to_physics;
   std::optional<double> cycle_time;     ///< null when the run stopped before its cycle was done
   double simulated_time = 0;
   struct Stopped {

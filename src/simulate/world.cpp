@@ -15,6 +15,7 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -164,10 +165,11 @@ int spread_contacts(dContactGeom* c, int n, int keep) {
 
 }  // namespace
 
-PhysicsOptions physics_options(double timestep, bool gravity) {
+PhysicsOptions physics_options(double timestep, bool gravity, bool fast) {
   PhysicsOptions o;
   o.timestep = timestep;
   o.gravity = gravity;
+  o.fast = fast;
   const char* weld = std::getenv("SSCS_WELD_RIDERS");
   o.weld_riders = !(weld && std::string_view(weld) == "0");
   return o;
@@ -201,6 +203,7 @@ struct DeviceBodies {
   std::vector<JointRec> joints;  // per device joint (joint vector order)
   bool kinematic = false;
   Eigen::VectorXd commanded;     // kinematic devices: where they were last placed
+  std::vector<Eigen::Isometry3d> target;  // kinematic devices: each body's pose at `commanded`
 };
 
 struct PhysicsWorld::Impl {
@@ -273,6 +276,7 @@ struct PhysicsWorld::Impl {
       for (const auto& partner : touching[o])
         if (!std::binary_search(now[o].begin(), now[o].end(), partner)) {
           dBodyEnable(bodies[o]);  // also restarts its idle time
+          if (options.fast) still_for[o] = 0;  // and its dynamics run again until it rests
           break;
         }
     }
@@ -298,8 +302,10 @@ struct PhysicsWorld::Impl {
   std::map<int, DeviceBodies> devices;
   struct Grip {
     int object = -1;
-    dJointID joint = nullptr;
+    dJointID joint = nullptr;      // none in fast mode: the load is a kinematic body
     std::vector<char> tool_parts;  // the tool's part and the parts it carries
+    Eigen::Isometry3d X_tool_load = Eigen::Isometry3d::Identity();  // fast mode: the load's body in the tool's
+    Eigen::Isometry3d target = Eigen::Isometry3d::Identity();       // fast mode: where the load's body goes
   };
   std::map<int, Grip> grips;  // by device
   /// A rider and what it stands on (PhysicsWorld::ride): welded while at rest there.
@@ -424,7 +430,131 @@ struct PhysicsWorld::Impl {
     return nullptr;
   }
 
+  /// A device's parts joined by ODE hinges, sliders and fixed joints with motors and stops, the
+  /// parts standing at joint values q.
+  void join_parts(int o, DeviceBodies& db, const Eigen::VectorXd& q) {
+    const ObjectGeometry& g = geometry.objects[o];
+    const Device& d = *g.device;
+    std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+    for (auto& x : X) x = g.X_world_object * x;
+    const std::vector<char> moved = d.moved_parts();
+    for (size_t p = 0; p < d.parts.size(); ++p) {
+      const Part& part = d.parts[p];
+      if (!moved[p]) continue;
+      const Joint& j = part.joint;
+      dBodyID child = db.bodies[p], parent = db.bodies[part.parent];  // null parent: the world
+      Eigen::Isometry3d X_joint = X[part.parent] * j.origin;
+      Eigen::Vector3d anchor = X_joint.translation(), axis = X_joint.linear() * j.axis;
+      dJointID joint = nullptr;
+      switch (j.type) {
+        case JointType::Revolute:
+          joint = dJointCreateHinge(world, nullptr);
+          dJointAttach(joint, child, parent);
+          dJointSetHingeAnchor(joint, anchor.x(), anchor.y(), anchor.z());
+          dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
+          break;
+        case JointType::Prismatic:
+          joint = dJointCreateSlider(world, nullptr);
+          dJointAttach(joint, child, parent);
+          dJointSetSliderAxis(joint, axis.x(), axis.y(), axis.z());
+          break;
+        case JointType::Fixed:
+          joint = dJointCreateFixed(world, nullptr);
+          dJointAttach(joint, child, parent);
+          dJointSetFixed(joint);
+          break;
+      }
+      if (j.q < 0) continue;
+      double q0 = q[j.q];
+      db.joints[j.q] = {joint, j.type, q0};
+      double fmax = j.effort > 0 ? j.effort : 1e5;
+      bool hinge = j.type == JointType::Revolute;
+      auto set = [&](int param, double v) {
+        if (hinge) dJointSetHingeParam(joint, param, v);
+        else dJointSetSliderParam(joint, param, v);
+      };
+      set(dParamFMax, fmax);
+      set(dParamVel, 0);
+      // Stops, measured from the attach value, kStopMargin beyond the limits: a motor powered away
+      // from a stop it rests on gets its whole force for a step (ODE's "fudge factor" case), and a
+      // joint planned to its limit (a gripper's closed finger) jumped: 1e5 N on a 2 g finger threw
+      // it 50 m. Within the limits the motor alone holds the plan. ODE's hinge stops must lie within
+      // +-pi.
+      double lo = j.lower - kStopMargin - q0, hi = j.upper + kStopMargin - q0;
+      if (std::isfinite(lo) && std::isfinite(hi) && (!hinge || (lo >= -3.14159 && hi <= 3.14159))) {
+        set(dParamLoStop, lo);
+        set(dParamHiStop, hi);
+      }
+    }
+  }
+
   static void near_callback(void* data, dGeomID g1, dGeomID g2) { static_cast<Impl*>(data)->near(g1, g2); }
+
+  /// A kinematic body given the velocities that take it to `X` in `dt` (ODE's step integrates
+  /// them; contacts with it see them).
+  static void aim(dBodyID b, const Eigen::Isometry3d& X, double dt) {
+    const dReal* old = dBodyGetPosition(b);
+    dBodySetLinearVel(b, (X.translation().x() - old[0]) / dt, (X.translation().y() - old[1]) / dt, (X.translation().z() - old[2]) / dt);
+    Eigen::AngleAxisd turn(X.linear() * from_ode(old, dBodyGetRotation(b)).linear().transpose());
+    Eigen::Vector3d wv = turn.axis() * turn.angle() / dt;
+    dBodySetAngularVel(b, wv.x(), wv.y(), wv.z());
+  }
+  static void place_body(dBodyID b, const Eigen::Isometry3d& X) {
+    dBodySetPosition(b, X.translation().x(), X.translation().y(), X.translation().z());
+    dMatrix3 R;
+    to_ode(X.linear(), R);
+    dBodySetRotation(b, R);
+  }
+
+  /// Fast mode: kinematic devices and held loads exactly where they were aimed (ODE's
+  /// integration of their velocities, or none when the step skipped the dynamics).
+  void place_kinematic() {
+    for (auto& [o, db] : devices)
+      if (db.kinematic)
+        for (size_t p = 0; p < db.bodies.size() && p < db.target.size(); ++p)
+          if (db.bodies[p]) place_body(db.bodies[p], db.target[p]);
+    for (auto& [device, grip] : grips)
+      if (!grip.joint && bodies[grip.object]) place_body(bodies[grip.object], grip.target);
+  }
+
+  /// Fast mode: whether this step's dynamics decide something: a free body (not kinematic) that
+  /// is not at rest, or one that what moves (a kinematic part or load) touches or carries; those
+  /// are woken (ODE wakes no body for a kinematic one: riders asleep on a pallet the tool lifted
+  /// stayed in the air).
+  bool dynamics_needed() {
+    if (!handed.empty()) return true;
+    for (size_t o = 0; o < bodies.size(); ++o)
+      if (bodies[o] && !dBodyIsKinematic(bodies[o]) && dBodyIsEnabled(bodies[o]) && still_for[o] < kRestTime - 1e-9) return true;
+    auto free = [&](int o, int part) { return o >= 0 && part < 0 && bodies[o] && !dBodyIsKinematic(bodies[o]); };
+    // A kinematic body that moves this step: a device's part or a held load.
+    auto moves = [](dBodyID b) {
+      return b && dBodyIsKinematic(b) &&
+             (Eigen::Vector3d(dBodyGetLinearVel(b)).squaredNorm() > 0 || Eigen::Vector3d(dBodyGetAngularVel(b)).squaredNorm() > 0);
+    };
+    auto moving = [&](int o, int part) {
+      if (o >= 0 && part >= 0) {
+        auto it = devices.find(o);
+        return it != devices.end() && static_cast<size_t>(part) < it->second.bodies.size() && moves(it->second.bodies[part]);
+      }
+      return o >= 0 && moves(bodies[o]);
+    };
+    bool needed = false;
+    for (const PhysicsContact& c : contacts)
+      for (auto [x, part_x, y, part_y] : {std::tuple{c.a, c.part_a, c.b, c.part_b}, std::tuple{c.b, c.part_b, c.a, c.part_a}})
+        if (free(x, part_x) && moving(y, part_y)) {
+          dBodyEnable(bodies[x]);
+          needed = true;
+        }
+    // A stack on a load that moves (its riders welded to it touch it through no contact).
+    for (const auto& [rider, r] : rides)
+      if (r.support >= 0 && moves(bodies[r.support])) {
+        dBodyEnable(bodies[rider]);
+        needed = true;
+      }
+    return needed;
+  }
+  long dynamics_steps = 0;
+  std::set<int> handed;  // fast mode: devices handed over to physics
 
   /// The step's collision pass: what moves against what moves, then each of its geoms against
   /// the scenery's quadtree (only the blocks its box overlaps).
@@ -657,7 +787,7 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   for (dGeomID geom : w.geoms[o]) dGeomDestroy(geom);
   w.geoms[o].clear();
   DeviceBodies& db = w.devices[o];
-  db.kinematic = d.kinematic;
+  db.kinematic = d.kinematic || w.options.fast;
   db.bodies.assign(d.parts.size(), nullptr);
   db.X_body_part.assign(d.parts.size(), Eigen::Isometry3d::Identity());
   std::vector<Eigen::Isometry3d> X = d.part_poses(q);
@@ -708,54 +838,7 @@ void PhysicsWorld::add_device(int o, const Eigen::VectorXd& q) {
   }
   db.joints.resize(d.dof());
   db.commanded = q;
-  for (size_t p = 0; p < d.parts.size(); ++p) {
-    const Part& part = d.parts[p];
-    if (!moved[p] || db.kinematic) continue;
-    const Joint& j = part.joint;
-    dBodyID child = db.bodies[p], parent = db.bodies[part.parent];  // null parent: the world
-    Eigen::Isometry3d X_joint = X[part.parent] * j.origin;
-    Eigen::Vector3d anchor = X_joint.translation(), axis = X_joint.linear() * j.axis;
-    dJointID joint = nullptr;
-    switch (j.type) {
-      case JointType::Revolute:
-        joint = dJointCreateHinge(w.world, nullptr);
-        dJointAttach(joint, child, parent);
-        dJointSetHingeAnchor(joint, anchor.x(), anchor.y(), anchor.z());
-        dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
-        break;
-      case JointType::Prismatic:
-        joint = dJointCreateSlider(w.world, nullptr);
-        dJointAttach(joint, child, parent);
-        dJointSetSliderAxis(joint, axis.x(), axis.y(), axis.z());
-        break;
-      case JointType::Fixed:
-        joint = dJointCreateFixed(w.world, nullptr);
-        dJointAttach(joint, child, parent);
-        dJointSetFixed(joint);
-        break;
-    }
-    if (j.q < 0) continue;
-    double q0 = q[j.q];
-    db.joints[j.q] = {joint, j.type, q0};
-    double fmax = j.effort > 0 ? j.effort : 1e5;
-    bool hinge = j.type == JointType::Revolute;
-    auto set = [&](int param, double v) {
-      if (hinge) dJointSetHingeParam(joint, param, v);
-      else dJointSetSliderParam(joint, param, v);
-    };
-    set(dParamFMax, fmax);
-    set(dParamVel, 0);
-    // Stops, measured from the attach value, kStopMargin beyond the limits: a motor powered away
-    // from a stop it rests on gets its whole force for a step (ODE's "fudge factor" case), and a
-    // joint planned to its limit (a gripper's closed finger) jumped: 1e5 N on a 2 g finger threw
-    // it 50 m. Within the limits the motor alone holds the plan. ODE's hinge stops must lie within
-    // +-pi.
-    double lo = j.lower - kStopMargin - q0, hi = j.upper + kStopMargin - q0;
-    if (std::isfinite(lo) && std::isfinite(hi) && (!hinge || (lo >= -3.14159 && hi <= 3.14159))) {
-      set(dParamLoStop, lo);
-      set(dParamHiStop, hi);
-    }
-  }
+  if (!db.kinematic) w.join_parts(o, db, q);
 }
 
 void PhysicsWorld::drive(int o, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
@@ -768,19 +851,19 @@ void PhysicsWorld::drive(int o, const Eigen::VectorXd& q, const Eigen::VectorXd&
   if (db.kinematic) {
     // Placed on the plan, with the velocities that take them there (for contacts with them).
     std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+    db.target.resize(d.parts.size());
     for (size_t p = 0; p < d.parts.size(); ++p) {
       dBodyID b = db.bodies[p];
       if (!b) continue;
-      Eigen::Isometry3d Xb = g.X_world_object * X[p] * db.X_body_part[p].inverse();
-      const dReal* old = dBodyGetPosition(b);
-      double dt = w.options.timestep;
-      dBodySetLinearVel(b, (Xb.translation().x() - old[0]) / dt, (Xb.translation().y() - old[1]) / dt,
-                        (Xb.translation().z() - old[2]) / dt);
-      Eigen::AngleAxisd turn(Xb.linear() * from_ode(old, dBodyGetRotation(b)).linear().transpose());
-      Eigen::Vector3d wv = turn.axis() * turn.angle() / dt;
-      dBodySetAngularVel(b, wv.x(), wv.y(), wv.z());  // ODE's step integrates them to Xb
+      db.target[p] = g.X_world_object * X[p] * db.X_body_part[p].inverse();
+      Impl::aim(b, db.target[p], w.options.timestep);
     }
     db.commanded = q;
+    // Fast mode: what the tool holds goes with it, rigidly.
+    if (auto grip = w.grips.find(o); grip != w.grips.end() && !grip->second.joint && db.bodies[d.tool_part]) {
+      grip->second.target = db.target[d.tool_part] * grip->second.X_tool_load;
+      Impl::aim(w.bodies[grip->second.object], grip->second.target, w.options.timestep);
+    }
     return;
   }
   // Motors: the planned velocity plus a proportional correction of the error against where the
@@ -836,9 +919,17 @@ void PhysicsWorld::grasp(int device, int o) {
   grip.object = o;
   grip.tool_parts = d.tool_parts();
   dBodyID tool = it->second.bodies[d.tool_part];
-  grip.joint = dJointCreateFixed(w.world, nullptr);
-  dJointAttach(grip.joint, w.bodies[o], tool);  // a null tool body (a fixed tool) holds it to the world
-  dJointSetFixed(grip.joint);
+  if (w.options.fast && tool && it->second.kinematic) {
+    // Fast mode: the load moves rigidly with the tool, a kinematic body placed with it.
+    grip.X_tool_load = from_ode(dBodyGetPosition(tool), dBodyGetRotation(tool)).inverse() *
+                       from_ode(dBodyGetPosition(w.bodies[o]), dBodyGetRotation(w.bodies[o]));
+    grip.target = from_ode(dBodyGetPosition(w.bodies[o]), dBodyGetRotation(w.bodies[o]));
+    dBodySetKinematic(w.bodies[o]);
+  } else {
+    grip.joint = dJointCreateFixed(w.world, nullptr);
+    dJointAttach(grip.joint, w.bodies[o], tool);  // a null tool body (a fixed tool) holds it to the world
+    dJointSetFixed(grip.joint);
+  }
   dBodyEnable(w.bodies[o]);
   w.grips[device] = std::move(grip);
 }
@@ -847,7 +938,8 @@ void PhysicsWorld::release(int device) {
   Impl& w = *impl_;
   auto it = w.grips.find(device);
   if (it == w.grips.end()) return;
-  dJointDestroy(it->second.joint);
+  if (it->second.joint) dJointDestroy(it->second.joint);
+  else dBodySetDynamic(w.bodies[it->second.object]);  // fast mode: free again, moving as the tool did
   dBodyEnable(w.bodies[it->second.object]);
   w.still_for[it->second.object] = 0;  // held still is no rest: it is judged from its release
   w.recent[it->second.object].samples.clear();
@@ -896,9 +988,16 @@ void PhysicsWorld::step() {
   try {
     Impl::collide(&w);
     w.wake_unsupported();
-    dWorldStep(w.world, w.options.timestep);
-    w.sum_device_forces();
-    w.update_rides();
+    if (!w.options.fast || w.dynamics_needed()) {
+      dWorldStep(w.world, w.options.timestep);
+      w.sum_device_forces();
+      w.update_rides();
+      ++w.dynamics_steps;
+    } else {
+      w.feedback.clear();
+      w.feedback_of.clear();
+    }
+    if (w.options.fast) w.place_kinematic();
   } catch (const PhysicsFailure&) {
     w.broken = true;
     g_messages = nullptr;
@@ -938,6 +1037,28 @@ void PhysicsWorld::step() {
 }
 
 const SolverMessages& PhysicsWorld::solver_messages() const { return impl_->messages; }
+long PhysicsWorld::dynamics_steps() const { return impl_->dynamics_steps; }
+
+bool PhysicsWorld::hand_over(int o) {
+  Impl& w = *impl_;
+  auto it = w.devices.find(o);
+  if (!w.options.fast || it == w.devices.end() || !it->second.kinematic || w.geometry.objects[o].device->kinematic) return false;
+  DeviceBodies& db = it->second;
+  for (dBodyID b : db.bodies)
+    if (b) dBodySetDynamic(b);
+  db.kinematic = false;
+  db.target.clear();
+  w.join_parts(o, db, db.commanded);
+  if (auto grip = w.grips.find(o); grip != w.grips.end() && !grip->second.joint) {
+    const dBodyID load = w.bodies[grip->second.object];
+    dBodySetDynamic(load);
+    grip->second.joint = dJointCreateFixed(w.world, nullptr);
+    dJointAttach(grip->second.joint, load, db.bodies[w.geometry.objects[o].device->tool_part]);
+    dJointSetFixed(grip->second.joint);
+  }
+  w.handed.insert(o);
+  return true;
+}
 
 double PhysicsWorld::time() const { return impl_->time; }
 double PhysicsWorld::floor_z() const { return impl_->floor; }

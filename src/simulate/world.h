@@ -58,10 +58,16 @@ struct PhysicsOptions {
   /// Riders welded to their support while it holds them (PhysicsWorld::ride); off, they stay on
   /// their contacts. On unless SSCS_WELD_RIDERS=0 (the e2e test comparing the two).
   bool weld_riders = true;
+  /// Fast mode (campaign-format.md, "Modes"): every device moves kinematically on its plan, a
+  /// held load rigidly with its tool (a kinematic body), and a step integrates the dynamics only
+  /// when something free moves or is touched by what moves (a release until it rests, a carried
+  /// stack's riders, a drum a device pushes); otherwise it only places what moves and finds the
+  /// contacts.
+  bool fast = false;
 };
 
-/// The options of a run with `timestep` and `gravity`, welding as SSCS_WELD_RIDERS says.
-PhysicsOptions physics_options(double timestep, bool gravity);
+/// The options of a run with `timestep` and `gravity` (and `fast`), welding as SSCS_WELD_RIDERS says.
+PhysicsOptions physics_options(double timestep, bool gravity, bool fast = false);
 
 /// What ODE's solver said during a run ("LCP internal error, s <= 0": on that step it stopped
 /// solving the contacts early and left the rest of their forces at zero).
@@ -123,8 +129,17 @@ class PhysicsWorld {
   bool dynamic(int object) const;
   /// Whether a dynamic object has come to rest (slower than 5 mm/s and 0.01 rad/s for 0.2 s).
   bool at_rest(int object) const;
-  /// Advances one timestep: contacts, then the ODE step.
+  /// Advances one timestep: contacts, then the ODE step (in fast mode only when something free
+  /// moves or is touched by what moves: see dynamics_steps()).
   void step();
+  /// Fast mode: the steps that integrated the dynamics so far (of all steps taken).
+  long dynamics_steps() const;
+  /// Fast mode: device `object` goes on in physics, as in physics mode, from where it is: its
+  /// parts become bodies joined by motors and stops, what it holds is held by a fixed joint. For
+  /// what fast mode cannot decide kinematically (a device or its load meeting something: whether
+  /// it is stopped, deflected or pushes through is the physics' to say). False when it already is
+  /// in physics (or moves kinematically in physics mode too, `driven: kinematic`).
+  bool hand_over(int object);
   double time() const;
   /// ODE's messages of this world's steps so far.
   const SolverMessages& solver_messages() const;
