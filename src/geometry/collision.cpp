@@ -1091,7 +1091,7 @@ std::vector<Eigen::Vector3d> hull_points(const Shape& s, const Eigen::Isometry3d
 }  // namespace
 
 std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
-                                    uint8_t faces, double min, std::string* through) {
+                                    uint8_t faces, double min, std::string* through, int part, double* uncounted) {
   const ObjectGeometry& c = geometry.objects[container];
   if (c.shapes.size() != 1 || c.shapes[0].kind == Shape::Kind::Sphere) {
     *why = "the container must have exactly one box, cylinder or mesh shape (its inside)";
@@ -1107,18 +1107,23 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
   // Per face: the smallest distance of the object inside it (negative: protrusion). Counted faces
   // give the margin less `min`; any protrusion fails, counted or not.
   double counted = INFINITY, protrusion = 0;
+  if (uncounted) *uncounted = INFINITY;
   auto face = [&](uint8_t bit, double distance, const char* name = "") {
     if (faces & bit) counted = std::min(counted, distance - min);
+    else if (uncounted) *uncounted = std::min(*uncounted, distance);
     if (distance < protrusion && through) *through = name;
     protrusion = std::min(protrusion, distance);
   };
+  auto judged = [part](const Shape& s) { return part < 0 || s.part == part; };
   auto result = [&]() { return protrusion < 0 ? std::min(protrusion, counted) : counted; };
   switch (cs.kind) {
     case Shape::Kind::Box: {
       // Bounds in the box's own frame are exact for boxes, cylinders and spheres at any rotation.
       Eigen::Vector3d half = cs.box_size / 2;
       Eigen::AlignedBox3d b;
-      for (const Shape& s : g.shapes) b.extend(shape_bounds(s, X_c_world * g.X_world_object * s.X_object_shape));
+      for (const Shape& s : g.shapes)
+        if (judged(s)) b.extend(shape_bounds(s, X_c_world * g.X_world_object * s.X_object_shape));
+      if (b.isEmpty()) return INFINITY;  // the part has no shape
       static constexpr const char* kNames[3][2] = {{"its x- face", "its x+ face"}, {"its y- face", "its y+ face"}, {"its floor", "its top"}};
       for (int k = 0; k < 3; ++k) {
         face(static_cast<uint8_t>(1 << (2 * k)), b.min()[k] + half[k], kNames[k][0]);
@@ -1134,6 +1139,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       // Along the axis: exact bounds; radially: the farthest point from the axis.
       double half = cs.length / 2;
       for (const Shape& s : g.shapes) {
+        if (!judged(s)) continue;
         Eigen::Isometry3d X = X_c_world * g.X_world_object * s.X_object_shape;
         Eigen::AlignedBox3d b = shape_bounds(s, X);
         face(SpatialCheck::ZMin, b.min().z() + half, "its bottom");
@@ -1166,7 +1172,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       double margin = INFINITY, worst_outside = 0;
       bool any_outside = false;
       for (const Shape& s : g.shapes)
-        for (const Eigen::Vector3d& p : hull_points(s, X_c_world * g.X_world_object * s.X_object_shape)) {
+        for (const Eigen::Vector3d& p : judged(s) ? hull_points(s, X_c_world * g.X_world_object * s.X_object_shape) : std::vector<Eigen::Vector3d>()) {
           double d = surface_distance(p, v, tris);
           if (inside_mesh(p, v, tris)) {
             margin = std::min(margin, d);

@@ -172,8 +172,11 @@ class CollisionWorld {
 /// container is not such a shape, the faces do not apply to it, or the object has no geometry.
 /// `through` (when given) names the face it sticks out through farthest ("its floor", "its x+
 /// face", "its round side"; a box's z- face is its floor), "" for a mesh or when inside.
+/// `part` (>= 0) judges only that part's shapes of a device; `uncounted` (when given) is set to
+/// the least distance to a face not counted (inf: none), which fails the rule once below zero.
 std::optional<double> inside_margin(const GeometryModel& geometry, int object, int container, std::string* why,
-                                    uint8_t faces = SpatialCheck::All, double min = 0, std::string* through = nullptr);
+                                    uint8_t faces = SpatialCheck::All, double min = 0, std::string* through = nullptr,
+                                    int part = -1, double* uncounted = nullptr);
 
 /// How a device's configuration is judged free, the same for `reach` and for the joint values a
 /// scenario's move_to plans (a run's physics has it so): containers (rooms) are spaces; what the

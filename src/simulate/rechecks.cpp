@@ -73,7 +73,7 @@ ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& 
     const auto* spatial = std::get_if<SpatialCheck>(&wc.constraints[i].body);
     if (!only[i] || !spatial || spatial->kind != SpatialCheck::Kind::Inside || spatial->container < 0) continue;
     Inside in{static_cast<int>(i), spatial->container, spatial->faces, spatial->min_si, std::max(spatial->eps_si, tolerance), {}};
-    for (int o : spatial->objects) in.members.push_back({o, -INFINITY, {}});
+    for (int o : spatial->objects) in.members.push_back({o, {}, {}});
     inside_.push_back(std::move(in));
   }
   if (any) options_.only = std::move(only);
@@ -110,28 +110,56 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
   }
   const CheckReport report = sscs::check(wc_, live, values, options_);
   judge(t, report, dipped, false, events);
-  note_inside(report);
+  note_inside(report, live);
 }
 
 void ConstraintRechecks::check_step(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events) {
   judge(t, sscs::check(wc_, live, values, step_options_), {}, true, events);
 }
 
-void ConstraintRechecks::note_inside(const CheckReport& report) {
+std::vector<double> ConstraintRechecks::part_margins(const GeometryModel& live, const Inside& in, int object) {
+  const ObjectGeometry& g = live.objects[object];
+  const int parts = g.device ? static_cast<int>(g.X_object_part.size()) : 1;
+  std::vector<double> out(parts);
+  for (int p = 0; p < parts; ++p) {
+    std::string why;
+    double uncounted = INFINITY;
+    const std::optional<double> m = inside_margin(live, object, in.container, &why, in.faces, in.min, nullptr, g.device ? p : -1, &uncounted);
+    out[p] = m ? std::min(*m, uncounted) : -INFINITY;
+  }
+  return out;
+}
+
+void ConstraintRechecks::note_inside(const CheckReport& report, const GeometryModel& live) {
   for (Inside& in : inside_) {
-    bool seen = false;
-    double margin = INFINITY;  // the rule's: the least of its objects'
+    bool seen = false, failing = false;
     for (const CheckResult& r : report.results) {
       if (r.constraint != in.constraint) continue;
       seen = true;
-      margin = r.status != Status::Pass ? -INFINITY : std::min(margin, r.margin.value_or(-INFINITY));  // in m: inside's unit
+      failing = failing || r.status != Status::Pass;
     }
     if (!seen) continue;
     for (Inside::Member& m : in.members) {
-      m.margin = margin;
+      m.margin = failing ? std::vector<double>() : part_margins(live, in, m.object);
       m.travelled_then.clear();
     }
   }
+}
+
+bool ConstraintRechecks::inside_clear(const ClearanceTracker& tracker, double ahead) const {
+  for (const Inside& in : inside_) {
+    if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return m.margin.empty(); })) continue;
+    const std::vector<double>* container = tracker.travelled(in.container);
+    const double container_went = container ? *std::max_element(container->begin(), container->end()) : 0.0;
+    for (const Inside::Member& m : in.members) {
+      const std::vector<double>* now = tracker.travelled(m.object);
+      for (size_t p = 0; p < m.margin.size(); ++p) {
+        const double went = (now && p < now->size() ? (*now)[p] : 0.0) - (p < m.travelled_then.size() ? m.travelled_then[p] : 0.0);
+        if (m.margin[p] + in.eps - went - container_went - ahead <= 0) return false;
+      }
+    }
+  }
+  return true;
 }
 
 void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tracker, const std::function<void()>& pose,
@@ -145,21 +173,22 @@ void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tra
   };
   std::vector<char> only;  // the rules to check exactly: allocated only at a step that has one
   for (Inside& in : inside_) {
-    if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return !std::isfinite(m.margin); }))
+    if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return m.margin.empty(); }))
       continue;  // failing at the sample: it cannot start failing
     const double container_went = went(in.container, {});
     for (Inside::Member& m : in.members) {
-      // Its margin can have shrunk by no more than it and the container went; through a face
-      // not counted it may leave however far it is from the counted ones.
-      const double moved = went(m.object, m.travelled_then) + container_went;
-      if (in.faces == SpatialCheck::All ? m.margin + in.eps - moved > 0 : moved == 0) continue;
+      // Each part's margin can have shrunk by no more than it and the container went.
+      const std::vector<double>* now = tracker.travelled(m.object);
+      bool clear = true;
+      for (size_t p = 0; p < m.margin.size() && clear; ++p) {
+        const double moved = (now && p < now->size() ? (*now)[p] : 0.0) - (p < m.travelled_then.size() ? m.travelled_then[p] : 0.0);
+        clear = m.margin[p] + in.eps - moved - container_went > 0;
+      }
+      if (clear) continue;
       pose();
-      std::string why;
-      const std::optional<double> now = inside_margin(live, m.object, in.container, &why, in.faces, in.min);
-      m.margin = now.value_or(-INFINITY);
-      const std::vector<double>* travelled = tracker.travelled(m.object);
-      m.travelled_then = travelled ? *travelled : std::vector<double>();
-      if (m.margin < -in.eps) {  // out: the rule's own check says how
+      m.margin = part_margins(live, in, m.object);
+      m.travelled_then = now ? *now : std::vector<double>();
+      if (*std::min_element(m.margin.begin(), m.margin.end()) < -in.eps) {  // out: the rule's own check says how
         only.resize(wc_.constraints.size(), 0);
         only[in.constraint] = 1;
       }
@@ -170,7 +199,7 @@ void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tra
   exact.only = std::move(only);
   const CheckReport report = sscs::check(wc_, live, values, exact);
   judge(t, report, {}, true, events);
-  note_inside(report);
+  note_inside(report, live);
 }
 
 void ConstraintRechecks::judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples,

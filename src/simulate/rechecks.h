@@ -35,6 +35,9 @@ class ConstraintRechecks {
   /// dip's time, with its distance and margin, though the samples pass.
   void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
              const ClearanceTracker* tracker = nullptr);
+  /// Whether every `inside` rule is certain to hold while its objects go at most `ahead` (m)
+  /// further than the tracker has them gone now (fast mode's stride between samples).
+  bool inside_clear(const ClearanceTracker& tracker, double ahead) const;
   /// Whether some `bound` or `expr` re-checked reads the motion itself (a moved object's
   /// location, orientation or bounding box, a device's joint values): those are also checked
   /// at every physics step between the samples (`check_step`).
@@ -73,23 +76,28 @@ class ConstraintRechecks {
     double gap = 0;  ///< its min, m
   };
   std::vector<Watched> watched_;
-  /// An `inside` rule watched between samples: per object, a lower bound of its margin (its
-  /// own, measured exactly at a step, or the rule's at the sample: -inf when failing then) and
-  /// how far it had gone by then.
+  /// An `inside` rule watched between samples: per object and part (a device's parts, else one),
+  /// the least of its distance to a counted face less `min` and to a face not counted (through
+  /// which it must not stick out either), measured exactly at the sample or at a step since, and
+  /// how far the part had gone by then: each can shrink by no more than the part and the
+  /// container went (the crane's columns standing on the hall's floor, not counted, do not make
+  /// its moving trolley's bound nil).
   struct Inside {
     int constraint = -1, container = -1;
     uint8_t faces = SpatialCheck::All;
     double min = 0, eps = 0;
     struct Member {
       int object = -1;
-      double margin = -INFINITY;
+      std::vector<double> margin;          ///< per part; empty: not measured (the rule failed at the sample)
       std::vector<double> travelled_then;  ///< per part; empty: none (the sample)
     };
     std::vector<Member> members;
   };
   std::vector<Inside> inside_;
-  /// Records the `inside` rules' margins from a sample's report.
-  void note_inside(const CheckReport& report);
+  /// Records the `inside` rules' margins at a sample (its report, and the parts measured in `live`).
+  void note_inside(const CheckReport& report, const GeometryModel& live);
+  /// A member's margins per part, measured in `live`.
+  static std::vector<double> part_margins(const GeometryModel& live, const Inside& in, int object);
 };
 
 }  // namespace sscs

@@ -195,6 +195,7 @@ class Run {
     // (Its bounds reach the load's bottom and lie under its footprint: a rack whose deck
     // the drum stands on rises far above the drum's bottom, and lifting the drum off
     // the deck was a collision.)
+    lifted_from_[ps.object] = bottom_of(ps.object);
     for (int other : stands_on(ps.object)) {
       supports_.insert({ps.object, other});
       clearances_.excuse(ps.object, other, t, lift_end(ps.device, t));  // the lift off it
@@ -435,11 +436,15 @@ class Run {
   bool lifting_off(const PhysicsContact& c) const {
     if (c.depth >= kSupportGap) return false;
     // Only at the load's underside: a drum dragged into the upright of the rack it was lifted
-    // from ran ok (the whole rack was its support).
+    // from ran ok (the whole rack was its support). And only while it has not yet risen
+    // kSupportGap: lifted 45 mm and pushed sideways into that upright, its contact at the bottom
+    // rim was taken for the lift.
     for (auto [load, other] : {std::pair{c.a, c.b}, std::pair{c.b, c.a}})
       if (load >= 0 && held_anywhere(load) && supports_.count({load, other}) &&
-          c.point.z() <= live_.objects[load].bbox_world.min().z() + kSupportGap)
-        return true;
+          c.point.z() <= live_.objects[load].bbox_world.min().z() + kSupportGap) {
+        auto from = lifted_from_.find(load);
+        if (from == lifted_from_.end() || bottom_of(load) < from->second + kSupportGap) return true;
+      }
     return false;
   }
 
@@ -1138,7 +1143,8 @@ class Run {
     Eigen::Vector3d position;  // its origin
     double bottom = 0;         // the height of its lowest point
   };
-  std::map<int, SetDown> set_down_at_;  // where an object was set down (released, or its load was)
+  std::map<int, SetDown> set_down_at_;
+  std::map<int, double> lifted_from_;  // a grasped object: the height of its lowest point when grasped  // where an object was set down (released, or its load was)
   std::map<int, Eigen::Isometry3d> X_load_rider_;  // a rider's pose on its load when the load was grasped
   std::map<int, std::pair<size_t, double>> shifted_;  // rider -> its load_shifted event, the largest shift
   std::map<int, Eigen::Isometry3d> rested_;  // released objects at rest -> where they came to rest

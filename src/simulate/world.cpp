@@ -276,7 +276,10 @@ struct PhysicsWorld::Impl {
       for (const auto& partner : touching[o])
         if (!std::binary_search(now[o].begin(), now[o].end(), partner)) {
           dBodyEnable(bodies[o]);  // also restarts its idle time
-          if (options.fast) still_for[o] = 0;  // and its dynamics run again until it rests
+          // Fast mode: what a device (its part, its load) let go of moves again until it rests
+          // (it is not stepped while at rest); contacts flickering on scenery do not count.
+          const auto [other, part] = partner;
+          if (options.fast && (part >= 0 || (other >= 0 && bodies[other] && dBodyIsKinematic(bodies[other])))) still_for[o] = 0;
           break;
         }
     }
