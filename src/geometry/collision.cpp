@@ -541,6 +541,7 @@ struct CollisionWorld::Impl {
         if (!parts.empty() && (part < 0 || !parts[part])) continue;
         double bound = box_gap(mine[i]->getAABB(), theirs[k]->getAABB());
         if (bound == 0) bound = -INFINITY;  // overlapping boxes: any depth
+        if (bound >= limit) continue;  // what was measured before only raises the bound
         auto last = measured.find({object, other, i, k});
         if (last != measured.end())
           bound = std::max(bound, last->second.distance - travel(*mine[i], last->second.X_a) - travel(*theirs[k], last->second.X_b));
@@ -580,8 +581,10 @@ struct CollisionWorld::Impl {
     auto& list = of(object);
     fcl::AABBd box;
     for (size_t k = 0; k < list.size(); ++k) {
-      list[k]->setTransform(fcl::Transform3d(X_world_shape[k].matrix()));
-      list[k]->computeAABB();
+      if (!(list[k]->getTransform().matrix() == X_world_shape[k].matrix())) {  // a crane's runway stays where it is
+        list[k]->setTransform(fcl::Transform3d(X_world_shape[k].matrix()));
+        list[k]->computeAABB();
+      }
       if (k == 0) box = list[k]->getAABB();
       else box += list[k]->getAABB();
     }
@@ -978,7 +981,20 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
   std::vector<Proximity> out;
   const auto& mine = impl_->of(object);
   if (mine.empty()) return out;
-  const fcl::AABBd box = impl_->bounds(object);
+  // The bounds of the shapes measured: of the parts asked for only (a crane's moving hook, not
+  // its runway along the whole hall).
+  fcl::AABBd box = impl_->bounds(object);
+  if (!parts.empty()) {
+    bool any = false;
+    for (size_t i = 0; i < mine.size(); ++i) {
+      const int part = impl_->geometry.objects[object].shapes[i].part;
+      if (part < 0 || !parts[part]) continue;
+      if (!any) box = mine[i]->getAABB();
+      else box += mine[i]->getAABB();
+      any = true;
+    }
+    if (!any) return out;
+  }
   const auto& objects = impl_->geometry.objects;
   for (size_t o = 0; o < objects.size(); ++o) {
     int other = static_cast<int>(o);
@@ -994,13 +1010,26 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
   return out;
 }
 
-std::optional<Proximity> CollisionWorld::pair_distance(int object, int other, const std::vector<char>& parts) {
+std::optional<Proximity> CollisionWorld::pair_distance(int object, int other, const std::vector<char>& parts, double below) {
   if (impl_->of(object).empty() || impl_->of(other).empty()) return std::nullopt;
-  return impl_->nearest(object, other, INFINITY, parts);
+  return impl_->nearest(object, other, below, parts);
 }
 
 double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
   return moved(from, to, impl_->reach(object, part));
+}
+
+bool CollisionWorld::self_clear(int object, double gap) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  if (!g.device) return true;
+  const auto& mine = impl_->of(object);
+  for (size_t i = 0; i < mine.size(); ++i)
+    for (size_t k = i + 1; k < mine.size(); ++k) {
+      const int a = g.shapes[i].part, b = g.shapes[k].part;
+      if (a == b || g.device->may_touch(a, b) || box_gap(mine[i]->getAABB(), mine[k]->getAABB()) > gap) continue;
+      if (signed_distance(mine[i].get(), mine[k].get()) <= gap) return false;
+    }
+  return true;
 }
 
 std::vector<std::pair<int, int>> CollisionWorld::candidate_pairs(const std::vector<int>& objects, double margin) {

@@ -147,13 +147,18 @@ class CollisionWorld {
 
   /// The distance of `object` (its `parts` only, when given) to `other` at their current
   /// placements, with the nearest parts: proximity() for one pair, whatever their bounds' gap.
-  std::optional<Proximity> pair_distance(int object, int other, const std::vector<char>& parts = {});
+  /// With `below`: only shapes whose boxes are nearer than it are measured (none: nullopt or a
+  /// distance of at least `below`).
+  std::optional<Proximity> pair_distance(int object, int other, const std::vector<char>& parts = {}, double below = INFINITY);
 
   /// How far any point of `object`'s shapes (those of device part `part`; -1 for an object
   /// that is no device) can have moved when its frame (the part's) went from `from` to `to`: the
   /// frame's displacement plus the turn times the shapes' farthest reach from it. An upper bound
   /// whatever the path between, as long as the frame turned by less than half a turn.
   double travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to);
+  /// Whether every two parts of device `object` that may not touch (not adjacent) are farther
+  /// apart than `gap` where it is placed now.
+  bool self_clear(int object, double gap);
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

@@ -110,7 +110,12 @@ void ClearanceTracker::next_interval(double t) {
     p.poses.assign(1, p.now);
     p.travelled.assign(1, std::vector<double>(p.now.size(), 0.0));
     p.keep = p.decided = false;
+    p.spans.clear();
   }
+}
+
+void ClearanceTracker::glide(int object, double from, double to, double step, PoseSource source) {
+  paths_[object].spans.push_back({from, to, step, std::move(source)});
 }
 
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
@@ -197,6 +202,9 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
     return;
   }
   if (j - i <= 1 || std::min(d_i, d_j) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_i, d_j))) {
+    // Two sub-steps of a glide: halved in time, the poses from its plan.
+    if (const Path::Span* span = j - i == 1 ? p.span(p.t[i], p.t[j]) : nullptr)
+      return refine_span(pair, moving, other, parts, *span, p.t[i], p.t[j], p.poses[i], p.poses[j], at_i, at_j, other_travel);
     keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
@@ -211,6 +219,37 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
   } else {
     refine(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
     refine(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel);
+  }
+}
+
+void ClearanceTracker::refine_span(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path::Span& span,
+                                   double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
+                                   const std::vector<Eigen::Isometry3d>& X_b, const Proximity& at_a, const Proximity& at_b,
+                                   double other_travel) {
+  const bool device = geometry_.objects[moving].device != nullptr;
+  double D = other_travel;
+  for (size_t k = 0; k < X_a.size() && k < X_b.size(); ++k)
+    D = std::max(D, other_travel + nearby_.travel_bound(moving, device ? static_cast<int>(k) : -1, X_a[k], X_b[k]));
+  const double d_a = at_a.distance, d_b = at_b.distance;
+  const double lower = interval_bound(d_a, d_b, D);
+  if (lower >= pair.closest()) return;
+  if (lower >= -kContact && pair.excused_over(t_a, t_b)) return;
+  if (lower >= best_ || t_b - t_a <= span.step * 1.5 || std::min(d_a, d_b) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_a, d_b))) {
+    keep_bound(pair, moving, other, at_a, t_a, at_b, t_b, D);
+    return;
+  }
+  const double t_m = (t_a + t_b) / 2;
+  std::vector<Eigen::Isometry3d> X_m;
+  span.source(t_m, X_m);
+  place(moving, X_m);
+  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
+  if (!at_m) return;
+  if (std::min(d_a, at_m->distance) <= std::min(at_m->distance, d_b)) {
+    refine_span(pair, moving, other, parts, span, t_a, t_m, X_a, X_m, at_a, *at_m, other_travel);
+    refine_span(pair, moving, other, parts, span, t_m, t_b, X_m, X_b, *at_m, at_b, other_travel);
+  } else {
+    refine_span(pair, moving, other, parts, span, t_m, t_b, X_m, X_b, *at_m, at_b, other_travel);
+    refine_span(pair, moving, other, parts, span, t_a, t_m, X_a, X_m, at_a, *at_m, other_travel);
   }
 }
 
@@ -245,10 +284,10 @@ std::optional<ClearanceTracker::Dip> ClearanceTracker::dip(int a, int b, double 
 }
 
 void ClearanceTracker::measure_penetration(double t, int a, int b) {
-  std::pair<int, int> parts{-1, -1};  // named as a collision names them: the device's part
-  const std::optional<double> d = nearby_.distance(a, b, &parts);
-  if (!d || *d >= -kContact) return;
-  keep(pairs_[key(a, b)], {*d, t, run_part_name(wc_, geometry_, a, parts.first), run_part_name(wc_, geometry_, b, parts.second)});
+  // Only shapes whose boxes overlap can be deeper than a contact into each other.
+  const std::optional<Proximity> p = nearby_.pair_distance(a, b, {}, -kContact);
+  if (!p || p->distance >= -kContact) return;
+  keep(pairs_[key(a, b)], {p->distance, t, run_part_name(wc_, geometry_, a, p->part), run_part_name(wc_, geometry_, b, p->other_part)});
 }
 
 void ClearanceTracker::excuse(int a, int b, double from, double to) {

@@ -6,6 +6,7 @@
 /// release), never for the run, and never a penetration deeper than a contact (a drum lowered
 /// through the drum it then landed on is -0.57 m, not the 0.02 m of some other pair).
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -45,6 +46,8 @@ class ClearanceTracker {
   /// The signed distance of two objects where they are now (minus the depth when they
   /// interpenetrate); nullopt when one has no solid.
   std::optional<double> distance(int a, int b) { return nearby_.distance(a, b); }
+  /// The collision world the tracker measures in (fast mode's glide asks it what is near).
+  CollisionWorld& world() { return nearby_; }
 
   /// Measures at time `t` how close `moving` (its `parts` only, when given) comes to every other
   /// object within reach but `skip`; keeps each pair's closest approaches.
@@ -90,6 +93,12 @@ class ClearanceTracker {
   }
   /// At the sample at `t`, after every measure(): the paths start again from where everything is.
   void next_interval(double t);
+  /// Where `object` is at any time of [from, to] (one pose per part for a device, else one).
+  using PoseSource = std::function<void(double t, std::vector<Eigen::Isometry3d>& X_world)>;
+  /// Fast mode's glide: between its followed sub-steps from `from` to `to`, `object`'s poses come
+  /// from `source` (its plan), so a bound between two sub-steps is halved in time, as between
+  /// the kept poses of physics steps, down to `step` (s, the physics step: as fine as they are).
+  void glide(int object, double from, double to, double step, PoseSource source);
   /// Closer than this to the measured distance (m), or than kCertifyFraction of it, a lower
   /// bound is not refined further: 0.1 mm near, 2 mm at 2 m, where no closest approach is.
   static constexpr double kCertifyTolerance = 1e-4, kCertifyFraction = 1e-3;
@@ -128,6 +137,16 @@ class ClearanceTracker {
     std::vector<std::vector<Eigen::Isometry3d>> poses;  ///< at each of t: the sample's first
     std::vector<std::vector<double>> travelled;         ///< kept: at each of t, per part; else one entry
     bool keep = false, decided = false;
+    struct Span {
+      double from = 0, to = 0, step = 0;
+      PoseSource source;
+    };
+    std::vector<Span> spans;  ///< glides since the sample (fast mode)
+    const Span* span(double from, double to) const {
+      for (const Span& s : spans)
+        if (from >= s.from - 1e-12 && to <= s.to + 1e-12) return &s;
+      return nullptr;
+    }
     const std::vector<Eigen::Isometry3d>& start() const { return poses.front(); }
     double total() const;  ///< the most any point went since the sample
     double between(size_t i, size_t j) const;  ///< the most any point went from t[i] to t[j]
@@ -142,6 +161,11 @@ class ClearanceTracker {
   /// halving where it could be news, each piece kept as a record.
   void refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
               const Proximity& at_i, const Proximity& at_j, double other_travel);
+
+  /// refine() between two times of a glide, its poses from `source`.
+  void refine_span(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path::Span& span, double t_a,
+                   double t_b, const std::vector<Eigen::Isometry3d>& X_a, const std::vector<Eigen::Isometry3d>& X_b,
+                   const Proximity& at_a, const Proximity& at_b, double other_travel);
 
   /// The earliest kept pose in (i, j] nearer than `gap`: the interval halved, the earlier half
   /// searched first, a piece whose bound clears the gap skipped.

@@ -29,15 +29,21 @@ class ConstraintRechecks {
   /// The clearance rules' pairs (a `clearance` between objects, one of them moved) for the
   /// tracker to watch between samples, each at its gap less the tolerance.
   void watch(ClearanceTracker& tracker) const;
+  /// The widest gap of those rules (m; 0: none): fast mode glides only farther from everything.
+  double widest_watch() const {
+    double most = 0;
+    for (const Watched& w : watched_) most = std::max(most, w.gap);
+    return most;
+  }
   /// Checks them against the motion's geometry and slot values at time `t`; each that starts
   /// failing (it passed, or this is its first check) is an event in `events`. A clearance rule
   /// the tracker saw broken between the last sample and this one (a dip) starts failing at the
   /// dip's time, with its distance and margin, though the samples pass.
   void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
              const ClearanceTracker* tracker = nullptr);
-  /// Whether every `inside` rule is certain to hold while its objects go at most `ahead` (m)
-  /// further than the tracker has them gone now (fast mode's stride between samples).
-  bool inside_clear(const ClearanceTracker& tracker, double ahead) const;
+  /// Whether every `inside` rule is certain to hold while its objects go at most `ahead` (m: per
+  /// object, per part) further than the tracker has them gone now (fast mode's glide).
+  bool inside_clear(const ClearanceTracker& tracker, const std::map<int, std::vector<double>>& ahead) const;
   /// Whether some `bound` or `expr` re-checked reads the motion itself (a moved object's
   /// location, orientation or bounding box, a device's joint values): those are also checked
   /// at every physics step between the samples (`check_step`).

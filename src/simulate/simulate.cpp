@@ -56,6 +56,7 @@ constexpr double kRad = 180 / std::numbers::pi;
 constexpr double kSupportGap = 0.005;         // m: a load this close to something when grasped stood on it
 constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
 constexpr double kRestTurnLimit = 0.02;       // rad: an object at rest turned by more moves again
+constexpr double kGlideMargin = 0.001;        // m: fast mode glides only where nothing comes nearer than this
 constexpr double kProppedShare = 0.01;        // of its weight: a device pushing harder at the end holds it up
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
@@ -118,8 +119,13 @@ class Run {
         break;
       }
       show_progress(t, k);
+      if (const long n = glide(k, every); n > 0) {  // fast mode: nothing can touch until k + n
+        k += n - 1;
+        continue;
+      }
       drive(t);
       world_.step();
+      ++steps_;
       follow_motion(world_.time());
       after_step(world_.time());
     }
@@ -349,6 +355,145 @@ class Run {
     if (options_.progress == RunOptions::Progress::Live && options_.progress_to && k % std::max(1L, std::lround(0.1 / dt)) == 0)
       *options_.progress_to << fmt::format("\rsimulate: {:6.1f} s of {:.1f} s planned (limit {:g} s), step {}/{} {}\x1b[K", t,
                                plan_.end, s.limit, current_step_ + 1, plan_.steps.size(), current_action_);
+  }
+
+  /// Fast mode: when nothing needs the dynamics (PhysicsWorld::quiet), the devices glide along
+  /// their plan from tick k to the next tick where something is due (a sample, a step's start or
+  /// end, a frame, a limit), placed kinematically, without physics steps or contact passes,
+  /// provided nothing can touch anything in the meantime: every moving device (and what it holds)
+  /// is farther from everything else, and its parts that may not touch from each other, than it
+  /// and the others can go (their travel over the glide, bounded as the clearance tracker bounds
+  /// it, at sub-steps of at most 1 degree of any joint's turn), and every `inside` rule holds
+  /// with that travel. The tracker follows each sub-step, so clearances stay certified. Returns
+  /// the ticks glided (0: it steps).
+  long glide(long k, long every) {
+    if (plan_.settings.mode != SimMode::Fast || !world_.quiet() || rechecks_.every_step()) return 0;
+    const double dt = plan_.settings.timestep;
+    const double t0 = k * dt;
+    // Nothing may be under way that the steps judge tick by tick.
+    for (const auto& [o, landed] : released_)
+      if (!landed || !rested_.count(o)) return 0;
+    for (const auto& [key, when] : last_contact_) {  // a collision or keep-out episode still open
+      const auto& [a, part_a, b, part_b] = key;
+      if (t0 - when <= kApart && (part_a >= 0 || part_b >= 0 || is_zone(a) || is_zone(b) || moving_load(a) >= 0 || moving_load(b) >= 0))
+        return 0;
+    }
+    // To the next tick where something is due.
+    long n = every - k % every;
+    auto due = [&](double t) {
+      if (t > t0 + dt / 2) n = std::min(n, std::max(1L, static_cast<long>(std::ceil((t - dt / 2) / dt - 1e-9)) - k));
+    };
+    for (size_t i = 0; i < plan_.steps.size(); ++i) {
+      if (!started_[i]) due(plan_.steps[i].start);
+      else if (!ended_[i]) due(plan_.steps[i].end);
+    }
+    if (plan_.failure) due(plan_.failure->t);
+    due(plan_.settings.limit);
+    due(plan_.end);
+    if (options_.on_frame) due(frames_ * options_.frame_interval);
+    if (n < 2) return 0;
+    const double t1 = (k + n) * dt;
+    // Sub-steps: no joint turns more than 1 degree in one (the bound from the poses at their ends
+    // is then within 1e-6 of a point's path).
+    int pieces = 1;
+    for (const DeviceRun& dr : devices_) {
+      const Device& m = *geometry_.objects[dr.object].device;
+      const Eigen::VectorXd dq = dr.track->at(t1) - dr.track->at(t0);
+      for (int j = 0; j < m.dof(); ++j)
+        if (m.joint(j).type == JointType::Revolute) pieces = std::max(pieces, static_cast<int>(std::ceil(std::abs(dq[j]) / (kPi / 180))));
+    }
+    pieces = std::min<long>(pieces * 2, n);  // halves: a joint may turn back within the glide
+    std::vector<double> at(pieces + 1);
+    for (int i = 0; i <= pieces; ++i) at[i] = t0 + (t1 - t0) * i / pieces;
+    // How far each device (and its load) can go: the tracker's bound over the sub-steps.
+    CollisionWorld& near = clearances_.world();
+    std::vector<double> went(devices_.size(), 0.0);
+    std::map<int, std::vector<double>> ahead;  // per object, per part: how far it goes
+    double all = 0;
+    for (size_t d = 0; d < devices_.size(); ++d) {
+      const int o = devices_[d].object;
+      const Device& m = *geometry_.objects[o].device;
+      const Eigen::Isometry3d& X_wo = geometry_.objects[o].X_world_object;
+      const int load = world_.held(o);
+      Eigen::Isometry3d X_tool_load = Eigen::Isometry3d::Identity();
+      if (load >= 0) X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(load);
+      std::vector<Eigen::Isometry3d> before = m.part_poses(devices_[d].track->at(at[0]));
+      std::vector<double>& parts_went = ahead[o];
+      parts_went.assign(before.size(), 0.0);
+      for (int i = 1; i <= pieces; ++i) {
+        std::vector<Eigen::Isometry3d> now = m.part_poses(devices_[d].track->at(at[i]));
+        for (size_t p = 0; p < now.size(); ++p) parts_went[p] += near.travel_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
+        if (load >= 0) {
+          ahead[load].resize(1, 0.0);
+          ahead[load][0] += near.travel_bound(load, -1, X_wo * before[m.tool_part] * X_tool_load, X_wo * now[m.tool_part] * X_tool_load);
+        }
+        before = std::move(now);
+      }
+      went[d] = *std::max_element(parts_went.begin(), parts_went.end());
+      if (load >= 0) went[d] = std::max(went[d], ahead[load][0]);
+      all += went[d];
+    }
+    if (all == 0) return glide_to(n, at);  // nothing moves: nothing new can touch
+    // Nothing within reach of what moves, where everything is now.
+    for (size_t d = 0; d < devices_.size(); ++d) {
+      if (went[d] == 0) continue;
+      const int o = devices_[d].object;
+      const Device& m = *geometry_.objects[o].device;
+      // It, and the others towards it; beyond the clearance rules' gaps too (no dip below one
+      // is looked for inside a glide).
+      const double gap = all + kGlideMargin + rechecks_.widest_watch();
+      const size_t parts = geometry_.objects[o].X_object_part.size();
+      motion_.resize(parts);
+      for (size_t p = 0; p < parts; ++p) motion_[p] = world_.part_pose(o, static_cast<int>(p));
+      near.move_parts(o, motion_);
+      const int load = world_.held(o);
+      std::vector<int> skip = chain(o);
+      if (load >= 0) {
+        skip.push_back(load);
+        near.move(load, world_.pose(load));
+        std::vector<int> load_skip = chain(load);
+        load_skip.push_back(o);
+        if (!near.proximity(load, load_skip, gap).empty()) return 0;
+        // The load against the device's parts but the tool's (which hold it).
+        std::vector<char> others(parts, 1);
+        for (size_t p = 0; p < parts; ++p) others[p] = !m.tool_parts()[p];
+        const std::optional<Proximity> own = near.pair_distance(o, load, others);
+        if (own && own->distance <= gap) return 0;
+      }
+      if (!near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts).empty() || !near.self_clear(o, 2 * went[d] + kGlideMargin))
+        return 0;
+    }
+    if (rechecks_.watches_inside() && !rechecks_.inside_clear(clearances_, ahead)) return 0;
+    return glide_to(n, at);
+  }
+
+  /// The glide itself: each sub-step placed and followed, the devices' travel and limits kept.
+  long glide_to(long n, const std::vector<double>& at) {
+    // Between its sub-steps the tracker halves in time, with poses from the plan.
+    for (const DeviceRun& dr : devices_) {
+      const int o = dr.object;
+      const Device& m = *geometry_.objects[o].device;
+      const Eigen::Isometry3d X_wo = geometry_.objects[o].X_world_object;
+      const Track* track = dr.track;
+      clearances_.glide(o, at.front(), at.back(), plan_.settings.timestep, [&m, X_wo, track](double t, std::vector<Eigen::Isometry3d>& X) {
+        X = m.part_poses(track->at(t));
+        for (auto& x : X) x = X_wo * x;
+      });
+      if (const int load = world_.held(o); load >= 0) {
+        const Eigen::Isometry3d X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(load);
+        clearances_.glide(load, at.front(), at.back(), plan_.settings.timestep, [&m, X_wo, track, X_tool_load](double t, std::vector<Eigen::Isometry3d>& X) {
+          X.assign(1, X_wo * m.part_poses(track->at(t))[m.tool_part] * X_tool_load);
+        });
+      }
+    }
+    for (size_t i = 1; i < at.size(); ++i) {
+      for (const DeviceRun& dr : devices_) world_.place(dr.object, dr.track->at(at[i]));
+      world_.advance(at[i] - at[i - 1]);
+      follow_motion(at[i]);
+      for (DeviceRun& dr : devices_) account(dr, at[i]);
+    }
+    ++glides_;
+    return n;
   }
 
   /// Each device driven towards where its track is at the next tick.
@@ -685,24 +830,27 @@ class Run {
         events_.add(t, EventKind::AtRest, {{"object", wc_.objects[o].name}, {"position", {r9(p.x()), r9(p.y()), r9(p.z())}}});
         check_displaced(t, o, p);
       }
-    for (DeviceRun& dr : devices_) {
-      const Device& m = *geometry_.objects[dr.object].device;
-      Eigen::VectorXd q = world_.joints(dr.object);
-      dr.travel += (q - dr.q_prev).cwiseAbs();
-      dr.q_prev = q;
-      Eigen::Vector3d tool = tool_now(dr.object);
-      dr.path += (tool - dr.tool_prev).norm();
-      dr.tool_prev = tool;
-      for (int j = 0; j < m.dof(); ++j) {
-        const Joint& jt = m.joint(j);
-        bool past = q[j] < jt.lower - kLimitTolerance || q[j] > jt.upper + kLimitTolerance;
-        auto key = std::make_pair(dr.object, j);
-        if (past && !over_limit_.count(key)) {
-          over_limit_.insert(key);
-          events_.add(t, EventKind::JointLimit, {{"device", wc_.objects[dr.object].name}, {"joint", jt.name}, {"value", r9(q[j])}});
-        } else if (!past) {
-          over_limit_.erase(key);
-        }
+    for (DeviceRun& dr : devices_) account(dr, t);
+  }
+
+  /// A device's joint travel and tool path since the last step, and its joints past their limits.
+  void account(DeviceRun& dr, double t) {
+    const Device& m = *geometry_.objects[dr.object].device;
+    Eigen::VectorXd q = world_.joints(dr.object);
+    dr.travel += (q - dr.q_prev).cwiseAbs();
+    dr.q_prev = q;
+    Eigen::Vector3d tool = tool_now(dr.object);
+    dr.path += (tool - dr.tool_prev).norm();
+    dr.tool_prev = tool;
+    for (int j = 0; j < m.dof(); ++j) {
+      const Joint& jt = m.joint(j);
+      bool past = q[j] < jt.lower - kLimitTolerance || q[j] > jt.upper + kLimitTolerance;
+      auto key = std::make_pair(dr.object, j);
+      if (past && !over_limit_.count(key)) {
+        over_limit_.insert(key);
+        events_.add(t, EventKind::JointLimit, {{"device", wc_.objects[dr.object].name}, {"joint", jt.name}, {"value", r9(q[j])}});
+      } else if (!past) {
+        over_limit_.erase(key);
       }
     }
   }
@@ -1060,6 +1208,7 @@ class Run {
     f.status = run_status_name(s.status);
     f.mode = sim_mode_name(plan_.settings.mode);
     f.handed_to_physics = handed_;
+    f.fast = {glides_, steps_, world_.dynamics_steps()};
     if (std::isfinite(s.cycle_time)) f.cycle_time = r9(s.cycle_time);
     f.simulated_time = r9(s.simulated);
     if (!s.stopped_by.empty()) f.stopped = RunSummaryFile::Stopped{s.stopped_by, r9(s.stopped_at), s.stop_message};
@@ -1154,6 +1303,8 @@ class Run {
   std::string stopped_by_, stop_message_;
   bool interrupted_ = false;
   std::vector<RunSummaryFile::HandOver> handed_;  // fast mode: devices that went on in physics
+  long glides_ = 0;                               // fast mode: glides between ticks
+  long steps_ = 0;                                // physics steps taken
   std::vector<char> started_, ended_;  // per step
   double settle_until_ = -1;           // after the last step: when loose objects must rest by
   std::chrono::steady_clock::time_point wall_start_;

@@ -82,6 +82,7 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
     json h = json::array();
     for (const HandOver& x : handed_to_physics) h.push_back({{"device", x.device}, {"t", x.t}, {"why", x.why}});
     j["handed_to_physics"] = std::move(h);
+    j["fast"] = {{"glides", fast.glides}, {"steps", fast.steps}, {"dynamics_steps", fast.dynamics_steps}};
   }
   j["cycle_time"] = or_null(cycle_time);
   j["simulated_time"] = simulated_time;

@@ -21,6 +21,12 @@ struct RunSummaryFile {
     std::string why;
   };
   std::vector<HandOver> handed_to_physics;
+  /// Fast mode: how the run went: glides (stretches without steps), steps taken (contacts
+  /// found) and of those the steps that ran the dynamics.
+  struct FastFigures {
+    long glides = 0, steps = 0, dynamics_steps = 0;
+  };
+  FastFigures fast;
   std::optional<double> cycle_time;     ///< null when the run stopped before its cycle was done
   double simulated_time = 0;
   struct Stopped {

@@ -1042,6 +1042,42 @@ void PhysicsWorld::step() {
 const SolverMessages& PhysicsWorld::solver_messages() const { return impl_->messages; }
 long PhysicsWorld::dynamics_steps() const { return impl_->dynamics_steps; }
 
+bool PhysicsWorld::quiet() const {
+  const Impl& w = *impl_;
+  if (!w.options.fast || !w.handed.empty() || !w.rides.empty()) return false;
+  for (size_t o = 0; o < w.bodies.size(); ++o)
+    if (w.bodies[o] && !dBodyIsKinematic(w.bodies[o]) && dBodyIsEnabled(w.bodies[o]) && w.still_for[o] < kRestTime - 1e-9) return false;
+  return true;
+}
+
+void PhysicsWorld::place(int o, const Eigen::VectorXd& q) {
+  Impl& w = *impl_;
+  auto it = w.devices.find(o);
+  if (it == w.devices.end() || !it->second.kinematic) return;
+  drive(o, q, Eigen::VectorXd::Zero(q.size()));  // its targets (and its load's)
+  DeviceBodies& db = it->second;
+  for (size_t p = 0; p < db.bodies.size() && p < db.target.size(); ++p)
+    if (db.bodies[p]) {
+      Impl::place_body(db.bodies[p], db.target[p]);
+      dBodySetLinearVel(db.bodies[p], 0, 0, 0);
+      dBodySetAngularVel(db.bodies[p], 0, 0, 0);
+    }
+  if (auto grip = w.grips.find(o); grip != w.grips.end() && !grip->second.joint && w.bodies[grip->second.object]) {
+    Impl::place_body(w.bodies[grip->second.object], grip->second.target);
+    dBodySetLinearVel(w.bodies[grip->second.object], 0, 0, 0);
+    dBodySetAngularVel(w.bodies[grip->second.object], 0, 0, 0);
+  }
+}
+
+void PhysicsWorld::advance(double seconds) {
+  Impl& w = *impl_;
+  w.contacts.clear();
+  w.contact_index.clear();
+  for (size_t o = 0; o < w.bodies.size(); ++o)
+    if (w.bodies[o] && !dBodyIsKinematic(w.bodies[o])) w.still_for[o] += seconds;
+  w.time += seconds;
+}
+
 bool PhysicsWorld::hand_over(int o) {
   Impl& w = *impl_;
   auto it = w.devices.find(o);

@@ -140,6 +140,15 @@ class PhysicsWorld {
   /// it is stopped, deflected or pushes through is the physics' to say). False when it already is
   /// in physics (or moves kinematically in physics mode too, `driven: kinematic`).
   bool hand_over(int object);
+  /// Fast mode: nothing here needs the dynamics now: no device handed over, no stack carried,
+  /// every free body at rest. Then the run may glide: place() and advance() instead of steps.
+  bool quiet() const;
+  /// Fast mode: kinematic device `object` placed at joint values q (and what it holds with it),
+  /// at rest.
+  void place(int object, const Eigen::VectorXd& q);
+  /// Fast mode: `seconds` of simulated time pass with nothing touching anything new (the run
+  /// proved it): free bodies stay at rest where they are; no contacts.
+  void advance(double seconds);
   double time() const;
   /// ODE's messages of this world's steps so far.
   const SolverMessages& solver_messages() const;
