@@ -1019,6 +1019,17 @@ double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3
   return moved(from, to, impl_->reach(object, part));
 }
 
+double CollisionWorld::lowest(int object, const std::vector<char>& parts) {
+  const auto& mine = impl_->of(object);
+  double low = INFINITY;
+  for (size_t i = 0; i < mine.size(); ++i) {
+    const int part = impl_->geometry.objects[object].shapes[i].part;
+    if (!parts.empty() && (part < 0 || !parts[part])) continue;
+    low = std::min(low, mine[i]->getAABB().min_.z());
+  }
+  return low;
+}
+
 bool CollisionWorld::self_clear(int object, double gap) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   if (!g.device) return true;

@@ -159,6 +159,9 @@ class CollisionWorld {
   /// Whether every two parts of device `object` that may not touch (not adjacent) are farther
   /// apart than `gap` where it is placed now.
   bool self_clear(int object, double gap);
+  /// The height of the lowest point of the boxes of `object`'s shapes (its `parts` only, when
+  /// given) where it is placed now: at or below its lowest point.
+  double lowest(int object, const std::vector<char>& parts = {});
 
   /// Pairs (a < b) of `objects` whose world bounding boxes, grown by `margin`, touch: found by a
   /// dynamic AABB tree broadphase, not by testing all pairs. Sorted.

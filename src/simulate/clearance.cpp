@@ -47,7 +47,15 @@ bool ClearanceTracker::Pair::excused_over(double from, double to) const {
 void ClearanceTracker::keep(Pair& pair, Seen seen) {
   if (seen.distance >= pair.closest()) return;
   if (seen.distance >= -kContact && pair.is_excused(seen.t)) return;
-  best_ = std::min(best_, seen.distance);
+  // A record that may yet be excused (a load's set-down, until it lands) does not decide where
+  // halving pays: a stretch left coarse beside it would be the run's closest once it is excused.
+  auto provisional = [&](int o) {
+    auto it = provisional_.find(o);
+    return it != provisional_.end() && std::any_of(it->second.begin(), it->second.end(), [&](const auto& w) {
+             return seen.t >= w.first && seen.t <= w.second;
+           });
+  };
+  if (seen.distance < -kContact || (!provisional(keeping_.first) && !provisional(keeping_.second))) best_ = std::min(best_, seen.distance);
   pair.records.push_back(std::move(seen));
 }
 
@@ -114,6 +122,8 @@ void ClearanceTracker::next_interval(double t) {
   }
 }
 
+void ClearanceTracker::provisional(int object, double from, double to) { provisional_[object].emplace_back(from, to); }
+
 void ClearanceTracker::glide(int object, double from, double to, double step, PoseSource source) {
   paths_[object].spans.push_back({from, to, step, std::move(source)});
 }
@@ -141,6 +151,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
   const auto before = measured_before_.find(moving);
   for (const Proximity& p : near) {
     Pair& pair = pairs_[key(moving, p.other)];
+    keeping_ = {moving, p.other};
     if (pair.dip_at != t) pair.dips.clear(), pair.dip_at = t;  // a dip belongs to its interval
     const double other_travel = travel_of(p.other);
     const bool measured_then = before != measured_before_.end() &&
@@ -159,16 +170,24 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       }
       // The sample itself first: it bounds what halving can find.
       keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
-      if (then && mine->keep && mine->poses.size() > 1) {  // halved along the kept poses, the other where it is now
-        refine(pair, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel);
+      // The other, when it moved too: kept at the same steps (two devices, a device and another's
+      // load), it is placed with the moving one at each halving; else it stands where it is now,
+      // and each distance measured so is less how far it went (two arms swinging past each other
+      // at 1 Hz were said 0.5 m into each other, and their clearance rule was not seen broken).
+      const Path* theirs = path(p.other);
+      Other other{p.other, nullptr, other_travel};
+      if (theirs && other_travel > 0 && theirs->keep && theirs->t == mine->t) other.path = theirs;
+      if (then && mine->keep && mine->poses.size() > 1) {  // halved along the kept poses
+        refine(pair, moving, other, parts, *mine, 0, mine->poses.size() - 1, *then, p);
         for (double gap : pair.watches)  // each rule's gap: the first pose nearer, left to right
           if (!pair.dips.count(gap))
-            if (auto d = first_dip(gap, moving, p.other, parts, *mine, 0, mine->poses.size() - 1, *then, p, other_travel))
+            if (auto d = first_dip(gap, moving, other, parts, *mine, 0, mine->poses.size() - 1, *then, p))
               pair.dips.insert_or_assign(gap, *d);
       }
       else if (then)
-        keep_bound(pair, moving, p.other, *then, mine->t.front(), p, t, my_travel + other_travel);
+        keep_bound(pair, moving, Other{p.other, nullptr, 0}, *then, mine->t.front(), p, t, my_travel + other_travel);
       place(moving, mine->now);
+      if (other.path) place(p.other, theirs->now);
     }
     keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
     pair.sampled_at = t;
@@ -176,20 +195,20 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
   }
 }
 
-void ClearanceTracker::keep_bound(Pair& pair, int moving, int other, const Proximity& at_i, double t_i, const Proximity& at_j,
-                                  double t_j, double D) {
-  const double lower = interval_bound(at_i.distance, at_j.distance, D);
+void ClearanceTracker::keep_bound(Pair& pair, int moving, const Other& other, const Proximity& at_i, double t_i,
+                                  const Proximity& at_j, double t_j, double D) {
+  const double lower = interval_bound(at_i.distance - other.shift(), at_j.distance - other.shift(), D);
   const bool first = at_i.distance <= at_j.distance;
   const Proximity& nearer = first ? at_i : at_j;
   keep(pair, {lower, first ? t_i : t_j, run_part_name(wc_, geometry_, moving, nearer.part),
-              run_part_name(wc_, geometry_, other, nearer.other_part)});
+              run_part_name(wc_, geometry_, other.object, nearer.other_part)});
 }
 
-void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
-                              size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel) {
+void ClearanceTracker::refine(Pair& pair, int moving, const Other& other, const std::vector<char>& parts, const Path& p, size_t i,
+                              size_t j, const Proximity& at_i, const Proximity& at_j) {
   // The bound keep_bound keeps, here to decide whether halving could find news.
-  const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
-  const double lower = interval_bound(d_i, d_j, D);
+  const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other.between(i, j);
+  const double lower = interval_bound(d_i - other.shift(), d_j - other.shift(), D);
   if (lower >= pair.closest()) return;  // no news
   // Excused all along (a drum lifted off its pallet, set on a beam): only a penetration deeper
   // than a contact would be kept, and the bound rules that out (halving it cost the arm demo a
@@ -202,72 +221,90 @@ void ClearanceTracker::refine(Pair& pair, int moving, int other, const std::vect
     return;
   }
   if (j - i <= 1 || std::min(d_i, d_j) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_i, d_j))) {
-    // Two sub-steps of a glide: halved in time, the poses from its plan.
-    if (const Path::Span* span = j - i == 1 ? p.span(p.t[i], p.t[j]) : nullptr)
-      return refine_span(pair, moving, other, parts, *span, p.t[i], p.t[j], p.poses[i], p.poses[j], at_i, at_j, other_travel);
+    // Two sub-steps of a glide: halved in time, the poses from its plan (and the other's, when
+    // it glides too).
+    const Path::Span* span = j - i == 1 ? p.span(p.t[i], p.t[j]) : nullptr;
+    const Path::Span* theirs = span && other.path ? other.path->span(p.t[i], p.t[j]) : nullptr;
+    if (span && (!other.path || theirs))
+      return refine_span(pair, moving, other, theirs, parts, *span, p.t[i], p.t[j], p.poses[i], p.poses[j],
+                         other.path ? other.path->poses[i] : std::vector<Eigen::Isometry3d>(),
+                         other.path ? other.path->poses[j] : std::vector<Eigen::Isometry3d>(), at_i, at_j);
     keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
   const size_t m = (i + j) / 2;
   place(moving, p.poses[m]);
-  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
+  if (other.path) place(other.object, other.path->poses[m]);
+  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other.object, parts);
   if (!at_m) return;
   // The nearer half first: its records make the other half's pruning stronger.
   if (std::min(d_i, at_m->distance) <= std::min(at_m->distance, d_j)) {
-    refine(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel);
-    refine(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
+    refine(pair, moving, other, parts, p, i, m, at_i, *at_m);
+    refine(pair, moving, other, parts, p, m, j, *at_m, at_j);
   } else {
-    refine(pair, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
-    refine(pair, moving, other, parts, p, i, m, at_i, *at_m, other_travel);
+    refine(pair, moving, other, parts, p, m, j, *at_m, at_j);
+    refine(pair, moving, other, parts, p, i, m, at_i, *at_m);
   }
 }
 
-void ClearanceTracker::refine_span(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path::Span& span,
-                                   double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
-                                   const std::vector<Eigen::Isometry3d>& X_b, const Proximity& at_a, const Proximity& at_b,
-                                   double other_travel) {
-  const bool device = geometry_.objects[moving].device != nullptr;
-  double D = other_travel;
-  for (size_t k = 0; k < X_a.size() && k < X_b.size(); ++k)
-    D = std::max(D, other_travel + nearby_.travel_bound(moving, device ? static_cast<int>(k) : -1, X_a[k], X_b[k]));
+void ClearanceTracker::refine_span(Pair& pair, int moving, const Other& other, const Path::Span* theirs, const std::vector<char>& parts,
+                                   const Path::Span& span, double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
+                                   const std::vector<Eigen::Isometry3d>& X_b, const std::vector<Eigen::Isometry3d>& Y_a,
+                                   const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a, const Proximity& at_b) {
+  // How far each went between a and b: the moving object, and the other gliding with it (else
+  // it stands where it is now, having gone other.travel).
+  auto went = [this](int o, const std::vector<Eigen::Isometry3d>& from, const std::vector<Eigen::Isometry3d>& to) {
+    const bool device = geometry_.objects[o].device != nullptr;
+    double most = 0;
+    for (size_t k = 0; k < from.size() && k < to.size(); ++k)
+      most = std::max(most, nearby_.travel_bound(o, device ? static_cast<int>(k) : -1, from[k], to[k]));
+    return most;
+  };
+  const double D = went(moving, X_a, X_b) + (theirs ? went(other.object, Y_a, Y_b) : 0.0);
   const double d_a = at_a.distance, d_b = at_b.distance;
-  const double lower = interval_bound(d_a, d_b, D);
+  const double lower = interval_bound(d_a - other.shift(), d_b - other.shift(), D);
   if (lower >= pair.closest()) return;
   if (lower >= -kContact && pair.excused_over(t_a, t_b)) return;
-  if (lower >= best_ || t_b - t_a <= span.step * 1.5 || std::min(d_a, d_b) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_a, d_b))) {
+  if (lower >= best_ || t_b - t_a <= span.step * 1.5 ||
+      std::min(d_a, d_b) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_a, d_b))) {
     keep_bound(pair, moving, other, at_a, t_a, at_b, t_b, D);
     return;
   }
   const double t_m = (t_a + t_b) / 2;
-  std::vector<Eigen::Isometry3d> X_m;
+  std::vector<Eigen::Isometry3d> X_m, Y_m;
   span.source(t_m, X_m);
   place(moving, X_m);
-  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
+  if (theirs) {
+    theirs->source(t_m, Y_m);
+    place(other.object, Y_m);
+  }
+  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other.object, parts);
   if (!at_m) return;
   if (std::min(d_a, at_m->distance) <= std::min(at_m->distance, d_b)) {
-    refine_span(pair, moving, other, parts, span, t_a, t_m, X_a, X_m, at_a, *at_m, other_travel);
-    refine_span(pair, moving, other, parts, span, t_m, t_b, X_m, X_b, *at_m, at_b, other_travel);
+    refine_span(pair, moving, other, theirs, parts, span, t_a, t_m, X_a, X_m, Y_a, Y_m, at_a, *at_m);
+    refine_span(pair, moving, other, theirs, parts, span, t_m, t_b, X_m, X_b, Y_m, Y_b, *at_m, at_b);
   } else {
-    refine_span(pair, moving, other, parts, span, t_m, t_b, X_m, X_b, *at_m, at_b, other_travel);
-    refine_span(pair, moving, other, parts, span, t_a, t_m, X_a, X_m, at_a, *at_m, other_travel);
+    refine_span(pair, moving, other, theirs, parts, span, t_m, t_b, X_m, X_b, Y_m, Y_b, *at_m, at_b);
+    refine_span(pair, moving, other, theirs, parts, span, t_a, t_m, X_a, X_m, Y_a, Y_m, at_a, *at_m);
   }
 }
 
-std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(double gap, int moving, int other, const std::vector<char>& parts,
-                                                                  const Path& p, size_t i, size_t j, const Proximity& at_i,
-                                                                  const Proximity& at_j, double other_travel) {
-  const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other_travel;
-  if (interval_bound(d_i, d_j, D) >= gap) return std::nullopt;  // certainly clear of the gap
+std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(double gap, int moving, const Other& other,
+                                                                  const std::vector<char>& parts, const Path& p, size_t i, size_t j,
+                                                                  const Proximity& at_i, const Proximity& at_j) {
+  const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other.between(i, j);
+  if (interval_bound(d_i - other.shift(), d_j - other.shift(), D) >= gap) return std::nullopt;  // certainly clear of the gap
   if (j - i <= 1) {
     if (d_j >= gap) return std::nullopt;
-    return Dip{p.t[j], d_j, run_part_name(wc_, geometry_, moving, at_j.part), run_part_name(wc_, geometry_, other, at_j.other_part)};
+    return Dip{p.t[j], d_j, run_part_name(wc_, geometry_, moving, at_j.part), run_part_name(wc_, geometry_, other.object, at_j.other_part)};
   }
   const size_t m = (i + j) / 2;
   place(moving, p.poses[m]);
-  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other, parts);
+  if (other.path) place(other.object, other.path->poses[m]);
+  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other.object, parts);
   if (!at_m) return std::nullopt;
-  if (auto early = first_dip(gap, moving, other, parts, p, i, m, at_i, *at_m, other_travel)) return early;
-  return first_dip(gap, moving, other, parts, p, m, j, *at_m, at_j, other_travel);
+  if (auto early = first_dip(gap, moving, other, parts, p, i, m, at_i, *at_m)) return early;
+  return first_dip(gap, moving, other, parts, p, m, j, *at_m, at_j);
 }
 
 void ClearanceTracker::watch(int a, int b, double gap) {
@@ -287,6 +324,7 @@ void ClearanceTracker::measure_penetration(double t, int a, int b) {
   // Only shapes whose boxes overlap can be deeper than a contact into each other.
   const std::optional<Proximity> p = nearby_.pair_distance(a, b, {}, -kContact);
   if (!p || p->distance >= -kContact) return;
+  keeping_ = {a, b};
   keep(pairs_[key(a, b)], {p->distance, t, run_part_name(wc_, geometry_, a, p->part), run_part_name(wc_, geometry_, b, p->other_part)});
 }
 

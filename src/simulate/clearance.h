@@ -58,6 +58,9 @@ class ClearanceTracker {
   /// The pair's approaches from `from` to `to` are the job (a load's set-down on what it landed
   /// on, its lift off what it stood on): not counted, but for penetrations. `to` may lie ahead.
   void excuse(int a, int b, double from, double to);
+  /// `object`'s approaches from `from` to `to` may yet be excused (the move that sets a load
+  /// down: what it lands on is known when it lands): they do not decide where halving pays.
+  void provisional(int object, double from, double to);
 
   /// Watches the pair for coming nearer than `gap` (m) between samples (a clearance rule the
   /// run re-checks): where the certified bound over an interval is below it, the interval is
@@ -153,24 +156,37 @@ class ClearanceTracker {
   };
   const Path* path(int object) const;
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world);
+  /// The other object of a pair measured between samples: kept at the same steps as the moving
+  /// one (placed with it at each halving), or standing where it is now having gone `travel`.
+  struct Other {
+    int object = -1;
+    const Path* path = nullptr;
+    double travel = 0;
+    double between(size_t i, size_t j) const { return path ? path->between(i, j) : 0.0; }
+    /// What each distance measured with it where it is now is less: how far it went.
+    double shift() const { return path ? 0.0 : travel; }
+  };
   /// Keeps the pair's lower bound over an interval whose ends are `at_i` (at t_i) and `at_j`
-  /// (at t_j) apart and over which the two went `D` at most: min(d_i, d_j, (d_i + d_j − D) / 2).
-  void keep_bound(Pair& pair, int moving, int other, const Proximity& at_i, double t_i, const Proximity& at_j, double t_j, double D);
+  /// (at t_j) apart and over which the two went `D` at most: min(d_i, d_j, (d_i + d_j − D) / 2),
+  /// each distance less other.shift().
+  void keep_bound(Pair& pair, int moving, const Other& other, const Proximity& at_i, double t_i, const Proximity& at_j, double t_j,
+                  double D);
   /// The pair's lower bound between the kept poses i and j of `moving` (distances di and dj
-  /// there), `other` standing where it is now, having gone `other_travel` at most: refined by
-  /// halving where it could be news, each piece kept as a record.
-  void refine(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
-              const Proximity& at_i, const Proximity& at_j, double other_travel);
+  /// there): refined by halving where it could be news, each piece kept as a record.
+  void refine(Pair& pair, int moving, const Other& other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
+              const Proximity& at_i, const Proximity& at_j);
 
-  /// refine() between two times of a glide, its poses from `source`.
-  void refine_span(Pair& pair, int moving, int other, const std::vector<char>& parts, const Path::Span& span, double t_a,
-                   double t_b, const std::vector<Eigen::Isometry3d>& X_a, const std::vector<Eigen::Isometry3d>& X_b,
-                   const Proximity& at_a, const Proximity& at_b, double other_travel);
+  /// refine() between two times of a glide, its poses from `span`'s source (and the other's
+  /// from `theirs`, when it glides too: Y_a, Y_b its poses at the ends).
+  void refine_span(Pair& pair, int moving, const Other& other, const Path::Span* theirs, const std::vector<char>& parts,
+                   const Path::Span& span, double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
+                   const std::vector<Eigen::Isometry3d>& X_b, const std::vector<Eigen::Isometry3d>& Y_a,
+                   const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a, const Proximity& at_b);
 
   /// The earliest kept pose in (i, j] nearer than `gap`: the interval halved, the earlier half
   /// searched first, a piece whose bound clears the gap skipped.
-  std::optional<Dip> first_dip(double gap, int moving, int other, const std::vector<char>& parts, const Path& p, size_t i,
-                               size_t j, const Proximity& at_i, const Proximity& at_j, double other_travel);
+  std::optional<Dip> first_dip(double gap, int moving, const Other& other, const std::vector<char>& parts, const Path& p, size_t i,
+                               size_t j, const Proximity& at_i, const Proximity& at_j);
 
   const Workcell& wc_;
   const GeometryModel& geometry_;
@@ -183,6 +199,8 @@ class ClearanceTracker {
   double best_ = INFINITY;
   /// What was measured as moving at this sample and the last, with what it skipped.
   std::map<int, std::vector<int>> measured_now_, measured_before_;
+  std::map<int, std::vector<std::pair<double, double>>> provisional_;  ///< per object (provisional())
+  std::pair<int, int> keeping_{-1, -1};  ///< the pair whose records keep() is keeping
 };
 
 }  // namespace sscs

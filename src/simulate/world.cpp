@@ -525,9 +525,10 @@ struct PhysicsWorld::Impl {
   /// are woken (ODE wakes no body for a kinematic one: riders asleep on a pallet the tool lifted
   /// stayed in the air).
   bool dynamics_needed() {
-    if (!handed.empty()) return true;
-    for (size_t o = 0; o < bodies.size(); ++o)
-      if (bodies[o] && !dBodyIsKinematic(bodies[o]) && dBodyIsEnabled(bodies[o]) && still_for[o] < kRestTime - 1e-9) return true;
+    // Whatever else makes the step run, what moves wakes what it touches or carries (below).
+    bool needed = !handed.empty();
+    for (size_t o = 0; o < bodies.size() && !needed; ++o)
+      if (bodies[o] && !dBodyIsKinematic(bodies[o]) && dBodyIsEnabled(bodies[o]) && still_for[o] < kRestTime - 1e-9) needed = true;
     auto free = [&](int o, int part) { return o >= 0 && part < 0 && bodies[o] && !dBodyIsKinematic(bodies[o]); };
     // A kinematic body that moves this step: a device's part or a held load.
     auto moves = [](dBodyID b) {
@@ -541,7 +542,6 @@ struct PhysicsWorld::Impl {
       }
       return o >= 0 && moves(bodies[o]);
     };
-    bool needed = false;
     for (const PhysicsContact& c : contacts)
       for (auto [x, part_x, y, part_y] : {std::tuple{c.a, c.part_a, c.b, c.part_b}, std::tuple{c.b, c.part_b, c.a, c.part_a}})
         if (free(x, part_x) && moving(y, part_y)) {
@@ -996,9 +996,14 @@ void PhysicsWorld::step() {
       w.sum_device_forces();
       w.update_rides();
       ++w.dynamics_steps;
-    } else {
+    } else {  // nothing moves or is pushed: no device exerts a force (a stale push read as propping)
       w.feedback.clear();
       w.feedback_of.clear();
+      if (w.pushed_last_step) {
+        std::fill(w.device_force.begin(), w.device_force.end(), Eigen::Vector3d::Zero());
+        std::fill(w.device_pushing.begin(), w.device_pushing.end(), -1);
+        w.pushed_last_step = false;
+      }
     }
     if (w.options.fast) w.place_kinematic();
   } catch (const PhysicsFailure&) {

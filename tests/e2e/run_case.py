@@ -2283,6 +2283,42 @@ def certified(sscs, root):
                     fail(f"{what}the rule broken at {a['t']} s by {a['margin']} m at 1000 Hz, at {b['t']} s by {b['margin']} m at a low rate")
             rules += 1
             agreed += bool(ref)
+        # Two devices moving at once: two arms facing each other swing their links past each
+        # other (link5's corner 1.01815 m from each axis, so the closest approach is `gap`), with a
+        # 5 cm rule on the pair. At 1 Hz, in both modes, the rule's event and the min_clearance
+        # are those of 1000 Hz (the other device was once bounded standing where it ended: 0.5 m
+        # "into" each other at 1 Hz, and the rule unseen).
+        for case in range(3):
+            gap = round(rng.uniform(0.03, 0.07), 4)
+            vault = ("sscs: 1\nvault: TwoArms\nobjects:\n  - {type: room, name: Hall, length: 8 m, width: 6 m, height: 4 m}\n"
+                     "  - {type: arm6, name: A, parent: Hall, location: [3, 3, 0], j1: -60}\n"
+                     f"  - {{type: arm6, name: B, parent: Hall, location: [{3 + 2 * 1.01815 + gap:.5f}, 3, 0], orientation: [0, 0, 180], j1: 60}}\n"
+                     "constraints:\n  - {name: arms apart, clearance: {a: A, b: B, min: 0.05 m}}\n")
+            steps = "  - parallel:\n    - {device: A, move_joints: {j1: 60}}\n    - {device: B, move_joints: {j1: -60}}\n"
+            found = {}
+            for rate, mode in ((1000, "physics"), (1, "physics"), (1, "fast")):
+                open(os.path.join(tmp, "vault.yaml"), "w").write(vault)
+                path, out = os.path.join(tmp, f"arms{rate}{mode}.yaml"), os.path.join(tmp, f"out-arms{rate}{mode}")
+                open(path, "w").write(f"sscs: 1\nscenario: arms\nvault: vault.yaml\nsim: {{timestep: 1 ms, limit: 60 s, mode: {mode}}}\n"
+                                      f"record:\n  trajectory: {{rate: {rate} Hz}}\nsteps:\n{steps}")
+                run(sscs, root, ["simulate", path, "--out", out, "--quiet", "--no-frames", "--force"])
+                events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl")) if json.loads(line)["kind"] == "constraint"]
+                found[(rate, mode)] = (events, json.load(open(os.path.join(out, "summary.json")))["min_clearance"])
+            ref_events, ref_mc = found[(1000, "physics")]
+            for key in ((1, "physics"), (1, "fast")):
+                events, mc = found[key]
+                what = f"two arms, gap {gap} m, at {key[0]} Hz in {key[1]} mode"
+                # (At 1000 Hz the rule may break twice, two corners passing 52 ms apart; between
+                # two samples it starts failing once: the first is compared.)
+                if bool(events) != (gap < 0.05) or bool(ref_events) != (gap < 0.05):
+                    fail(f"{what}: the 5 cm rule is broken exactly when the gap is under 5 cm: {events} (1000 Hz: {ref_events})")
+                for a, b in zip(ref_events[:1], events[:1]):
+                    if abs(a["t"] - b["t"]) > 0.02 or abs(a["margin"] - b["margin"]) > 5e-4:
+                        fail(f"{what}: the rule broken at {b['t']} s by {b['margin']} m, at 1000 Hz at {a['t']} s by {a['margin']} m")
+                if not mc or not mc["certified"] or mc["distance"] > ref_mc["distance"] + slack + 1e-9 or mc["distance"] < ref_mc["distance"] - 0.002:
+                    fail(f"{what}: min_clearance {mc} against {ref_mc} at 1000 Hz")
+            rules += 1
+            agreed += bool(ref_events)
         # Bounds and expressions that read the motion, checked at every physics step: a gantry
         # carrying a drum travels 2 m while lowering it to a random height, and turns straight
         # back up, with a rule on the drum's bounding box and one on the bridge's travel, both
@@ -2682,7 +2718,7 @@ def fast(sscs, root):
     with tempfile.TemporaryDirectory() as tmp:
         def one(job):
             (label, a, b), mode = job
-            d = os.path.join(tmp, re.sub(r"[^A-Za-z0-9_.-]", "_", label))
+            d = os.path.join(tmp, re.sub(r"[^A-Za-z0-9_.-]", "_", label), mode)  # one folder a run: they run at once
             os.makedirs(d, exist_ok=True)
             if b is None:  # a scenario of the repository, with sim.mode set and its vault named absolutely
                 doc = yaml_loader()(a)
@@ -2695,7 +2731,7 @@ def fast(sscs, root):
                 open(os.path.join(d, "vault.yaml"), "w").write(a)
                 scenario = os.path.join(d, f"{mode}.yaml")
                 open(scenario, "w").write(b.replace("sim: {", f"sim: {{mode: {mode}, "))
-            out = os.path.join(d, mode)
+            out = os.path.join(d, "run")
             p = run(sscs, root, ["simulate", scenario, "--out", out, "--quiet", "--no-frames", "--force", "--allow-outside-root"])
             if not os.path.exists(os.path.join(out, "summary.json")):
                 fail(f"{label} ({mode}): no run", p)
@@ -2727,6 +2763,22 @@ def fast(sscs, root):
         handed += bool(s1.get("handed_to_physics"))
         seen[s0["status"]] += 1
         statuses += 1
+    # The log rate changes no certified figure: the store's crane run logged at 1 Hz in fast mode
+    # has the min_clearance of its 20 Hz physics run (a stretch left coarse beside a set-down's
+    # approach, excused later, once said 0.1005 m against 0.1368 m, both below the 0.1392 m of
+    # 500 Hz).
+    store = next(i for i, c in enumerate(cases) if c[0] == "scenarios/drum-store/store-drum.yaml")
+    ref = results[2 * store][0]["min_clearance"]
+    with tempfile.TemporaryDirectory() as tmp:
+        doc = yaml_loader()(os.path.join(root, "scenarios/drum-store/store-drum.yaml"))
+        doc["sim"]["mode"] = "fast"
+        doc["record"] = {"trajectory": {"rate": "1 Hz"}}
+        doc["vault"] = os.path.join(root, "scenarios/drum-store/store.yaml")
+        open(os.path.join(tmp, "s.yaml"), "w").write(json.dumps(doc))
+        run(sscs, root, ["simulate", os.path.join(tmp, "s.yaml"), "--out", os.path.join(tmp, "run"), "--quiet", "--no-frames", "--allow-outside-root"])
+        low = json.load(open(os.path.join(tmp, "run", "summary.json")))["min_clearance"]
+    if abs(low["distance"] - ref["distance"]) > 0.001 or {low["a"], low["b"]} != {ref["a"], ref["b"]}:
+        fail(f"the store's crane run: min_clearance {low} at 1 Hz in fast mode, {ref} at 20 Hz in physics")
     if seen["ok"] < 10 or seen["violations"] < 10 or seen["failed"] < 2 or handed < 5:
         fail(f"the cases should cover runs that pass, break and fail, and hand devices over: {dict(seen)}, {handed} handed over")
     print(f"fast: {statuses} runs agree with physics mode ({dict(seen)}; {handed} handed a device over to physics)")
