@@ -68,9 +68,10 @@ export LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true
 skip='^e2e\.(variant_memory|soak)$|^web\.'
 if [[ $mode == all ]]; then
   # CI's subset (about 3 minutes): the unit tests, every bad input and golden report, the command
-  # line, and the fuzzers. The slow runs stay in stage 1 only: end-to-end simulate, agreement, sweep, render,
+  # line, and the fuzzers. The slow runs stay in stage 1 only: end-to-end simulate, agreement, fast mode (15 minutes
+  # under ASan), sweep, render,
   # slurm, tutorials, plugins, and the random overlap property tests (3 minutes alone under ASan).
-  skip+='|^e2e\.(simulate|agreement|loads|riders|run_truth|certified|drum_store|catalogue|schemas|sweep|render|slurm|tutorials|plugins|ci|ci_recipes|install|disk_full)$'
+  skip+='|^e2e\.(simulate|agreement|loads|riders|run_truth|certified|fast|drum_store|catalogue|schemas|sweep|render|slurm|tutorials|plugins|ci|ci_recipes|install|disk_full)$'
   skip+='|^(MeshOverlap|MeshSolid)\.'
   # The randomized property tests repeat, hundreds of times, code the unit tests run under the
   # sanitizers once: whole they run in stage 1 (and under `--sanitize`). Under ASan they took
