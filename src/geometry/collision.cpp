@@ -577,6 +577,19 @@ struct CollisionWorld::Impl {
   }
   std::unordered_map<int64_t, double> reaches;  ///< by (object << 20) + part + 1
 
+  /// A device's shapes in the frames of their parts, computed once (placing a crane's parts
+  /// thousands of times a run inverted each part's pose as often).
+  const std::vector<Eigen::Isometry3d>& in_parts(int object) {
+    auto [it, fresh] = part_shapes.try_emplace(object);
+    if (fresh) {
+      const ObjectGeometry& g = geometry.objects[object];
+      for (const Shape& s : g.shapes) it->second.push_back(g.X_object_part[s.part].inverse() * s.X_object_shape);
+    }
+    return it->second;
+  }
+  std::unordered_map<int, std::vector<Eigen::Isometry3d>> part_shapes;
+  std::vector<Eigen::Isometry3d> scratch;  ///< shapes' poses being placed
+
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
     auto& list = of(object);
     fcl::AABBd box;
@@ -653,7 +666,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b, std::pair<int, int>* nearest_parts) {
@@ -962,16 +975,18 @@ std::optional<Collision> DeviceClearance::of_parts(CollisionWorld& world, const 
 
 void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
-  std::vector<Eigen::Isometry3d> X;
-  for (const Shape& s : g.shapes) X.push_back(X_world_object * s.X_object_shape);
+  std::vector<Eigen::Isometry3d>& X = impl_->scratch;
+  X.resize(g.shapes.size());
+  for (size_t k = 0; k < g.shapes.size(); ++k) X[k] = X_world_object * g.shapes[k].X_object_shape;
   impl_->place(object, X);
 }
 
 void CollisionWorld::move_parts(int object, const std::vector<Eigen::Isometry3d>& X_world_part) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
-  std::vector<Eigen::Isometry3d> X;
-  for (const Shape& s : g.shapes)
-    X.push_back(X_world_part[s.part] * g.X_object_part[s.part].inverse() * s.X_object_shape);
+  const std::vector<Eigen::Isometry3d>& X_part_shape = impl_->in_parts(object);
+  std::vector<Eigen::Isometry3d>& X = impl_->scratch;
+  X.resize(g.shapes.size());
+  for (size_t k = 0; k < g.shapes.size(); ++k) X[k] = X_world_part[g.shapes[k].part] * X_part_shape[k];
   impl_->place(object, X);
 }
 

@@ -44,19 +44,29 @@ bool ClearanceTracker::Pair::excused_over(double from, double to) const {
   return std::any_of(excused.begin(), excused.end(), [&](const auto& w) { return from >= w.first && to <= w.second; });
 }
 
+bool ClearanceTracker::provisional_at(double t) const {
+  for (int o : {keeping_.first, keeping_.second}) {
+    auto it = provisional_.find(o);
+    if (it != provisional_.end() &&
+        std::any_of(it->second.begin(), it->second.end(), [&](const auto& w) { return t >= w.first && t <= w.second; }))
+      return true;
+  }
+  return false;
+}
+
 void ClearanceTracker::keep(Pair& pair, Seen seen) {
   if (seen.distance >= pair.closest()) return;
   if (seen.distance >= -kContact && pair.is_excused(seen.t)) return;
   // A record that may yet be excused (a load's set-down, until it lands) does not decide where
   // halving pays: a stretch left coarse beside it would be the run's closest once it is excused.
-  auto provisional = [&](int o) {
-    auto it = provisional_.find(o);
-    return it != provisional_.end() && std::any_of(it->second.begin(), it->second.end(), [&](const auto& w) {
-             return seen.t >= w.first && seen.t <= w.second;
-           });
-  };
-  if (seen.distance < -kContact || (!provisional(keeping_.first) && !provisional(keeping_.second))) best_ = std::min(best_, seen.distance);
+  if (seen.distance < -kContact || !provisional_at(seen.t)) best_ = std::min(best_, seen.distance);
   pair.records.push_back(std::move(seen));
+}
+
+void ClearanceTracker::saw(const Pair& pair, double distance, double t) {
+  if (distance >= nearest_ || pair.is_excused(t)) return;
+  if (provisional_at(t)) pending_seen_.push_back({key(keeping_.first, keeping_.second), distance, t});
+  else nearest_ = distance;
 }
 
 double ClearanceTracker::Path::total() const {
@@ -71,7 +81,7 @@ double ClearanceTracker::Path::between(size_t i, size_t j) const {
 
 const ClearanceTracker::Path* ClearanceTracker::path(int object) const {
   auto it = paths_.find(object);
-  return it == paths_.end() ? nullptr : &it->second;
+  return it == paths_.end() ? nullptr : it->second.get();
 }
 
 void ClearanceTracker::place(int object, const std::vector<Eigen::Isometry3d>& X_world) {
@@ -83,7 +93,9 @@ void ClearanceTracker::place(int object, const std::vector<Eigen::Isometry3d>& X
 
 void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path) {
   followed_ = true;
-  Path& p = paths_[object];
+  std::shared_ptr<Path>& held = paths_[object];
+  if (!held) held = std::make_shared<Path>();
+  Path& p = *held;
   const bool device = geometry_.objects[object].device != nullptr;
   if (p.poses.empty()) {  // its first sight: the interval starts here
     p.now = X_world;
@@ -113,7 +125,15 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
 void ClearanceTracker::next_interval(double t) {
   measured_before_ = std::move(measured_now_);
   measured_now_.clear();
-  for (auto& [object, p] : paths_) {
+  if (held_bytes_ > kMaxDeferredBytes) settle(kMaxDeferredBytes / 2);
+  for (auto& [object, held] : paths_) {
+    // A piece deferred holds this interval's path: it stays as it is, the next starts anew.
+    if (held.use_count() > 1) {
+      auto fresh = std::make_shared<Path>();
+      fresh->now = held->now;
+      held = std::move(fresh);
+    }
+    Path& p = *held;
     p.t.assign(1, t);
     p.poses.assign(1, p.now);
     p.travelled.assign(1, std::vector<double>(p.now.size(), 0.0));
@@ -125,7 +145,9 @@ void ClearanceTracker::next_interval(double t) {
 void ClearanceTracker::provisional(int object, double from, double to) { provisional_[object].emplace_back(from, to); }
 
 void ClearanceTracker::glide(int object, double from, double to, double step, PoseSource source) {
-  paths_[object].spans.push_back({from, to, step, std::move(source)});
+  std::shared_ptr<Path>& held = paths_[object];
+  if (!held) held = std::make_shared<Path>();
+  held->spans.push_back({from, to, step, std::move(source)});
 }
 
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
@@ -178,7 +200,15 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       Other other{p.other, nullptr, other_travel};
       if (theirs && other_travel > 0 && theirs->keep && theirs->t == mine->t) other.path = theirs;
       if (then && mine->keep && mine->poses.size() > 1) {  // halved along the kept poses
-        refine(pair, moving, other, parts, *mine, 0, mine->poses.size() - 1, *then, p);
+        auto motion = std::make_shared<Motion>();
+        motion->moving = moving;
+        motion->other = p.other;
+        motion->travel = other_travel;
+        motion->with = other.path != nullptr;
+        motion->mine = paths_.at(moving);
+        if (theirs) motion->theirs = paths_.at(p.other);
+        motion->parts = parts;
+        refine(motion, 0, mine->poses.size() - 1, *then, p);
         for (double gap : pair.watches)  // each rule's gap: the first pose nearer, left to right
           if (!pair.dips.count(gap))
             if (auto d = first_dip(gap, moving, other, parts, *mine, 0, mine->poses.size() - 1, *then, p))
@@ -190,6 +220,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       if (other.path) place(p.other, theirs->now);
     }
     keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+    saw(pair, p.distance, t);
     pair.sampled_at = t;
     pair.sampled = p;
   }
@@ -204,8 +235,13 @@ void ClearanceTracker::keep_bound(Pair& pair, int moving, const Other& other, co
               run_part_name(wc_, geometry_, other.object, nearer.other_part)});
 }
 
-void ClearanceTracker::refine(Pair& pair, int moving, const Other& other, const std::vector<char>& parts, const Path& p, size_t i,
-                              size_t j, const Proximity& at_i, const Proximity& at_j) {
+void ClearanceTracker::refine(const std::shared_ptr<const Motion>& motion, size_t i, size_t j, const Proximity& at_i,
+                              const Proximity& at_j) {
+  const Motion& m = *motion;
+  const Path& p = *m.mine;
+  const Other other = m.as_other();
+  Pair& pair = pairs_[key(m.moving, m.other)];
+  keeping_ = {m.moving, m.other};
   // The bound keep_bound keeps, here to decide whether halving could find news.
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other.between(i, j);
   const double lower = interval_bound(d_i - other.shift(), d_j - other.shift(), D);
@@ -214,43 +250,45 @@ void ClearanceTracker::refine(Pair& pair, int moving, const Other& other, const 
   // than a contact would be kept, and the bound rules that out (halving it cost the arm demo a
   // third of its time).
   if (lower >= -kContact && pair.excused_over(p.t[i], p.t[j])) return;
-  // Not nearer than the run's closest so far: this stretch cannot be the run's closest approach;
-  // its bound, coarse but certain, is kept without halving (the halving is the cost).
-  if (lower >= best_) {
-    keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
+  // Not nearer than the run's closest so far (less the tolerance): this stretch cannot be the
+  // run's closest approach by more than that; its bound, coarse but certain, is kept without
+  // halving (the halving is the cost).
+  if (moot(lower)) {
+    keep_bound(pair, m.moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
-  if (j - i <= 1 || std::min(d_i, d_j) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_i, d_j))) {
+  if (j - i <= 1 || std::min(d_i, d_j) - lower <= certify_tolerance(std::min(d_i, d_j))) {
     // Two sub-steps of a glide: halved in time, the poses from its plan (and the other's, when
     // it glides too).
     const Path::Span* span = j - i == 1 ? p.span(p.t[i], p.t[j]) : nullptr;
     const Path::Span* theirs = span && other.path ? other.path->span(p.t[i], p.t[j]) : nullptr;
     if (span && (!other.path || theirs))
-      return refine_span(pair, moving, other, theirs, parts, *span, p.t[i], p.t[j], p.poses[i], p.poses[j],
+      return refine_span(motion, *span, theirs, p.t[i], p.t[j], p.poses[i], p.poses[j],
                          other.path ? other.path->poses[i] : std::vector<Eigen::Isometry3d>(),
                          other.path ? other.path->poses[j] : std::vector<Eigen::Isometry3d>(), at_i, at_j);
-    keep_bound(pair, moving, other, at_i, p.t[i], at_j, p.t[j], D);
+    keep_bound(pair, m.moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
-  const size_t m = (i + j) / 2;
-  place(moving, p.poses[m]);
-  if (other.path) place(other.object, other.path->poses[m]);
-  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other.object, parts);
-  if (!at_m) return;
-  // The nearer half first: its records make the other half's pruning stronger.
-  if (std::min(d_i, at_m->distance) <= std::min(at_m->distance, d_j)) {
-    refine(pair, moving, other, parts, p, i, m, at_i, *at_m);
-    refine(pair, moving, other, parts, p, m, j, *at_m, at_j);
-  } else {
-    refine(pair, moving, other, parts, p, m, j, *at_m, at_j);
-    refine(pair, moving, other, parts, p, i, m, at_i, *at_m);
-  }
+  Piece piece;
+  piece.lower = lower;
+  piece.motion = motion;
+  piece.i = i;
+  piece.j = j;
+  piece.t_a = p.t[i];
+  piece.t_b = p.t[j];
+  piece.at_a = at_i;
+  piece.at_b = at_j;
+  defer(std::move(piece));
 }
 
-void ClearanceTracker::refine_span(Pair& pair, int moving, const Other& other, const Path::Span* theirs, const std::vector<char>& parts,
-                                   const Path::Span& span, double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
+void ClearanceTracker::refine_span(const std::shared_ptr<const Motion>& motion, const Path::Span& span, const Path::Span* theirs,
+                                   double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
                                    const std::vector<Eigen::Isometry3d>& X_b, const std::vector<Eigen::Isometry3d>& Y_a,
                                    const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a, const Proximity& at_b) {
+  const Motion& m = *motion;
+  const Other other = m.as_other();
+  Pair& pair = pairs_[key(m.moving, m.other)];
+  keeping_ = {m.moving, m.other};
   // How far each went between a and b: the moving object, and the other gliding with it (else
   // it stands where it is now, having gone other.travel).
   auto went = [this](int o, const std::vector<Eigen::Isometry3d>& from, const std::vector<Eigen::Isometry3d>& to) {
@@ -260,33 +298,142 @@ void ClearanceTracker::refine_span(Pair& pair, int moving, const Other& other, c
       most = std::max(most, nearby_.travel_bound(o, device ? static_cast<int>(k) : -1, from[k], to[k]));
     return most;
   };
-  const double D = went(moving, X_a, X_b) + (theirs ? went(other.object, Y_a, Y_b) : 0.0);
+  const double D = went(m.moving, X_a, X_b) + (theirs ? went(m.other, Y_a, Y_b) : 0.0);
   const double d_a = at_a.distance, d_b = at_b.distance;
   const double lower = interval_bound(d_a - other.shift(), d_b - other.shift(), D);
   if (lower >= pair.closest()) return;
   if (lower >= -kContact && pair.excused_over(t_a, t_b)) return;
-  if (lower >= best_ || t_b - t_a <= span.step * 1.5 ||
-      std::min(d_a, d_b) - lower <= std::max(kCertifyTolerance, kCertifyFraction * std::min(d_a, d_b))) {
-    keep_bound(pair, moving, other, at_a, t_a, at_b, t_b, D);
+  if (moot(lower)) {
+    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D);
     return;
   }
-  const double t_m = (t_a + t_b) / 2;
+  if (t_b - t_a <= span.step * 1.5 || std::min(d_a, d_b) - lower <= certify_tolerance(std::min(d_a, d_b))) {
+    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D);
+    return;
+  }
+  Piece piece;
+  piece.lower = lower;
+  piece.motion = motion;
+  piece.span = &span;
+  piece.their_span = theirs;
+  piece.t_a = t_a;
+  piece.t_b = t_b;
+  piece.X_a = X_a;
+  piece.X_b = X_b;
+  piece.Y_a = Y_a;
+  piece.Y_b = Y_b;
+  piece.at_a = at_a;
+  piece.at_b = at_b;
+  defer(std::move(piece));
+}
+
+bool ClearanceTracker::later(const Piece& a, const Piece& b) {
+  return a.lower != b.lower ? a.lower > b.lower : a.order > b.order;
+}
+
+size_t ClearanceTracker::bytes(const Piece& piece) {
+  return sizeof(Piece) + (piece.X_a.size() + piece.X_b.size() + piece.Y_a.size() + piece.Y_b.size()) * sizeof(Eigen::Isometry3d);
+}
+
+void ClearanceTracker::hold(const Path* path, int by) {
+  if (!path) return;
+  auto [it, fresh] = held_.try_emplace(path, 0, 0);
+  if (fresh) {
+    it->second.second = sizeof(Path) + path->poses.size() * path->now.size() * sizeof(Eigen::Isometry3d) +
+                        path->travelled.size() * path->now.size() * sizeof(double) + path->spans.size() * sizeof(Path::Span);
+    held_bytes_ += it->second.second;
+  }
+  it->second.first += by;
+  if (it->second.first == 0) {
+    held_bytes_ -= it->second.second;
+    held_.erase(it);
+  }
+}
+
+void ClearanceTracker::defer(Piece piece) {
+  hold(piece.motion->mine.get(), 1);
+  hold(piece.motion->theirs.get(), 1);
+  held_bytes_ += bytes(piece);
+  piece.order = deferrals_++;
+  deferred_.push_back(std::move(piece));
+  std::push_heap(deferred_.begin(), deferred_.end(), later);
+}
+
+void ClearanceTracker::settle(size_t keep_bytes) {
+  std::set<int> placed;
+  while (!deferred_.empty() && held_bytes_ > keep_bytes) {
+    std::pop_heap(deferred_.begin(), deferred_.end(), later);
+    const Piece piece = std::move(deferred_.back());
+    deferred_.pop_back();
+    hold(piece.motion->mine.get(), -1);
+    hold(piece.motion->theirs.get(), -1);
+    held_bytes_ -= bytes(piece);
+    const Motion& m = *piece.motion;
+    Pair& pair = pairs_[key(m.moving, m.other)];
+    keeping_ = {m.moving, m.other};
+    // What was recorded since it was deferred may have made it moot, or no longer the closest.
+    if (piece.lower >= pair.closest()) continue;
+    if (piece.lower >= -kContact && pair.excused_over(piece.t_a, piece.t_b)) continue;
+    if (moot(piece.lower)) {  // refined again, it keeps its bound unhalved
+      if (piece.span)
+        refine_span(piece.motion, *piece.span, piece.their_span, piece.t_a, piece.t_b, piece.X_a, piece.X_b, piece.Y_a, piece.Y_b,
+                    piece.at_a, piece.at_b);
+      else
+        refine(piece.motion, piece.i, piece.j, piece.at_a, piece.at_b);
+      continue;
+    }
+    halve(piece, placed);
+  }
+  // Put back what was placed to halve: where the run has it now.
+  for (int o : placed)
+    if (const Path* p = path(o)) place(o, p->now);
+}
+
+void ClearanceTracker::halve(const Piece& piece, std::set<int>& placed) {
+  const Motion& m = *piece.motion;
+  const Other other = m.as_other();
+  placed.insert(m.moving);
+  // The other stands where it stood at the interval's sample (its path's `now`, frozen then),
+  // unless it moves with the moving one.
+  if (m.theirs) {
+    placed.insert(m.other);
+    if (!m.with) place(m.other, m.theirs->now);
+  }
+  if (!piece.span) {
+    const Path& p = *m.mine;
+    const size_t mid = (piece.i + piece.j) / 2;
+    place(m.moving, p.poses[mid]);
+    if (other.path) place(m.other, other.path->poses[mid]);
+    const std::optional<Proximity> at_m = nearby_.pair_distance(m.moving, m.other, m.parts);
+    if (!at_m) return;
+    if (other.shift() == 0) saw(pairs_[key(m.moving, m.other)], at_m->distance, p.t[mid]);
+    refine(piece.motion, piece.i, mid, piece.at_a, *at_m);
+    refine(piece.motion, mid, piece.j, *at_m, piece.at_b);
+    return;
+  }
+  const double t_m = (piece.t_a + piece.t_b) / 2;
   std::vector<Eigen::Isometry3d> X_m, Y_m;
-  span.source(t_m, X_m);
-  place(moving, X_m);
-  if (theirs) {
-    theirs->source(t_m, Y_m);
-    place(other.object, Y_m);
+  piece.span->source(t_m, X_m);
+  place(m.moving, X_m);
+  if (piece.their_span) {
+    piece.their_span->source(t_m, Y_m);
+    place(m.other, Y_m);
   }
-  const std::optional<Proximity> at_m = nearby_.pair_distance(moving, other.object, parts);
+  const std::optional<Proximity> at_m = nearby_.pair_distance(m.moving, m.other, m.parts);
   if (!at_m) return;
-  if (std::min(d_a, at_m->distance) <= std::min(at_m->distance, d_b)) {
-    refine_span(pair, moving, other, theirs, parts, span, t_a, t_m, X_a, X_m, Y_a, Y_m, at_a, *at_m);
-    refine_span(pair, moving, other, theirs, parts, span, t_m, t_b, X_m, X_b, Y_m, Y_b, *at_m, at_b);
-  } else {
-    refine_span(pair, moving, other, theirs, parts, span, t_m, t_b, X_m, X_b, Y_m, Y_b, *at_m, at_b);
-    refine_span(pair, moving, other, theirs, parts, span, t_a, t_m, X_a, X_m, Y_a, Y_m, at_a, *at_m);
-  }
+  if (other.shift() == 0) saw(pairs_[key(m.moving, m.other)], at_m->distance, t_m);
+  refine_span(piece.motion, *piece.span, piece.their_span, piece.t_a, t_m, piece.X_a, X_m, piece.Y_a, Y_m, piece.at_a, *at_m);
+  refine_span(piece.motion, *piece.span, piece.their_span, t_m, piece.t_b, X_m, piece.X_b, Y_m, piece.Y_b, *at_m, piece.at_b);
+}
+
+void ClearanceTracker::finish() {
+  // Every set-down has landed: what was provisional is excused or counts like the rest.
+  provisional_.clear();
+  for (const auto& [k, pair] : pairs_) best_ = std::min(best_, pair.closest());
+  for (const Measured& s : pending_seen_)
+    if (!pairs_[s.key].is_excused(s.t)) nearest_ = std::min(nearest_, s.distance);
+  pending_seen_.clear();
+  settle(0);
 }
 
 std::optional<ClearanceTracker::Dip> ClearanceTracker::first_dip(double gap, int moving, const Other& other,

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <unordered_map>
 #include <optional>
@@ -77,6 +78,9 @@ class ClearanceTracker {
   /// observed), if any.
   std::optional<Dip> dip(int a, int b, double gap, double t) const;
 
+  /// Halves what is left to halve (deferred pieces, below): call once, when the run has ended,
+  /// before closest().
+  void finish();
   /// The closest approach of the run: the smallest distance of any pair outside the moves
   /// excused, negative for the deepest penetration; none when nothing came within reach. A
   /// lower bound over the whole motion (certified) when every physics step was followed.
@@ -131,6 +135,11 @@ class ClearanceTracker {
   using Key = std::pair<int, int>;  ///< (lower object, higher object)
   static Key key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
   void keep(Pair& pair, Seen seen);
+  /// A distance measured at time `t` (a sample, or a pose halving found) where the pair counts:
+  /// the run's closest approach is no farther (nearest_).
+  void saw(const Pair& pair, double distance, double t);
+  /// A record at `t` of the pair keeping_ is keeping may yet be excused (provisional()).
+  bool provisional_at(double t) const;
 
   /// An object's motion since the last sample: where it was then, and after each step how far
   /// each part's points may have gone since (a bound), with the poses when kept.
@@ -171,17 +180,69 @@ class ClearanceTracker {
   /// each distance less other.shift().
   void keep_bound(Pair& pair, int moving, const Other& other, const Proximity& at_i, double t_i, const Proximity& at_j, double t_j,
                   double D);
-  /// The pair's lower bound between the kept poses i and j of `moving` (distances di and dj
-  /// there): refined by halving where it could be news, each piece kept as a record.
-  void refine(Pair& pair, int moving, const Other& other, const std::vector<char>& parts, const Path& p, size_t i, size_t j,
-              const Proximity& at_i, const Proximity& at_j);
+  /// How near a lower bound must come to a distance measured to need no halving.
+  static double certify_tolerance(double d) { return std::max(kCertifyTolerance, kCertifyFraction * d); }
+  /// A bound that cannot be the run's closest approach, or only by less than the tolerance: not
+  /// below every record, or within the tolerance of a distance measured where it counts (the
+  /// run's closest approach is no farther than that). Kept unhalved, such a bound leaves the
+  /// run's figure within the tolerance of the truth, as a halved one is, and the store's crane
+  /// run, passing its drums at the same 0.139 m rack after rack, halves one pass, not each.
+  bool moot(double lower) const { return lower >= best_ || lower >= nearest_ - certify_tolerance(nearest_); }
 
+  /// One pair's motion between two samples, as its pieces are halved: the moving object's path
+  /// (kept poses, glides), the other's (kept with it, or where it stood: its `now` then), the
+  /// parts measured. Shared by the pieces deferred; the paths are frozen copies once the next
+  /// interval begins (next_interval() starts a new one where a piece still holds the old).
+  struct Motion {
+    int moving = -1, other = -1;
+    double travel = 0;  ///< how far the other went (its shift when it is not kept with `mine`)
+    bool with = false;  ///< the other kept at the same steps: placed with the moving one
+    std::shared_ptr<const Path> mine, theirs;
+    std::vector<char> parts;
+    Other as_other() const { return Other{other, with ? theirs.get() : nullptr, travel}; }
+  };
+  /// A piece of a motion whose bound is below every record so far: it could be the run's
+  /// closest approach, or not, which a later record may tell. Halving it is the cost, so it
+  /// waits (best first, lowest bound first) until the run ends or too many wait: a drum
+  /// hovering over its pallet, nearer by 0.1 mm a step, is news at each sample until the run's
+  /// real closest approach comes later and makes every piece before it moot.
+  struct Piece {
+    double lower = 0;
+    long order = 0;  ///< ties broken by age: deterministic
+    std::shared_ptr<const Motion> motion;
+    size_t i = 0, j = 0;  ///< kept poses i..j of motion->mine; or, for a glide's piece:
+    const Path::Span* span = nullptr;
+    const Path::Span* their_span = nullptr;
+    double t_a = 0, t_b = 0;
+    std::vector<Eigen::Isometry3d> X_a, X_b, Y_a, Y_b;
+    Proximity at_a, at_b;
+  };
+  /// The pair's lower bound between the kept poses i and j of the motion's moving object
+  /// (distances at_i and at_j there): kept, or deferred for halving where it could be news.
+  void refine(const std::shared_ptr<const Motion>& motion, size_t i, size_t j, const Proximity& at_i, const Proximity& at_j);
   /// refine() between two times of a glide, its poses from `span`'s source (and the other's
   /// from `theirs`, when it glides too: Y_a, Y_b its poses at the ends).
-  void refine_span(Pair& pair, int moving, const Other& other, const Path::Span* theirs, const std::vector<char>& parts,
-                   const Path::Span& span, double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
-                   const std::vector<Eigen::Isometry3d>& X_b, const std::vector<Eigen::Isometry3d>& Y_a,
-                   const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a, const Proximity& at_b);
+  void refine_span(const std::shared_ptr<const Motion>& motion, const Path::Span& span, const Path::Span* theirs, double t_a,
+                   double t_b, const std::vector<Eigen::Isometry3d>& X_a, const std::vector<Eigen::Isometry3d>& X_b,
+                   const std::vector<Eigen::Isometry3d>& Y_a, const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a,
+                   const Proximity& at_b);
+  void defer(Piece piece);
+  /// The heap's order: the lowest bound on top, the oldest first among equals.
+  static bool later(const Piece& a, const Piece& b);
+  /// Halves the deferred pieces, lowest bound first, until what they hold is at most
+  /// `keep_bytes` (a piece moot() by then is kept as its bound, unhalved); everything placed to
+  /// halve is put back where the run has it.
+  void settle(size_t keep_bytes);
+  /// What the pieces waiting hold: their own poses, and once each path they share.
+  static size_t bytes(const Piece& piece);
+  void hold(const Path* path, int by);
+  std::unordered_map<const Path*, std::pair<long, size_t>> held_;  ///< per path: pieces holding it, its bytes
+  size_t held_bytes_ = 0;
+  /// The piece halved at its middle, each half refined again.
+  void halve(const Piece& piece, std::set<int>& placed);
+  /// What the pieces waiting during a run may hold (their poses); beyond it, the lowest are
+  /// halved until half is left.
+  static constexpr size_t kMaxDeferredBytes = size_t{48} << 20;
 
   /// The earliest kept pose in (i, j] nearer than `gap`: the interval halved, the earlier half
   /// searched first, a piece whose bound clears the gap skipped.
@@ -192,11 +253,22 @@ class ClearanceTracker {
   const GeometryModel& geometry_;
   CollisionWorld nearby_;
   std::map<Key, Pair> pairs_;
-  std::unordered_map<int, Path> paths_;
+  std::unordered_map<int, std::shared_ptr<Path>> paths_;
+  std::vector<Piece> deferred_;  ///< a heap: the lowest bound on top
+  long deferrals_ = 0;
   bool certified_ = true;  ///< every step followed (a tracker without paths measures samples only)
   bool followed_ = false;
   /// The smallest record kept so far (one excused since may have gone): where halving pays.
   double best_ = INFINITY;
+  /// The nearest distance measured where a pair counts (saw()): an upper bound of the run's
+  /// closest approach.
+  double nearest_ = INFINITY;
+  /// Distances saw() measured that may yet be excused: they count at finish() if they are not.
+  struct Measured {
+    Key key;
+    double distance = 0, t = 0;
+  };
+  std::vector<Measured> pending_seen_;
   /// What was measured as moving at this sample and the last, with what it skipped.
   std::map<int, std::vector<int>> measured_now_, measured_before_;
   std::map<int, std::vector<std::pair<double, double>>> provisional_;  ///< per object (provisional())

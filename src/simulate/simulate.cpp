@@ -1236,6 +1236,7 @@ class Run {
   }
 
   RunSummary finish(double t_end) {
+    clearances_.finish();  // the pieces of motion left to halve
     RunSummary s;
     // A run that stopped has no cycle time: its cycle was not done.
     s.cycle_time = failed_ ? std::numeric_limits<double>::quiet_NaN() : plan_.end;
