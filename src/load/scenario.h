@@ -55,22 +55,28 @@ struct StepSpec {
   const char* kind() const { return kStepActionNames[action.index()]; }
 };
 
-struct ScenarioSpec {
+/// What a scenario and a campaign file both say: their name, vault and overrides, the `sim:`
+/// and `record:` settings and the cameras (campaign-format.md: "as in a scenario").
+struct RunFileSpec {
   std::string name;
   SourceMark mark;
   std::string path;
   std::string description;
-  Scalar vault;                   ///< relative to the scenario file
+  Scalar vault;                   ///< relative to the file
   std::string vault_path;         ///< resolved
   std::vector<std::pair<std::string, Scalar>> set;  ///< parameter overrides
   Scalar timestep, limit;
   Scalar check_tolerance;         ///< sim.check_tolerance: spatial re-checks during the run
   Scalar mode;                    ///< sim.mode: physics (default) or fast
+  Scalar seed;                    ///< sim.seed: campaigns only (random arrivals and choices)
   bool gravity = true;
   Scalar trajectory_rate;
   bool frames = false;
   Scalar fps, width, height;
   std::vector<CameraKeySpec> cameras;
+};
+
+struct ScenarioSpec : RunFileSpec {
   std::vector<StepSpec> steps;
 };
 

@@ -5,8 +5,10 @@
 
 #include "core/names.h"
 #include "core/yaml_tree.h"
+#include "load/campaign.h"
 #include "load/load.h"
 #include "load/reader.h"
+#include "load/run_file.h"
 #include "load/scenario.h"
 
 #include "core/files.h"
@@ -35,9 +37,12 @@ TargetSpec read_target(yaml::Node node, Diagnostics& diag) {
   return t;
 }
 
-StepSpec read_step(yaml::Node node, Diagnostics& diag);
+}  // namespace
 
-void read_action(StepSpec& s, std::string_view kind, yaml::Node v, Diagnostics& diag) {
+namespace load {
+
+namespace {
+void read_action(StepSpec& s, std::string_view kind, yaml::Node v, Diagnostics& diag, bool templated) {
   if (kind == "move_joints") {
     MoveJointsSpec m;
     if (v.is_scalar() && v.text() == "home") {
@@ -87,7 +92,7 @@ void read_action(StepSpec& s, std::string_view kind, yaml::Node v, Diagnostics& 
       load::expected(diag, v, "a non-empty sequence of steps", "parallel");
     } else {
       for (size_t i = 0; i < v.size(); ++i) {
-        StepSpec inner = read_step(v.item(i), diag);
+        StepSpec inner = read_step(v.item(i), diag, templated);
         if (std::holds_alternative<ParallelSpec>(inner.action))
           diag.error(inner.mark, "a parallel group cannot hold another parallel group");
         p.steps.push_back(std::move(inner));
@@ -97,7 +102,9 @@ void read_action(StepSpec& s, std::string_view kind, yaml::Node v, Diagnostics& 
   }
 }
 
-StepSpec read_step(yaml::Node node, Diagnostics& diag) {
+}  // namespace
+
+StepSpec read_step(yaml::Node node, Diagnostics& diag, bool templated) {
   StepSpec s;
   s.mark = node.mark();
   s.action = WaitSpec{};
@@ -125,9 +132,9 @@ StepSpec read_step(yaml::Node node, Diagnostics& diag) {
     diag.error(actions[1].second.mark(), fmt::format("a step has one action; this one has '{}' and '{}' (use parallel "
                                                       "to run steps together)", actions[0].first, actions[1].first));
   const auto& [kind, value] = actions[0];
-  read_action(s, kind, value, diag);
+  read_action(s, kind, value, diag, templated);
   bool needs_device = kind != "wait" && kind != "parallel";
-  if (needs_device && !s.device.present) diag.error(s.mark, fmt::format("a {} step needs 'device'", kind));
+  if (needs_device && !s.device.present && !templated) diag.error(s.mark, fmt::format("a {} step needs 'device'", kind));
   if (!needs_device && s.device.present) diag.error(s.device.mark, fmt::format("a {} step takes no 'device'", kind));
   if (s.speed.present && kind != "move_joints" && kind != "move_to")
     diag.error(s.speed.mark, fmt::format("'speed' applies to move_joints and move_to, not {}", kind));
@@ -142,6 +149,9 @@ StepSpec read_step(yaml::Node node, Diagnostics& diag) {
   return s;
 }
 
+}  // namespace load
+
+namespace {
 std::vector<CameraKeySpec> read_cameras(yaml::Node cameras, Diagnostics& diag) {
   std::vector<CameraKeySpec> out;
   if (!cameras.valid()) return out;
@@ -152,6 +162,48 @@ std::vector<CameraKeySpec> read_cameras(yaml::Node cameras, Diagnostics& diag) {
 }
 
 }  // namespace
+
+namespace load {
+void read_run_file(MapReader& root, RunFileSpec& out, Diagnostics& diag, bool campaign) {
+  out.description = load::text(root.take("description"), "description", diag);
+  out.vault = load::scalar(root.require("vault"), "vault", diag);
+  if (out.vault.present && !out.vault.null) {
+    fs::path p(out.vault.text);
+    out.vault_path = join_path(fs::path(out.path).parent_path().string(), p.string());
+    if (std::string why = outside_roots(out.vault_path); !why.empty())
+      diag.error(out.vault.mark, fmt::format("vault file '{}' {}", out.vault.text, why));
+  }
+  MapReader set(root.take("set"), "set", diag);
+  for (auto& [k, v] : set.rest()) out.set.emplace_back(load::name(k, "a parameter", diag), load::scalar(v, "a parameter value", diag));
+  MapReader sim(root.take("sim"), "sim", diag);
+  out.timestep = load::scalar(sim.take("timestep"), "timestep", diag);
+  out.gravity = load::boolean(sim.take("gravity"), "gravity", diag, true);
+  out.limit = load::scalar(sim.take("limit"), "limit", diag);
+  out.check_tolerance = load::scalar(sim.take("check_tolerance"), "check_tolerance", diag);
+  out.mode = load::scalar(sim.take("mode"), "mode", diag);
+  if (campaign) out.seed = load::scalar(sim.take("seed"), "seed", diag);
+  if (sim.ok()) sim.finish();
+  MapReader record(root.take("record"), "record", diag);
+  if (record.ok()) {
+    MapReader traj(record.take("trajectory"), "trajectory", diag);
+    out.trajectory_rate = load::scalar(traj.take("rate"), "trajectory rate", diag);
+    if (traj.ok()) traj.finish();
+    yaml::Node frames = record.take("frames");
+    if (frames.valid()) {
+      out.frames = true;
+      MapReader f(frames, "frames", diag);
+      out.fps = load::scalar(f.take("fps"), "fps", diag);
+      out.width = load::scalar(f.take("width"), "width", diag);
+      out.height = load::scalar(f.take("height"), "height", diag);
+      if (f.ok()) f.finish();
+    }
+    record.finish();
+  }
+  out.cameras = read_cameras(root.take("cameras"), diag);
+}
+
+}  // namespace load
+
 
 std::optional<std::vector<CameraKeySpec>> load_cameras(const std::string& path, Sources& sources, Diagnostics& diag) {
   uint32_t file = read_source(path, sources, diag);
@@ -175,6 +227,15 @@ std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sour
 std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagnostics& diag) {
   yaml::Document doc = yaml::parse(sources, file, diag);
   if (doc.empty()) return std::nullopt;
+  // A campaign file (campaign-format.md) is loaded and checked as one; running it is not in
+  // this version yet, and saying so beats "missing key 'scenario'".
+  if (doc.root().is_map() && doc.root().find("campaign").valid() && !doc.root().find("scenario").valid()) {
+    load_campaign(file, sources, diag);
+    diag.error(doc.root().find("campaign").mark(),
+               "this is a campaign file (campaign-format.md): this version of sscs loads and checks campaign files "
+               "but cannot run them yet");
+    return std::nullopt;
+  }
   MapReader root(doc.root(), "a scenario file", diag);
   if (!root.ok()) return std::nullopt;
   load::check_version(root, diag);
@@ -183,46 +244,13 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
   yaml::Node name = root.require("scenario");
   sc.name = load::name(name, "the scenario", diag);
   sc.mark = name.valid() ? name.mark() : root.mark();
-  sc.description = load::text(root.take("description"), "description", diag);
-  sc.vault = load::scalar(root.require("vault"), "vault", diag);
-  if (sc.vault.present && !sc.vault.null) {
-    fs::path p(sc.vault.text);
-    sc.vault_path = join_path(fs::path(sc.path).parent_path().string(), p.string());
-    if (std::string why = outside_roots(sc.vault_path); !why.empty())
-      diag.error(sc.vault.mark, fmt::format("vault file '{}' {}", sc.vault.text, why));
-  }
-  MapReader set(root.take("set"), "set", diag);
-  for (auto& [k, v] : set.rest()) sc.set.emplace_back(load::name(k, "a parameter", diag), load::scalar(v, "a parameter value", diag));
-  MapReader sim(root.take("sim"), "sim", diag);
-  sc.timestep = load::scalar(sim.take("timestep"), "timestep", diag);
-  sc.gravity = load::boolean(sim.take("gravity"), "gravity", diag, true);
-  sc.limit = load::scalar(sim.take("limit"), "limit", diag);
-  sc.check_tolerance = load::scalar(sim.take("check_tolerance"), "check_tolerance", diag);
-  sc.mode = load::scalar(sim.take("mode"), "mode", diag);
-  if (sim.ok()) sim.finish();
-  MapReader record(root.take("record"), "record", diag);
-  if (record.ok()) {
-    MapReader traj(record.take("trajectory"), "trajectory", diag);
-    sc.trajectory_rate = load::scalar(traj.take("rate"), "trajectory rate", diag);
-    if (traj.ok()) traj.finish();
-    yaml::Node frames = record.take("frames");
-    if (frames.valid()) {
-      sc.frames = true;
-      MapReader f(frames, "frames", diag);
-      sc.fps = load::scalar(f.take("fps"), "fps", diag);
-      sc.width = load::scalar(f.take("width"), "width", diag);
-      sc.height = load::scalar(f.take("height"), "height", diag);
-      if (f.ok()) f.finish();
-    }
-    record.finish();
-  }
-  sc.cameras = read_cameras(root.take("cameras"), diag);
+  load::read_run_file(root, sc, diag, false);
   yaml::Node steps = root.require("steps");
   if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
     load::expected(diag, steps, "a non-empty sequence of steps", "steps");
   } else if (steps.valid()) {
     for (size_t i = 0; i < steps.size(); ++i) {
-      sc.steps.push_back(read_step(steps.item(i), diag));
+      sc.steps.push_back(load::read_step(steps.item(i), diag, false));
       if (diag.full()) break;
     }
   }

@@ -1769,7 +1769,7 @@ def expanded_size(path):
 
 def kind_of(doc):
     if isinstance(doc, dict):
-        for k in ("scenario", "sweep", "type", "vault", "cameras"):
+        for k in ("campaign", "scenario", "sweep", "type", "vault", "cameras"):
             if k in doc:
                 return k
     return None

@@ -1,6 +1,7 @@
 // Fuzzes a scenario file through load, compile of its vault, planning and cameras (everything
-// `sscs simulate` does before physics). Its vault is scenarios/drum-transfer/cell.yaml, copied
+// `sscs simulate` does before physics), and the same bytes as a campaign file through its loader. Its vault is scenarios/drum-transfer/cell.yaml, copied
 // beside it as `cell.yaml`, so seeds from that folder reach the planner.
+#include "load/campaign.h"
 #include "pipeline/prepare.h"
 #include "fuzz_support.h"
 
@@ -17,5 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.library = fuzz::standard_library();
   PreparedScenario prepared;
   prepared.prepare(path, options);
+  Sources sources;
+  Diagnostics diag;
+  load_campaign(path, sources, diag);
   return 0;
 }

@@ -31,7 +31,7 @@ def top_key(path):
         text = open(path, encoding="utf-8", errors="replace").read()
     except OSError:
         return None
-    for kind in ("scenario", "sweep", "type", "vault"):
+    for kind in ("campaign", "scenario", "sweep", "type", "vault"):
         if re.search(rf"^{kind}:", text, re.M):
             return kind
     return None
@@ -92,7 +92,8 @@ def seeds(target):
     """(name, bytes) pairs."""
     if target in ("vault", "type", "scenario", "sweep"):
         for path in project_files("*.yaml"):
-            if top_key(path) == target:
+            # A campaign file seeds the scenario target, which loads its input as both.
+            if top_key(path) == target or (target == "scenario" and top_key(path) == "campaign"):
                 yield os.path.relpath(path, ROOT).replace("/", "_"), open(path, "rb").read()
     elif target == "expr":
         for i, e in enumerate(expressions()):
