@@ -2754,6 +2754,15 @@ def fast(sscs, root):
         c0, c1 = s0["cycle_time"], s1["cycle_time"]
         if (c0 is None) != (c1 is None) or (c0 is not None and abs(c1 - c0) > 0.01 * c0):
             fail(f"{where}\ncycle time {c1} in fast mode, {c0} in physics")
+        # The certified figure is the same in both modes (a lower bound within the tolerance of
+        # the truth: a glide's sub-step once went unfound and fast mode said 0.3417 m where the
+        # drum passed 0.429 m over a post). Where nothing collided: a contact's depth is the
+        # physics' own, and where a device was stopped the modes stop it differently.
+        m0, m1 = s0.get("min_clearance"), s1.get("min_clearance")
+        collided = any(e["kind"] == "collision" for e in e0 + e1)
+        if not collided and m0 and m1 and m0.get("certified") and m1.get("certified") and min(m0["distance"], m1["distance"]) > 0 \
+                and abs(m0["distance"] - m1["distance"]) > 0.005:
+            fail(f"{where}\nmin_clearance {m1} in fast mode, {m0} in physics (more than 5 mm apart)")
         thrown = {e.get("object") for e in e0 if e["kind"] in ("displaced", "load_shifted", "not_at_rest")}
         for obj, at in last0.items():
             if obj in thrown:
