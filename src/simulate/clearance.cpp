@@ -97,13 +97,41 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
   if (!held) held = std::make_shared<Path>();
   Path& p = *held;
   const bool device = geometry_.objects[object].device != nullptr;
-  if (p.poses.empty()) {  // its first sight: the interval starts here
-    p.now = X_world;
-    p.t.assign(1, t);
-    p.poses.assign(1, X_world);
-    p.travelled.assign(1, std::vector<double>(X_world.size(), 0.0));
-    p.decided = false;
-    return;
+  if (p.poses.empty()) {
+    if (t <= interval_start_ + 1e-9 || device) {  // its first sight: the interval starts here
+      p.now = X_world;
+      p.t.assign(1, t);
+      p.poses.assign(1, X_world);
+      p.travelled.assign(1, std::vector<double>(X_world.size(), 0.0));
+      p.decided = false;
+      return;
+    }
+    // First seen mid-interval (a load still until a grasp woke it, and what rides on it): it
+    // stood where the vault has it until now, at every step the others kept, so that it is
+    // placed with what carries it when the tracker halves (a drum on a pallet a forklift lifted
+    // at 3.02 s was measured standing where the lift left it, less the whole lift: a 44 mm gap
+    // read -0.175 m at 1 Hz).
+    const Eigen::Isometry3d& X_static = geometry_.objects[object].X_world_object;
+    // The steps kept so far (a device's path: devices are followed first), before this one.
+    const Path* ref = nullptr;
+    for (const auto& [o, other] : paths_)
+      if (other && other->keep && other->decided && !other->t.empty() && std::abs(other->t.front() - interval_start_) < 1e-9 &&
+          (!ref || other->t.size() > ref->t.size()))
+        ref = other.get();
+    size_t before = 0;
+    if (ref) before = std::lower_bound(ref->t.begin(), ref->t.end(), t - 1e-9) - ref->t.begin();
+    p.now.assign(X_world.size(), X_static);
+    if (keep_path && before > 0) {
+      p.t.assign(ref->t.begin(), ref->t.begin() + before);
+      p.poses.assign(before, p.now);
+      p.travelled.assign(before, std::vector<double>(X_world.size(), 0.0));
+      p.decided = p.keep = true;
+    } else {
+      p.t.assign(1, interval_start_);
+      p.poses.assign(1, p.now);
+      p.travelled.assign(1, std::vector<double>(X_world.size(), 0.0));
+      p.decided = false;
+    }
   }
   if (!p.decided) {  // the first step after the sample decides whether this interval keeps poses
     p.decided = true;
@@ -123,6 +151,7 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
 }
 
 void ClearanceTracker::next_interval(double t) {
+  interval_start_ = t;
   measured_before_ = std::move(measured_now_);
   measured_now_.clear();
   if (held_bytes_ > kMaxDeferredBytes) settle(kMaxDeferredBytes / 2);

@@ -266,6 +266,7 @@ class ClearanceTracker {
   /// The nearest distance measured where a pair counts (saw()): an upper bound of the run's
   /// closest approach.
   double nearest_ = INFINITY;
+  double interval_start_ = 0;  ///< the sample the interval under way began at
   /// Distances saw() measured that may yet be excused: they count at finish() if they are not.
   struct Measured {
     Key key;
