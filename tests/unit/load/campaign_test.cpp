@@ -25,7 +25,7 @@ class Campaign : public ::testing::Test {
 };
 
 // The example of campaign-format.md, whole (the retrieve job's `steps: [...]` written out).
-const char* kExample = R"(sscs: 1
+const char* kCampaignExample = R"(sscs: 1
 campaign: receive-40
 vault: store.yaml
 set: {rows: 4}
@@ -71,7 +71,7 @@ on_failure: continue
 )";
 
 TEST_F(Campaign, TheSpecExampleLoads) {
-  auto c = load(kExample);
+  auto c = load(kCampaignExample);
   ASSERT_TRUE(c);
   ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
   EXPECT_EQ(c->name, "receive-40");
