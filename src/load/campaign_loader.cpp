@@ -172,12 +172,7 @@ JobSpec read_job(yaml::Node node, Diagnostics& diag) {
   if (j.slot && j.to.present) diag.error(j.to.mark, fmt::format("job '{}' has both 'slot:' and 'to:'; a job goes to one", j.name));
   yaml::Node claims = r.take("claims");
   if (claims.valid()) j.claims = load::scalar_list(claims, "a claim", diag);
-  yaml::Node steps = r.require("steps");
-  if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
-    load::expected(diag, steps, "a non-empty sequence of steps", "steps");
-  } else if (steps.valid()) {
-    for (size_t i = 0; i < steps.size() && !diag.full(); ++i) j.steps.push_back(load::read_step(steps.item(i), diag, true));
-  }
+  j.steps = load::read_steps(r.require("steps"), diag, true);
   r.finish();
   check_placeholders(j, j.steps, diag);
   return j;

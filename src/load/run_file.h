@@ -13,5 +13,8 @@ namespace sscs::load {
 void read_run_file(MapReader& root, RunFileSpec& out, Diagnostics& diag, bool campaign);
 /// One step; `templated`: a campaign job's, whose `device:` the job supplies when absent.
 StepSpec read_step(yaml::Node node, Diagnostics& diag, bool templated);
+/// `steps:`: a non-empty sequence of read_step()s (an absent node gives none; the caller
+/// requires it).
+std::vector<StepSpec> read_steps(yaml::Node steps, Diagnostics& diag, bool templated);
 
 }  // namespace sscs::load

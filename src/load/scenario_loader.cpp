@@ -149,6 +149,16 @@ StepSpec read_step(yaml::Node node, Diagnostics& diag, bool templated) {
   return s;
 }
 
+std::vector<StepSpec> read_steps(yaml::Node steps, Diagnostics& diag, bool templated) {
+  std::vector<StepSpec> out;
+  if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
+    load::expected(diag, steps, "a non-empty sequence of steps", "steps");
+  } else if (steps.valid()) {
+    for (size_t i = 0; i < steps.size() && !diag.full(); ++i) out.push_back(read_step(steps.item(i), diag, templated));
+  }
+  return out;
+}
+
 }  // namespace load
 
 namespace {
@@ -245,15 +255,7 @@ std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagn
   sc.name = load::name(name, "the scenario", diag);
   sc.mark = name.valid() ? name.mark() : root.mark();
   load::read_run_file(root, sc, diag, false);
-  yaml::Node steps = root.require("steps");
-  if (steps.valid() && (!steps.is_sequence() || steps.size() == 0)) {
-    load::expected(diag, steps, "a non-empty sequence of steps", "steps");
-  } else if (steps.valid()) {
-    for (size_t i = 0; i < steps.size(); ++i) {
-      sc.steps.push_back(load::read_step(steps.item(i), diag, false));
-      if (diag.full()) break;
-    }
-  }
+  sc.steps = load::read_steps(root.require("steps"), diag, false);
   root.finish();
   return sc;
 }

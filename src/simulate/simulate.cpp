@@ -680,14 +680,18 @@ class Run {
   }
 
   /// Whether a grasp begins in the sample interval that holds `t` (from the sample before it to
-  /// the one after).
-  bool grasp_in_interval(double t) const {
+  /// the one after): looked up once an interval, for every physics step asks.
+  bool grasp_in_interval(double t) {
     const double period = 1.0 / plan_.settings.rate, dt = plan_.settings.timestep;
-    const double from = std::floor(t / period + 1e-9) * period - dt, to = from + period + 2 * dt;
-    for (const PlannedStep& ps : plan_.steps)
-      if (ps.kind == StepKind::Grasp && ps.start >= from && ps.start <= to) return true;
-    return false;
+    const long interval = static_cast<long>(std::floor(t / period + 1e-9));
+    if (interval == grasp_interval_.first) return grasp_interval_.second;
+    const double from = interval * period - dt, to = from + period + 2 * dt;
+    grasp_interval_ = {interval, std::any_of(plan_.steps.begin(), plan_.steps.end(), [&](const PlannedStep& ps) {
+                         return ps.kind == StepKind::Grasp && ps.start >= from && ps.start <= to;
+                       })};
+    return grasp_interval_.second;
   }
+  std::pair<long, bool> grasp_interval_{-1, false};  ///< grasp_in_interval()'s last answer
 
   /// The load a device holds that `o` is or rides on, else -1.
   int moving_load(int o) const {
