@@ -754,9 +754,12 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
     if (std::find(ignore.begin(), ignore.end(), other) != ignore.end()) continue;
     const bool support = std::find(stands_on.begin(), stands_on.end(), other) != stands_on.end();
     const auto& theirs = impl_->of(other);
-    for (const auto& [p, s] : shapes)
+    const fcl::AABBd& bounds = impl_->bounds(other);
+    for (const auto& [p, s] : shapes) {
+      if (support && !moved[p]) continue;  // the base on its pedestal
+      // (A crane's bridge spans the hall: its box meets every object's, a hook's few.)
+      if (box_gap(s->getAABB(), bounds) > kTouchTolerance) continue;
       for (size_t k = 0; k < theirs.size(); ++k) {
-        if (support && !moved[p]) continue;  // the base on its pedestal
         // The tool's parts may touch the target, as a run's move_to lets them (kTargetTouch), but
         // not enter it: a gripper buried in its drum is a collision.
         const bool touches = other == target && p < static_cast<int>(tool_parts.size()) && tool_parts[p];
@@ -771,6 +774,7 @@ std::optional<Collision> CollisionWorld::device_collision(int object, const std:
           note({other, p, other_part, depth});
         }
       }
+    }
   }
   return deepest;
 }
