@@ -3,6 +3,7 @@
 /// that arrive, the jobs generated from templates, and what a failure does. Values stay text
 /// with marks; the campaign is resolved against the compiled vault later.
 #include <optional>
+#include <variant>
 #include <string>
 #include <vector>
 
@@ -68,5 +69,7 @@ inline constexpr const char* kJobPlaceholders[] = {"load", "slot", "to", "device
 std::optional<CampaignSpec> load_campaign(const std::string& path, Sources& sources, Diagnostics& diag);
 /// Loads a campaign already registered in `sources` (tests).
 std::optional<CampaignSpec> load_campaign(uint32_t file, Sources& sources, Diagnostics& diag);
+/// Loads a file `sscs simulate` runs: a scenario, or a campaign (its top key says which).
+std::optional<std::variant<ScenarioSpec, CampaignSpec>> load_run_file(const std::string& path, Sources& sources, Diagnostics& diag);
 
 }  // namespace sscs

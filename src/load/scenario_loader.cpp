@@ -234,16 +234,33 @@ std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sour
   return load_scenario(file, sources, diag);
 }
 
+namespace {
+bool is_campaign(const yaml::Document& doc) {
+  return doc.root().is_map() && doc.root().find("campaign").valid() && !doc.root().find("scenario").valid();
+}
+}  // namespace
+
+std::optional<std::variant<ScenarioSpec, CampaignSpec>> load_run_file(const std::string& path, Sources& sources, Diagnostics& diag) {
+  uint32_t file = read_source(path, sources, diag);
+  if (file == 0) return std::nullopt;
+  Diagnostics peek;  // the loader reports what parsing finds
+  if (is_campaign(yaml::parse(sources, file, peek))) {
+    if (auto c = load_campaign(file, sources, diag)) return std::variant<ScenarioSpec, CampaignSpec>(std::move(*c));
+    return std::nullopt;
+  }
+  if (auto s = load_scenario(file, sources, diag)) return std::variant<ScenarioSpec, CampaignSpec>(std::move(*s));
+  return std::nullopt;
+}
+
 std::optional<ScenarioSpec> load_scenario(uint32_t file, Sources& sources, Diagnostics& diag) {
   yaml::Document doc = yaml::parse(sources, file, diag);
   if (doc.empty()) return std::nullopt;
-  // A campaign file (campaign-format.md) is loaded and checked as one; running it is not in
-  // this version yet, and saying so beats "missing key 'scenario'".
-  if (doc.root().is_map() && doc.root().find("campaign").valid() && !doc.root().find("scenario").valid()) {
+  // A campaign file (campaign-format.md) where only a scenario can go (a sweep's `scenario:`):
+  // loaded and checked as one, and saying so beats "missing key 'scenario'".
+  if (is_campaign(doc)) {
     load_campaign(file, sources, diag);
     diag.error(doc.root().find("campaign").mark(),
-               "this is a campaign file (campaign-format.md): this version of sscs loads and checks campaign files "
-               "but cannot run them yet");
+               "this is a campaign file (campaign-format.md): `sscs simulate` runs it, but a scenario is expected here");
     return std::nullopt;
   }
   MapReader root(doc.root(), "a scenario file", diag);

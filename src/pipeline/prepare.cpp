@@ -1,5 +1,8 @@
 #include "pipeline/prepare.h"
 
+#include "load/campaign.h"
+#include "pipeline/campaign.h"
+
 #include "geometry/mesh_io.h"
 
 namespace sscs {
@@ -21,8 +24,15 @@ PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& option
 }
 
 bool PreparedScenario::prepare(const std::string& path, const CompileOptions& base, const std::string& camera_file) {
-  spec = load_scenario(path, sources, diag);
-  if (!spec || diag.has_errors()) return false;
+  auto file = load_run_file(path, sources, diag);
+  if (!file || diag.has_errors()) return false;
+  if (auto* c = std::get_if<CampaignSpec>(&*file)) {
+    campaign = std::move(*c);
+    spec.emplace();
+    static_cast<RunFileSpec&>(*spec) = *campaign;  // its name, vault, settings and cameras: a run's
+  } else {
+    spec = std::move(std::get<ScenarioSpec>(*file));
+  }
   CompileOptions options = base;
   for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
   overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
@@ -30,7 +40,11 @@ bool PreparedScenario::prepare(const std::string& path, const CompileOptions& ba
   PreparedVault vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true, .contacts = nullptr});  // frames draw what devices look like
   wc = std::move(vault.wc);
   geometry = std::move(vault.geometry);
-  if (wc && !diag.has_errors()) plan = plan_scenario(*spec, *wc, geometry, diag);
+  if (wc && !diag.has_errors() && campaign) {
+    if (auto commands = compile_campaign(*campaign, *wc, geometry, diag)) plan = plan_campaign(*commands, *wc, geometry, diag);
+  } else if (wc && !diag.has_errors()) {
+    plan = plan_scenario(*spec, *wc, geometry, diag);
+  }
   std::vector<CameraKeySpec> keys = spec->cameras;
   if (!camera_file.empty())
     if (auto file = load_cameras(camera_file, sources, diag)) keys = *file;

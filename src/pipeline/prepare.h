@@ -9,6 +9,7 @@
 
 #include "compile/compile.h"
 #include "geometry/geometry.h"
+#include "load/campaign.h"
 #include "load/scenario.h"
 #include "render/camera_path.h"
 #include "pipeline/scenario.h"
@@ -36,7 +37,8 @@ PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& option
 struct PreparedScenario {
   Sources sources;
   Diagnostics diag;
-  std::optional<ScenarioSpec> spec;
+  std::optional<ScenarioSpec> spec;  ///< a campaign's: its run settings, no steps
+  std::optional<CampaignSpec> campaign;  ///< when the file is a campaign (it is planned by the dispatcher)
   std::optional<Workcell> wc;
   GeometryModel geometry;
   std::optional<Plan> plan;

@@ -49,8 +49,7 @@ class ScenarioCompiler {
     return out;
   }
 
- private:
-  SimSettings settings(const ScenarioSpec& spec) {
+  SimSettings settings(const RunFileSpec& spec) {
     SimSettings s;
     auto positive = [&](const Scalar& v, Dim dim, const char* what, double& out) {
       if (!v.present) return;
@@ -163,6 +162,7 @@ class ScenarioCompiler {
     return c;
   }
 
+ private:
   /// The device named by a step, or -1 (reported).
   int device(const Scalar& s) {
     int o = object(s, "step device");
@@ -230,6 +230,14 @@ class ScenarioCompiler {
 };
 
 }  // namespace
+
+StepCommand compile_step(const StepSpec& step, size_t index, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) {
+  return ScenarioCompiler(wc, geometry, diag).command(step, index);
+}
+
+SimSettings compile_settings(const RunFileSpec& spec, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) {
+  return ScenarioCompiler(wc, geometry, diag).settings(spec);
+}
 
 ScenarioCommands compile_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) {
   return ScenarioCompiler(wc, geometry, diag).run(spec);

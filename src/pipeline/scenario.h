@@ -12,6 +12,11 @@
 
 namespace sscs {
 
+/// One step compiled against the vault (a campaign job's, its placeholders expanded).
+StepCommand compile_step(const StepSpec& step, size_t index, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag);
+/// The `sim:` and `record:` settings of a scenario or campaign file.
+SimSettings compile_settings(const RunFileSpec& spec, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag);
+
 ScenarioCommands compile_scenario(const ScenarioSpec& spec, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag);
 
 /// Compiles and plans a scenario. Returns nullopt when an input error was reported.

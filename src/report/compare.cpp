@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "core/csv.h"
+
 #include "core/archive.h"
 #include "core/digest.h"
 
@@ -89,13 +91,6 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
     out.push_back(std::move(m));
   }
   return out;
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
 }
 
 }  // namespace

@@ -36,9 +36,13 @@ constexpr double kTargetTolerance = 1e-3;  // m: a move_to ends this close to it
 constexpr double kWaypointSpacing = 0.005, kWaypointTurn = kPi / 180;
 constexpr double kContinuityRevolute = 5 * kPi / 180, kContinuityPrismatic = 0.05;
 
+}  // namespace
+
 class Planner {
+  friend class StepPlanner;
+
  public:
-  Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(diag) {}
+  Planner(const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) : wc_(wc), geometry_(geometry), diag_(&diag) {}
 
   std::optional<Plan> run(const ScenarioCommands& scenario) {
     plan_.settings = scenario.settings;
@@ -61,11 +65,11 @@ class Planner {
       } else {
         t = step_at(step, t);
       }
-      if (diag_.full()) break;
+      if (diag_->full()) break;
     }
     plan_.end = plan_.failure ? plan_.failure->t : t;
     carried_devices();
-    if (diag_.has_errors()) return std::nullopt;
+    if (diag_->has_errors()) return std::nullopt;
     return std::move(plan_);
   }
 
@@ -89,7 +93,7 @@ class Planner {
         if (!geometry_.objects[k].device || static_cast<int>(k) == ps.device) continue;
         for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
           if (up == ps.device) {
-            diag_.error(ps.mark, fmt::format("{} stands on {}, which this step moves: sscs does not carry one device on another "
+            diag_->error(ps.mark, fmt::format("{} stands on {}, which this step moves: sscs does not carry one device on another "
                                              "(make them one device type, the arm's joints after the vehicle's)",
                                              wc_.objects[k].name, wc_.objects[ps.device].name));
             return;
@@ -209,6 +213,7 @@ class Planner {
   double step_at(const StepCommand& step, double t0) {
     const size_t index = step.index;
     PlannedStep ps{index, step.kind, step.mark, -1, -1, t0, t0};
+    ps.job = job_;
     if (step.kind == StepKind::Wait) {
       ps.end = t0 + step.duration;
       plan_.steps.push_back(ps);
@@ -242,9 +247,9 @@ class Planner {
       const int o = step.object >= 0 ? step.object : st.held;
       ps.object = o;
       if (st.held < 0) {
-        diag_.error(step.mark, fmt::format("release: {} holds nothing at this step", wc_.objects[d].name));
+        diag_->error(step.mark, fmt::format("release: {} holds nothing at this step", wc_.objects[d].name));
       } else if (o != st.held) {
-        diag_.error(step.object_mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
+        diag_->error(step.object_mark, fmt::format("release: {} holds {}, not {}", wc_.objects[d].name, wc_.objects[st.held].name,
                                                   step.object_text));
       } else {
         const Eigen::Isometry3d X = tool_world(d, st.q) * st.X_tool_held;
@@ -446,33 +451,33 @@ class Planner {
 
   void grasp(DeviceState& st, int d, int o, const StepCommand& where) {
     if (st.held >= 0) {
-      diag_.error(where.object_mark, fmt::format("grasp: {} already holds {}", wc_.objects[d].name, wc_.objects[st.held].name));
+      diag_->error(where.object_mark, fmt::format("grasp: {} already holds {}", wc_.objects[d].name, wc_.objects[st.held].name));
       return;
     }
     for (const auto& [other, s] : states_)
       if (s.held == o) {
-        diag_.error(where.object_mark, fmt::format("grasp: {} is held by {}", where.object_text, wc_.objects[other].name));
+        diag_->error(where.object_mark, fmt::format("grasp: {} is held by {}", where.object_text, wc_.objects[other].name));
         return;
       }
     if (o == d || geometry_.objects[o].bbox_world.isEmpty()) {
-      diag_.error(where.object_mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.object_text));
+      diag_->error(where.object_mark, fmt::format("grasp: {} cannot be grasped (it is the device itself or has no geometry)", where.object_text));
       return;
     }
     if (wc_.types[wc_.objects[o].type].container) {
-      diag_.error(where.object_mark, fmt::format("grasp: {} is a container (a space that holds objects, such as a room): nothing lifts it",
+      diag_->error(where.object_mark, fmt::format("grasp: {} is a container (a space that holds objects, such as a room): nothing lifts it",
                                           where.object_text));
       st.held = o;  // as if held: its release is no second error
       return;
     }
     if (wc_.types[wc_.objects[o].type].zone) {
-      diag_.error(where.object_mark, fmt::format("grasp: {} is a keep-out zone (a volume devices must not enter): nothing lifts it",
+      diag_->error(where.object_mark, fmt::format("grasp: {} is a keep-out zone (a volume devices must not enter): nothing lifts it",
                                           where.object_text));
       st.held = o;
       return;
     }
     // A body the physics cannot integrate (ODE aborts, or loses every digit) is no run.
     if (const double m = object_mass(wc_, geometry_, o); !simulable_mass(m)) {
-      diag_.error(where.object_mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
+      diag_->error(where.object_mark, fmt::format("grasp: {} has a mass of {:g} kg, beyond the 1e-6 to 1e7 kg the physics integrates",
                                           where.object_text, m));
       st.held = o;  // as if held: its release is no second error
       return;
@@ -482,7 +487,7 @@ class Planner {
       if (geometry_.objects[k].device)
         for (int up = wc_.objects[k].parent; up >= 0; up = wc_.objects[up].parent)
           if (up == o) {
-            diag_.error(where.object_mark, fmt::format("grasp: {} stands on {} (its parent chain), and a device is not carried by what "
+            diag_->error(where.object_mark, fmt::format("grasp: {} stands on {} (its parent chain), and a device is not carried by what "
                                                 "it stands on; place it elsewhere", wc_.objects[k].name, where.object_text));
             return;
           }
@@ -492,7 +497,7 @@ class Planner {
     CollisionWorld& scene = scene_now();
     double gap = scene.distance_to_point(o, X_tool.translation()).value_or(INFINITY);
     if (gap > kGraspReach) {
-      diag_.error(where.object_mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
+      diag_->error(where.object_mark, fmt::format("grasp: the tool of {} is {:g} m from {} (at most {:g} m); move it there first",
                                           wc_.objects[d].name, stable(gap), where.object_text, kGraspReach));
       return;
     }
@@ -502,7 +507,8 @@ class Planner {
 
   const Workcell& wc_;
   const GeometryModel& geometry_;
-  Diagnostics& diag_;
+  Diagnostics* diag_;
+  int job_ = -1;  // the campaign job whose steps are planned, or -1
   Plan plan_;
   std::map<int, DeviceState> states_;
   std::map<int, Eigen::Isometry3d> moved_;
@@ -512,7 +518,6 @@ class Planner {
   std::map<int, DeviceClearance> clearances_;     // per device moved to a target
 };
 
-}  // namespace
 
 Eigen::VectorXd Segment::at(double t) const {
   if (joint) return joint->position(t - t0);
@@ -545,6 +550,58 @@ const Track* Plan::track(int object) const {
 std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workcell& wc, const GeometryModel& geometry,
                                   Diagnostics& diag) {
   return Planner(wc, geometry, diag).run(scenario);
+}
+
+namespace {
+Diagnostics& unused_diagnostics() {
+  thread_local Diagnostics none;
+  return none;
+}
+}  // namespace
+
+StepPlanner::StepPlanner(const SimSettings& settings, const Workcell& wc, const GeometryModel& geometry)
+    : planner_(std::make_unique<Planner>(wc, geometry, unused_diagnostics())) {
+  planner_->plan_.settings = settings;
+}
+
+StepPlanner::~StepPlanner() = default;
+
+double StepPlanner::plan(const StepCommand& step, double t0, int job, Diagnostics& diag) {
+  planner_->diag_ = &diag;
+  planner_->job_ = job;
+  const double end = planner_->step_at(step, t0);
+  planner_->diag_ = &unused_diagnostics();
+  return end;
+}
+
+const std::optional<PlanFailure>& StepPlanner::failure() const { return planner_->plan_.failure; }
+
+PlanFailure StepPlanner::take_failure() {
+  PlanFailure f = *planner_->plan_.failure;
+  planner_->plan_.failure.reset();
+  return f;
+}
+
+double StepPlanner::free_at(int device) { return planner_->state(device).free; }
+
+Eigen::Isometry3d StepPlanner::object_pose(int o) const { return planner_->object_pose(o); }
+
+Eigen::Isometry3d StepPlanner::frame_pose(int o, const std::string& frame) const { return planner_->frame_now(o, frame); }
+
+Plan& StepPlanner::plan() { return planner_->plan_; }
+
+std::optional<Plan> StepPlanner::finish(Diagnostics& diag) {
+  Plan& p = planner_->plan_;
+  // The run starts and ends steps in order of start (jobs on several devices interleave).
+  std::stable_sort(p.steps.begin(), p.steps.end(), [](const PlannedStep& a, const PlannedStep& b) { return a.start < b.start; });
+  p.end = 0;
+  for (const PlannedStep& ps : p.steps) p.end = std::max(p.end, ps.end);
+  if (p.failure) p.end = p.failure->t;
+  planner_->diag_ = &diag;
+  planner_->carried_devices();
+  planner_->diag_ = &unused_diagnostics();
+  if (diag.has_errors()) return std::nullopt;
+  return std::move(p);
 }
 
 }  // namespace sscs

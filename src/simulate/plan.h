@@ -7,7 +7,9 @@
 /// while the tool is away from the object, a release with nothing held) are input errors.
 /// Problems of the motion itself (an unreachable target, a linear path through a singularity)
 /// end the plan with a failure event at that step: the run fails, it does not hang.
+#include <algorithm>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -115,6 +117,7 @@ struct PlannedStep {
   int object = -1;            ///< grasp / release
   double start = 0, end = 0;
   int target = -1;            ///< move_to: the object whose frame the tool goes to (it may touch it)
+  int job = -1;               ///< a campaign's job (Plan::jobs), or -1
 };
 
 /// A failure found while planning: `unreachable` or `singular`, at a step.
@@ -127,6 +130,19 @@ struct PlanFailure {
   double position_error = 0;  ///< unreachable: the best position error, m
 };
 
+/// One job of a campaign as dispatched: a template applied to an object, on a device, to a
+/// place (a slot chosen, or the template's `to`), with its times as planned.
+struct PlannedJob {
+  std::string name;          ///< the template's
+  int object = -1;
+  int device = -1;           ///< -1: never started
+  std::string place;         ///< `Row_1.top_3`, or ""
+  double ready = 0, start = 0, end = 0;
+  bool started = false;
+  std::optional<size_t> failure;  ///< Plan::job_failures (or the plan's failure: SIZE_MAX)
+  std::string why_not;       ///< never started: why (its devices out, no free slot, the limit)
+};
+
 struct Plan {
   SimSettings settings;
   std::vector<Track> tracks;          ///< one per device that moves or acts
@@ -135,10 +151,20 @@ struct Plan {
   /// The steps after the failure, never begun (times unset): the run's summary lists them too.
   std::vector<PlannedStep> not_begun;
   double end = 0;                     ///< when the last step ends (or the failure)
+  /// A campaign's jobs as the dispatcher gave them out (PlannedStep::job indexes them).
+  std::vector<PlannedJob> jobs;
+  /// Failures that ended a job, not the run (a campaign going on after one: on_failure continue).
+  std::vector<PlanFailure> job_failures;
+  /// The frames a campaign's jobs choose slots from (every template's, once), where they are.
+  std::vector<std::pair<std::string, Eigen::Vector3d>> slot_frames;
+  std::vector<int> campaign_devices;  ///< every device a campaign's jobs may go to, in order
   const Track* track(int object) const;
-  /// Whether `ps` is the step the plan failed at (it began and never finished), or its group.
+  /// Whether `ps` is the step the plan failed at (it began and never finished), or its group,
+  /// or a step a job failed at.
   bool failed_at(const PlannedStep& ps) const {
-    return failure && ps.index == failure->step && ps.end >= failure->t - 1e-12;
+    auto at = [&](const PlanFailure& f) { return ps.index == f.step && ps.end >= f.t - 1e-12; };
+    if (failure && at(*failure)) return true;
+    return std::any_of(job_failures.begin(), job_failures.end(), at);
   }
 };
 
@@ -146,5 +172,39 @@ struct Plan {
 /// before: the steps that could not be compiled are skipped, and the others still checked).
 std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workcell& wc, const GeometryModel& geometry,
                                   Diagnostics& diag);
+
+}  // namespace sscs
+
+namespace sscs {
+
+/// Plans steps one at a time, each for its device no earlier than a given time (a campaign's
+/// dispatcher, which decides what runs next from where planning has everything then).
+class StepPlanner {
+ public:
+  StepPlanner(const SimSettings& settings, const Workcell& wc, const GeometryModel& geometry);
+  ~StepPlanner();
+  StepPlanner(const StepPlanner&) = delete;
+  StepPlanner& operator=(const StepPlanner&) = delete;
+  /// Plans `step` (of campaign job `job`) from t0, its input errors into `diag`; returns when it
+  /// ends (at its failure when it failed: failure()).
+  double plan(const StepCommand& step, double t0, int job, Diagnostics& diag);
+  /// The failure of the last step planned, if it failed (then no other step is planned until
+  /// it is taken).
+  const std::optional<PlanFailure>& failure() const;
+  /// Takes the failure away: a job ended by it, the plan goes on.
+  PlanFailure take_failure();
+  /// When `device`'s planned motions end.
+  double free_at(int device);
+  /// World pose of object `o` where planning has it now, and of its frame `frame`.
+  Eigen::Isometry3d object_pose(int o) const;
+  Eigen::Isometry3d frame_pose(int o, const std::string& frame) const;
+  /// The plan so far (jobs, steps not begun are added by the dispatcher).
+  Plan& plan();
+  /// The plan, steps in order of start; nullopt when an input error was reported (`diag`).
+  std::optional<Plan> finish(Diagnostics& diag);
+
+ private:
+  std::unique_ptr<class Planner> planner_;
+};
 
 }  // namespace sscs

@@ -28,6 +28,7 @@
 #include "core/units.h"
 #include "geometry/collision.h"
 #include "model/device.h"
+#include "simulate/campaign_outcome.h"
 #include "simulate/clearance.h"
 #include "simulate/rechecks.h"
 #include "simulate/recorder.h"
@@ -157,8 +158,12 @@ class Run {
   /// (the run stops).
   bool begin_and_end_steps(double t) {
     const double dt = plan_.settings.timestep;
-    for (size_t i = 0; i < plan_.steps.size(); ++i) {
+    // Steps are in order of start: those before `first_open_` have ended, none after the first
+    // not yet due has begun (a campaign's hours of steps, looked at each tick).
+    while (first_open_ < plan_.steps.size() && ended_[first_open_]) ++first_open_;
+    for (size_t i = first_open_; i < plan_.steps.size(); ++i) {
       const PlannedStep& ps = plan_.steps[i];
+      if (!started_[i] && ps.start > t + dt / 2) break;
       if (!started_[i] && ps.start <= t + dt / 2) {
         started_[i] = 1;
         current_step_ = i;
@@ -325,18 +330,33 @@ class Run {
     events_.add(t, EventKind::Release, {{"device", wc_.objects[ps.device].name}, {"object", wc_.objects[o].name}});
   }
 
-  /// The plan's own failure (a target it could not reach) is due at t: its event, and the run stops.
+  /// The plan's own failure (a target it could not reach) is due at t: its event, and the run
+  /// stops. A campaign's job failures before it are events, and the run goes on.
   bool plan_failed(double t) {
     const double dt = plan_.settings.timestep;
+    for (; job_failures_seen_ < plan_.job_failures.size() && plan_.job_failures[job_failures_seen_].t <= t + dt / 2; ++job_failures_seen_)
+      failure_event(t, plan_.job_failures[job_failures_seen_]);
     if (plan_.failure && plan_.failure->t <= t + dt / 2) {
-      const PlanFailure& f = *plan_.failure;
-      nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}, {"message", f.message}};
-      if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
-      events_.add(t, f.kind, fields);
-      stop(f.kind, f.message);
+      failure_event(t, *plan_.failure);
+      stop(plan_.failure->kind, plan_.failure->message);
       return true;
     }
     return false;
+  }
+
+  void failure_event(double t, const PlanFailure& f) {
+    nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}};
+    for (const PlannedStep& ps : plan_.steps)
+      if (ps.index == f.step && ps.job >= 0) fields["job"] = job_label(ps.job);
+    fields["message"] = f.message;
+    if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
+    events_.add(t, f.kind, fields);
+  }
+
+  /// A campaign job as events name it: `store In_3`.
+  std::string job_label(int job) const {
+    const PlannedJob& j = plan_.jobs[job];
+    return fmt::format("{} {}", j.name, wc_.objects[j.object].name);
   }
 
   /// After the last step: true once every loose object rests (or 5 s have passed: not_at_rest).
@@ -559,6 +579,7 @@ class Run {
     };
     put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
     put("events.jsonl", events_.jsonl());
+    if (campaign_) put("jobs.csv", campaign_->jobs_csv);
     for (const auto& [rel, text] : recorder_.files()) put(rel, text);
     if (options_.inputs)
       for (const auto& [rel, bytes] : options_.inputs->resolved) put(rel, bytes);
@@ -610,6 +631,7 @@ class Run {
   void step_event(double t, EventKind kind, const PlannedStep& ps) {
     nlohmann::ordered_json f = {{"step", ps.index}, {"action", step_kind_name(ps.kind)}};
     if (ps.device >= 0) f["device"] = wc_.objects[ps.device].name;
+    if (ps.job >= 0) f["job"] = job_label(ps.job);
     events_.add(t, kind, f);
   }
 
@@ -1322,6 +1344,20 @@ class Run {
                       rechecks_.failures() > 0;
     s.interrupted = interrupted_;
     s.status = failed_ ? RunStatus::Failed : violations ? RunStatus::Violations : RunStatus::Ok;
+    if (!plan_.jobs.empty()) {
+      RunReach reach;
+      reach.ended = ended_;
+      if (failed_) reach.stopped_at = t_end;
+      reach.stop_message = stop_message_.empty() ? stopped_by_ : stop_message_;
+      for (size_t o = 0; o < wc_.objects.size(); ++o) {
+        const bool solid = !geometry_.objects[o].device && !wc_.types[wc_.objects[o].type].container && !geometry_.objects[o].shapes.empty();
+        if (solid) reach.positions.emplace_back(world_.pose(static_cast<int>(o)).translation());
+        else reach.positions.emplace_back();
+      }
+      campaign_ = campaign_outcome(wc_, plan_, reach);
+      // A campaign in which a job failed has failed, though it went on (on_failure: continue).
+      if (campaign_->figures.failed > 0) s.status = RunStatus::Failed;
+    }
     return s;
   }
 
@@ -1391,6 +1427,7 @@ class Run {
       for (const InputFile& in : options_.inputs->files) f.inputs.emplace_back(in.path, in.sha256);
       f.inputs_not_in_resolved = options_.inputs->not_copied;
     }
+    if (campaign_) f.campaign = campaign_->figures;
     f.sscs_version = SSCS_VERSION;
     return f.to_json();
   }
@@ -1431,6 +1468,9 @@ class Run {
   long glides_ = 0;                               // fast mode: glides between ticks
   long steps_ = 0;                                // physics steps taken
   std::vector<char> started_, ended_;  // per step
+  size_t first_open_ = 0;              // steps before it have ended
+  size_t job_failures_seen_ = 0;       // a campaign's job failures with their events
+  std::optional<CampaignOutcome> campaign_;  // a campaign's jobs and figures, once the run is over
   double settle_until_ = -1;           // after the last step: when loose objects must rest by
   std::chrono::steady_clock::time_point wall_start_;
   size_t current_step_ = 0;

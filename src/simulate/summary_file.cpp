@@ -128,6 +128,18 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
   if (physics_messages)
     j["physics_messages"] = {{"steps", physics_messages->steps}, {"first_at", physics_messages->first_at},
                              {"first", physics_messages->first}, {"meaning", kPhysicsMessagesMeaning}};
+  if (campaign) {
+    const Campaign& c = *campaign;
+    json dev = json::object();
+    for (const auto& [name, d] : c.devices) dev[name] = {{"jobs", d.jobs}, {"busy", d.busy}, {"utilization", d.utilization}};
+    j["campaign"] = {{"jobs", {{"done", c.done}, {"failed", c.failed}, {"not_started", c.not_started}}},
+                     {"makespan", c.makespan},
+                     {"throughput", c.throughput},
+                     {"devices", std::move(dev)},
+                     {"wait", {{"mean", c.wait_mean}, {"p95", c.wait_p95}, {"max", c.wait_max}}},
+                     {"queue_max", c.queue_max},
+                     {"slots", {{"used", c.slots_used}, {"free_at_end", c.slots_free_at_end}}}};
+  }
   if (!inputs.empty()) {
     json in = json::array();
     for (const auto& [path, sha] : inputs) in.push_back({{"path", path}, {"sha256", sha}});
@@ -205,6 +217,32 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
   if (const json* pm = r.object(j, "physics_messages", "summary", false))
     s.physics_messages = PhysicsMessages{static_cast<size_t>(r.number(*pm, "steps", "physics_messages")),
                                          r.number(*pm, "first_at", "physics_messages"), r.text(*pm, "first", "physics_messages")};
+  if (const json* c = r.object(j, "campaign", "summary", false)) {
+    Campaign k;
+    auto count = [&](const json& at, const char* key, const std::string& where) { return static_cast<size_t>(r.number(at, key, where)); };
+    if (const json* jobs = r.object(*c, "jobs", "campaign")) {
+      k.done = count(*jobs, "done", "campaign.jobs");
+      k.failed = count(*jobs, "failed", "campaign.jobs");
+      k.not_started = count(*jobs, "not_started", "campaign.jobs");
+    }
+    k.makespan = r.number(*c, "makespan", "campaign");
+    k.throughput = r.number(*c, "throughput", "campaign");
+    if (const json* devices = r.object(*c, "devices", "campaign"))
+      for (const auto& [name, d] : devices->items())
+        k.devices.emplace_back(name, Campaign::DeviceUse{count(d, "jobs", "campaign.devices." + name), r.number(d, "busy", "campaign.devices." + name),
+                                                         r.number(d, "utilization", "campaign.devices." + name)});
+    if (const json* w = r.object(*c, "wait", "campaign")) {
+      k.wait_mean = r.number(*w, "mean", "campaign.wait");
+      k.wait_p95 = r.number(*w, "p95", "campaign.wait");
+      k.wait_max = r.number(*w, "max", "campaign.wait");
+    }
+    k.queue_max = count(*c, "queue_max", "campaign");
+    if (const json* sl = r.object(*c, "slots", "campaign")) {
+      k.slots_used = count(*sl, "used", "campaign.slots");
+      k.slots_free_at_end = count(*sl, "free_at_end", "campaign.slots");
+    }
+    s.campaign = std::move(k);
+  }
   if (const json* inputs = r.array(j, "inputs", "summary", false))
     for (const json& e : *inputs) s.inputs.emplace_back(r.text(e, "path", "inputs[]"), r.text(e, "sha256", "inputs[]"));
   if (const json* left = r.array(j, "inputs_not_in_resolved", "summary", false))

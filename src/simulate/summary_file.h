@@ -75,6 +75,21 @@ struct RunSummaryFile {
     std::string first;
   };
   std::optional<PhysicsMessages> physics_messages;
+  /// A campaign's figures (campaign-format.md, "What a campaign run writes").
+  struct Campaign {
+    size_t done = 0, failed = 0, not_started = 0;
+    double makespan = 0;    ///< s: the first readiness to the last job's end
+    double throughput = 0;  ///< jobs done per hour of the makespan
+    struct DeviceUse {
+      size_t jobs = 0;
+      double busy = 0, utilization = 0;  ///< s running jobs, and that over the makespan
+    };
+    std::vector<std::pair<std::string, DeviceUse>> devices;
+    double wait_mean = 0, wait_p95 = 0, wait_max = 0;  ///< s from ready to start, over the jobs started
+    size_t queue_max = 0;   ///< the most jobs ready and waiting at once
+    size_t slots_used = 0, slots_free_at_end = 0;
+  };
+  std::optional<Campaign> campaign;
   std::vector<std::pair<std::string, std::string>> inputs;  ///< path, sha256
   std::vector<std::string> inputs_not_in_resolved;
   std::string sscs_version;

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include <fmt/format.h>
+
+#include "core/csv.h"
 #include <nlohmann/json.hpp>
 
 #include "core/digest.h"
@@ -16,13 +18,6 @@ using json = nlohmann::ordered_json;
 
 json number_or_null(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? json(stable(*v)) : json(nullptr);
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 std::string csv_number(const std::optional<double>& v) {

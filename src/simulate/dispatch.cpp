@@ -1,0 +1,219 @@
+#include "simulate/dispatch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "core/names.h"
+
+namespace sscs {
+
+std::string frame_text(const Workcell& wc, const FrameRef& f) {
+  return f.frame == "origin" ? wc.objects[f.object].name : fmt::format("{}.{}", wc.objects[f.object].name, f.frame);
+}
+
+namespace {
+
+class Dispatcher {
+ public:
+  Dispatcher(const CampaignCommands& c, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag)
+      : c_(c), wc_(wc), geometry_(geometry), diag_(diag), planner_(c.settings, wc, geometry), rng_(c.seed) {}
+
+  std::optional<Plan> run() {
+    Plan& plan = planner_.plan();
+    for (const CampaignCommands::Job& j : c_.jobs) {
+      PlannedJob pj;
+      pj.name = c_.templates[j.job_template].name;
+      pj.object = j.object;
+      pj.ready = j.ready;
+      plan.jobs.push_back(std::move(pj));
+    }
+    for (const JobTemplate& tmpl : c_.templates)
+      for (int d : tmpl.devices)
+        if (std::find(plan.campaign_devices.begin(), plan.campaign_devices.end(), d) == plan.campaign_devices.end())
+          plan.campaign_devices.push_back(d);
+    std::set<std::string> seen;
+    for (const JobTemplate& tmpl : c_.templates)
+      for (const FrameRef& f : tmpl.slots)
+        if (seen.insert(frame_text(wc_, f)).second)
+          plan.slot_frames.emplace_back(frame_text(wc_, f), planner_.frame_pose(f.object, f.frame).translation());
+    // Events in planned time: readiness, devices going idle, claims and slots freed (a job's end).
+    double t = 0;
+    while (!stopped_) {
+      start_what_can(t);
+      double next = INFINITY;
+      for (size_t i = 0; i < c_.jobs.size(); ++i)
+        if (!plan.jobs[i].started && c_.jobs[i].ready > t) next = std::min(next, c_.jobs[i].ready);
+      for (const auto& [d, until] : busy_until_)
+        if (until > t) next = std::min(next, until);
+      if (!std::isfinite(next) || stopped_) break;
+      if (next > c_.settings.limit) {
+        past_limit_ = true;
+        break;
+      }
+      t = next;
+    }
+    for (size_t i = 0; i < plan.jobs.size(); ++i)
+      if (!plan.jobs[i].started) plan.jobs[i].why_not = why_not(i);
+    return planner_.finish(diag_);
+  }
+
+ private:
+  /// Starts, in queue order, every ready job that can start at t, until none can.
+  void start_what_can(double t) {
+    Plan& plan = planner_.plan();
+    for (bool any = true; any && !stopped_;) {
+      any = false;
+      for (size_t i = 0; i < c_.jobs.size() && !stopped_; ++i) {
+        if (plan.jobs[i].started || c_.jobs[i].ready > t) continue;
+        const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
+        if (!claims_free(tmpl, t)) continue;
+        const int d = idle_device(tmpl, t);
+        if (d < 0) continue;
+        std::optional<FrameRef> place = tmpl.to;
+        if (!tmpl.slots.empty()) {
+          place = choose_slot(tmpl, c_.jobs[i].object, t);
+          if (!place) continue;
+        }
+        start(i, d, place, t);
+        any = true;
+      }
+    }
+  }
+
+  bool claims_free(const JobTemplate& tmpl, double t) const {
+    for (int z : tmpl.claims)
+      if (auto it = claimed_until_.find(z); it != claimed_until_.end() && it->second > t) return false;
+    return true;
+  }
+
+  int idle_device(const JobTemplate& tmpl, double t) {
+    for (int d : tmpl.devices) {
+      auto busy = busy_until_.find(d);  // a job's last step may be a wait, which no device's motion shows
+      if (!out_.count(d) && planner_.free_at(d) <= t + 1e-9 && (busy == busy_until_.end() || busy->second <= t + 1e-9)) return d;
+    }
+    return -1;
+  }
+
+  /// A frame of the template's slots that no object stands at (its origin within 5 cm) and no
+  /// running job has reserved, by the template's choice; nullopt when none is free.
+  std::optional<FrameRef> choose_slot(const JobTemplate& tmpl, int object, double t) {
+    std::vector<std::pair<const FrameRef*, Eigen::Vector3d>> free;
+    for (const FrameRef& f : tmpl.slots) {
+      bool reserved = false;
+      for (const auto& [r, until] : reserved_)
+        if (until > t && r.object == f.object && r.frame == f.frame) reserved = true;
+      if (reserved) continue;
+      const Eigen::Vector3d p = planner_.frame_pose(f.object, f.frame).translation();
+      bool taken = false;
+      for (size_t o = 0; o < wc_.objects.size() && !taken; ++o)
+        if (!geometry_.objects[o].device && !wc_.types[wc_.objects[o].type].container && static_cast<int>(o) != f.object &&
+            !geometry_.objects[o].shapes.empty())
+          taken = (planner_.object_pose(static_cast<int>(o)).translation() - p).norm() <= kSlotOccupied;
+      if (!taken) free.emplace_back(&f, p);
+    }
+    if (free.empty()) return std::nullopt;
+    switch (tmpl.choose) {
+      case SlotChoice::First: return *free.front().first;  // the slots are in natural order
+      case SlotChoice::Random: return *free[rng_() % free.size()].first;
+      case SlotChoice::Lowest: {
+        auto it = std::min_element(free.begin(), free.end(), [](const auto& a, const auto& b) { return a.second.z() < b.second.z() - 1e-9; });
+        return *it->first;
+      }
+      case SlotChoice::Nearest: {
+        const Eigen::Vector3d from = planner_.object_pose(object).translation();
+        auto it = std::min_element(free.begin(), free.end(), [&](const auto& a, const auto& b) {
+          return (a.second - from).norm() < (b.second - from).norm() - 1e-9;
+        });
+        return *it->first;
+      }
+    }
+    return std::nullopt;
+  }
+
+  /// Job i starts at t on device d: its steps are planned one after another; a step that fails
+  /// ends the job there (and the campaign, with on_failure: stop).
+  void start(size_t i, int d, const std::optional<FrameRef>& place, double t) {
+    Plan& plan = planner_.plan();
+    PlannedJob& job = plan.jobs[i];
+    const CampaignCommands::Job& j = c_.jobs[i];
+    const JobTemplate& tmpl = c_.templates[j.job_template];
+    job.started = true;
+    job.device = d;
+    job.start = t;
+    job.place = place ? frame_text(wc_, *place) : "";
+    Diagnostics local;
+    std::vector<StepCommand> steps = c_.steps(JobBinding{j.job_template, j.object, d, place}, local);
+    double at = t;
+    size_t k = 0;
+    for (; k < steps.size() && !local.has_errors(); ++k) {
+      steps[k].index = next_index_++;
+      at = planner_.plan(steps[k], at, static_cast<int>(i), local);
+      if (planner_.failure()) break;
+    }
+    for (const Diagnostic& e : local.errors())
+      diag_.error(e.mark, fmt::format("{} (job '{}' for {}, on {})", e.message, tmpl.name, wc_.objects[j.object].name,
+                                      wc_.objects[d].name));
+    if (local.has_errors()) {  // reported: the campaign does not run
+      stopped_ = true;
+      return;
+    }
+    if (planner_.failure()) {
+      for (size_t rest = k + 1; rest < steps.size(); ++rest) {
+        steps[rest].index = next_index_++;
+        PlannedStep ps{steps[rest].index, steps[rest].kind, steps[rest].mark, steps[rest].device, steps[rest].object, 0, 0};
+        ps.job = static_cast<int>(i);
+        plan.not_begun.push_back(ps);
+      }
+      if (c_.stop_on_failure) {  // the plan's failure stays: the run stops there
+        job.failure = std::numeric_limits<size_t>::max();
+        stopped_ = true;
+      } else {
+        job.failure = plan.job_failures.size();
+        plan.job_failures.push_back(planner_.take_failure());
+        out_.insert(d);  // the device takes no more jobs
+      }
+    }
+    job.end = at;
+    busy_until_[d] = at;
+    for (int z : tmpl.claims) claimed_until_[z] = at;
+    if (place && !tmpl.slots.empty()) reserved_.emplace_back(*place, at);
+  }
+
+  std::string why_not(size_t i) const {
+    const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
+    if (stopped_) return "the campaign stopped (on_failure: stop)";
+    if (past_limit_ || c_.jobs[i].ready > c_.settings.limit) return "the campaign's time limit came first";
+    bool any_device = false;
+    for (int d : tmpl.devices) any_device = any_device || !out_.count(d);
+    if (!any_device) return "every device that may do it failed a job and was taken out";
+    if (!tmpl.slots.empty()) return "no slot was free";
+    return "it could never start";
+  }
+
+  const CampaignCommands& c_;
+  const Workcell& wc_;
+  const GeometryModel& geometry_;
+  Diagnostics& diag_;
+  StepPlanner planner_;
+  std::mt19937_64 rng_;  // fully specified by the standard: the same picks on any platform
+  std::map<int, double> busy_until_, claimed_until_;
+  std::vector<std::pair<FrameRef, double>> reserved_;  // slots and until when their job runs
+  std::set<int> out_;                                  // devices that failed a job (on_failure: continue)
+  size_t next_index_ = 0;
+  bool stopped_ = false, past_limit_ = false;
+};
+
+}  // namespace
+
+std::optional<Plan> plan_campaign(const CampaignCommands& campaign, const Workcell& wc, const GeometryModel& geometry,
+                                  Diagnostics& diag) {
+  return Dispatcher(campaign, wc, geometry, diag).run();
+}
+
+}  // namespace sscs
