@@ -51,7 +51,7 @@ class Dispatcher {
         if (!plan.jobs[i].started && c_.jobs[i].ready > t) next = std::min(next, c_.jobs[i].ready);
       for (const auto& [d, until] : busy_until_)
         if (until > t) next = std::min(next, until);
-      if (!std::isfinite(next) || stopped_) break;
+      if (!std::isfinite(next) || stopped_ || next >= stop_at_) break;
       if (next > c_.settings.limit) {
         past_limit_ = true;
         break;
@@ -60,6 +60,7 @@ class Dispatcher {
     }
     for (size_t i = 0; i < plan.jobs.size(); ++i)
       if (!plan.jobs[i].started) plan.jobs[i].why_not = why_not(i);
+    if (terminal_) plan.failure = terminal_;  // on_failure: stop: the run stops there
     return planner_.finish(diag_);
   }
 
@@ -67,7 +68,8 @@ class Dispatcher {
   /// Starts, in queue order, every ready job that can start at t, until none can.
   void start_what_can(double t) {
     Plan& plan = planner_.plan();
-    for (bool any = true; any && !stopped_;) {
+    if (t >= stop_at_) return;  // the campaign stopped at a failure (on_failure: stop)
+    for (bool any = true; any && !stopped_ && t < stop_at_;) {
       any = false;
       for (size_t i = 0; i < c_.jobs.size() && !stopped_; ++i) {
         if (plan.jobs[i].started || c_.jobs[i].ready > t) continue;
@@ -170,9 +172,15 @@ class Dispatcher {
         ps.job = static_cast<int>(i);
         plan.not_begun.push_back(ps);
       }
-      if (c_.stop_on_failure) {  // the plan's failure stays: the run stops there
-        job.failure = std::numeric_limits<size_t>::max();
-        stopped_ = true;
+      if (c_.stop_on_failure) {  // the campaign ends here: jobs under way then go on until it, none starts after
+        PlanFailure f = planner_.take_failure();
+        if (!terminal_ || f.t < terminal_->t) {  // the earliest failure stops it; a later one is never reached
+          if (terminal_) plan.jobs[terminal_job_].failure.reset();
+          terminal_ = f;
+          terminal_job_ = i;
+          job.failure = std::numeric_limits<size_t>::max();
+        }
+        stop_at_ = terminal_->t;
       } else {
         job.failure = plan.job_failures.size();
         plan.job_failures.push_back(planner_.take_failure());
@@ -187,7 +195,7 @@ class Dispatcher {
 
   std::string why_not(size_t i) const {
     const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
-    if (stopped_) return "the campaign stopped (on_failure: stop)";
+    if (terminal_) return fmt::format("the campaign stopped at {:g} s, when a job failed (on_failure: stop)", terminal_->t);
     if (past_limit_ || c_.jobs[i].ready > c_.settings.limit) return "the campaign's time limit came first";
     bool any_device = false;
     for (int d : tmpl.devices) any_device = any_device || !out_.count(d);
@@ -206,7 +214,10 @@ class Dispatcher {
   std::vector<std::pair<FrameRef, double>> reserved_;  // slots and until when their job runs
   std::set<int> out_;                                  // devices that failed a job (on_failure: continue)
   size_t next_index_ = 0;
-  bool stopped_ = false, past_limit_ = false;
+  bool stopped_ = false, past_limit_ = false;  // stopped_: an input error in a job's steps
+  std::optional<PlanFailure> terminal_;         // on_failure: stop: the earliest failure
+  size_t terminal_job_ = 0;
+  double stop_at_ = INFINITY;
 };
 
 }  // namespace

@@ -2691,6 +2691,106 @@ def outcome_keys(events):
     return keys
 
 
+def campaigns(sscs, root):
+    """Issue 37: campaigns (tests/data/campaigns) whose figures are computed by hand from the
+    gantry's profiles (a 2 m move at 1 m/s and 1 m/s^2: 3 s; to 2 m and back: 6 s): one gantry
+    doing three jobs (ends 6, 12, 18 s; waits 0, 6, 12); six jobs on one gantry (36 s) and on two
+    (18 s: concurrency halves the makespan); a claim both gantries' jobs hold (one at a time, in
+    the queue's order); an unreachable target that fails its job alone (on_failure: continue: the
+    device is out, its next job never starts, the other gantry's jobs go on); slots filled in
+    the order each choice gives, every drum landing on its pad; the same seed, the same bytes."""
+    import csv
+    def campaign(name, tmp, extra=None):
+        out = os.path.join(tmp, name)
+        path = extra or f"tests/data/campaigns/{name}.yaml"
+        p = run(sscs, root, ["simulate", path, "--out", out, "--no-frames", "--quiet"])
+        if not os.path.exists(os.path.join(out, "summary.json")):
+            fail(f"{name}: no run", p)
+        summary = json.load(open(os.path.join(out, "summary.json")))
+        jobs = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+        events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+        return p, summary, jobs, events
+    def expect(name, what, got, want):
+        if got != want:
+            fail(f"{name}: {what} is {got}, by hand {want}")
+    def times(jobs):
+        return [(j["object"], j["device"], j["start"], j["end"], j["wait"], j["status"]) for j in jobs]
+    with tempfile.TemporaryDirectory() as tmp:
+        p, s, jobs, _ = campaign("one-device", tmp)
+        expect("one-device", "exit status", p.returncode, 0)
+        expect("one-device", "the jobs", times(jobs), [("Mark_1", "G1", "0", "6", "0", "done"), ("Mark_2", "G1", "6", "12", "6", "done"),
+                                                        ("Mark_3", "G1", "12", "18", "12", "done")])
+        c = s["campaign"]
+        expect("one-device", "the campaign block", c, {
+            "jobs": {"done": 3, "failed": 0, "not_started": 0}, "makespan": 18.0, "throughput": 600.0,
+            "devices": {"G1": {"jobs": 3, "busy": 18.0, "utilization": 1.0}},
+            "wait": {"mean": 6.0, "p95": 12.0, "max": 12.0}, "queue_max": 2, "slots": {"used": 0, "free_at_end": 0}})
+        _, one, _, _ = campaign("six-on-one", tmp)
+        _, two, jobs2, _ = campaign("six-on-two", tmp)
+        expect("six-on-one", "makespan", one["campaign"]["makespan"], 36.0)
+        expect("six-on-two", "makespan", two["campaign"]["makespan"], 18.0)
+        expect("six-on-two", "the devices", two["campaign"]["devices"], {"G1": {"jobs": 3, "busy": 18.0, "utilization": 1.0},
+                                                                        "G2": {"jobs": 3, "busy": 18.0, "utilization": 1.0}})
+        expect("six-on-two", "who did what", [(j["object"], j["device"], j["start"]) for j in jobs2],
+               [("Mark_1", "G1", "0"), ("Mark_2", "G2", "0"), ("Mark_3", "G1", "6"), ("Nark_1", "G2", "6"), ("Nark_2", "G1", "12"),
+                ("Nark_3", "G2", "12")])
+        _, s, jobs, _ = campaign("claims", tmp)
+        expect("claims", "starts", [(j["object"], j["start"], j["wait"]) for j in jobs],
+               [("Mark_1", "0", "0"), ("Mark_2", "6", "6"), ("Mark_3", "12", "12"), ("Nark_1", "18", "18"), ("Nark_2", "24", "24"),
+                ("Nark_3", "30", "30")])
+        c = s["campaign"]
+        expect("claims", "figures", (c["makespan"], c["wait"], c["queue_max"], c["devices"]["G1"]["utilization"]),
+               (36.0, {"mean": 15.0, "p95": 30.0, "max": 30.0}, 5, 0.5))
+        p, s, jobs, events = campaign("failure", tmp)
+        expect("failure", "exit status and status", (p.returncode, s["status"]), (1, "failed"))
+        expect("failure", "the jobs", [(j["object"], j["status"], j["end"]) for j in jobs],
+               [("Mark_2", "failed", "2"), ("Mark_3", "not_started", ""), ("Nark_1", "done", "6"), ("Nark_2", "done", "12"),
+                ("Nark_3", "done", "18")])
+        unreachable = [e for e in events if e["kind"] == "unreachable"]
+        expect("failure", "its unreachable event", [(e["t"], e.get("job")) for e in unreachable], [(2.0, "reach Mark_2")])
+        if "stopped" in s:
+            fail(f"failure: on_failure continue, yet the run stopped: {s['stopped']}")
+        # on_failure: stop ends the campaign at the failure: G2's job under way then fails, the rest never start.
+        stop = os.path.join(tmp, "failure-stop.yaml")
+        open(stop, "w").write(open(os.path.join(root, "tests/data/campaigns/failure.yaml")).read()
+                              .replace("on_failure: continue", "on_failure: stop").replace("vault: cell.yaml",
+                                                                                           f"vault: {root}/tests/data/campaigns/cell.yaml"))
+        p = run(sscs, root, ["simulate", stop, "--out", os.path.join(tmp, "stop"), "--no-frames", "--quiet", "--allow-outside-root"])
+        jobs = list(csv.DictReader(open(os.path.join(tmp, "stop", "jobs.csv"))))
+        expect("failure (stop)", "the jobs", [(j["object"], j["status"]) for j in jobs],
+               [("Mark_2", "failed"), ("Mark_3", "not_started"), ("Nark_1", "failed"), ("Nark_2", "not_started"), ("Nark_3", "not_started")])
+        # Slots: pads' top frames; Pad_1 is the farthest and highest, Pad_3 the nearest and lowest
+        # (tests/data/campaigns/store.yaml: pad tops (5, 1.5, 0.7), (4.5, 2.5, 0.6), (4, 3.5, 0.5);
+        # drums at (1.5, 1.5), (1.5, 2.5), (1.5, 3.5)): nearest to D_1 is Pad_2 (3.219 m against
+        # 3.240 and 3.569), then to D_2 Pad_3 (2.739 against 3.707).
+        order = {"first": ["Pad_1", "Pad_2", "Pad_3"], "lowest": ["Pad_3", "Pad_2", "Pad_1"], "nearest": ["Pad_2", "Pad_3", "Pad_1"]}
+        for choice, pads in order.items():
+            path = os.path.join(tmp, f"slots-{choice}.yaml")
+            open(path, "w").write(open(os.path.join(root, "tests/data/campaigns/slots.yaml")).read()
+                                  .replace("choose: first", f"choose: {choice}").replace("vault: store.yaml",
+                                                                                         f"vault: {root}/tests/data/campaigns/store.yaml"))
+            out = os.path.join(tmp, f"slots-{choice}")
+            p = run(sscs, root, ["simulate", path, "--out", out, "--no-frames", "--quiet", "--allow-outside-root"])
+            s = json.load(open(os.path.join(out, "summary.json")))
+            jobs = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+            landed = {e["object"]: e["on"] for e in map(json.loads, open(os.path.join(out, "events.jsonl"))) if e["kind"] == "landed"}
+            expect(f"slots ({choice})", "status", (p.returncode, s["status"]), (0, "ok"))
+            expect(f"slots ({choice})", "the places", [j["place"] for j in jobs], [f"{pad}.top" for pad in pads])
+            expect(f"slots ({choice})", "where the drums landed", landed, {f"D_{k + 1}": pad for k, pad in enumerate(pads)})
+            expect(f"slots ({choice})", "slots", s["campaign"]["slots"], {"used": 3, "free_at_end": 0})
+        # The same seed, the same bytes (random choices).
+        path = os.path.join(tmp, "slots-random.yaml")
+        open(path, "w").write(open(os.path.join(tmp, "slots-first.yaml")).read().replace("choose: first", "choose: random")
+                              .replace("limit: 300 s}", "limit: 300 s, seed: 11}"))
+        for k in (1, 2):
+            run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, f"random-{k}"), "--no-frames", "--quiet", "--allow-outside-root"])
+        for f in ("jobs.csv", "events.jsonl", "summary.json", "objects.csv"):
+            if open(os.path.join(tmp, "random-1", f), "rb").read() != open(os.path.join(tmp, "random-2", f), "rb").read():
+                fail(f"slots (random, seed 11): two runs wrote different {f}")
+    print("campaigns: hand-computed makespans, waits, utilizations and queues; concurrency, claims, a failure alone, "
+          "slot choices, repeatable runs")
+
+
 def fast(sscs, root):
     """Issue 36, item 4: `sim: {mode: fast}` agrees with physics mode. Every scenario of
     scenarios/ and tests/data (the standard devices: arms, gantry, crane, AGV, forklift, carts;
@@ -2828,7 +2928,7 @@ def run_truth(sscs, root):
     truth.run_truth(sscs, root, run, fail)
 
 
-MODES = {"fast": fast, "carrying": carrying, "riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+MODES = {"campaigns": campaigns, "fast": fast, "carrying": carrying, "riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 
