@@ -150,7 +150,7 @@ std::string edited(const Sources& sources, const std::string& path, const std::v
 
 RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std::pair<std::string, std::string>>& overrides,
                              const Workcell& wc, const GeometryModel& geometry, const Sources& sources,
-                             const std::vector<uint32_t>* files) {
+                             const std::vector<uint32_t>* files, const char* kind) {
   RunInputs out;
   Resolver resolver(sources, out);
   for (const ObjectGeometry& g : geometry.objects)
@@ -249,7 +249,7 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
       with_schema_modeline(edited(sources, scenario.path,
                                   {{"vault", "vault.yaml"},
                                    {"set", overrides.empty() ? std::nullopt : std::optional(set_text(overrides))}}),
-                           "scenario"));
+                           kind));
 
   // Every input: the text files in the order they were read (URDFs and SRDFs too), then meshes.
   // Named as the user would: relative to the folder sscs runs in when inside it (a URDF's meshes

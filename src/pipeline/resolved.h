@@ -18,9 +18,10 @@ namespace sscs {
 /// `overrides`: the parameter overrides in force, in order (the scenario's `set:`, then --set);
 /// a later one wins. Files named but unreadable now are an error (they were read moments ago).
 /// `files`: the files of `sources` this run read, when the registry holds others too (a sweep's
-/// other scenarios and vaults, the sweep file); null: all of them.
+/// other scenarios and vaults, the sweep file); null: all of them. `kind`: the run file's
+/// (scenario or campaign: resolved/scenario.yaml names its schema).
 RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std::pair<std::string, std::string>>& overrides,
                              const Workcell& wc, const GeometryModel& geometry, const Sources& sources,
-                             const std::vector<uint32_t>* files = nullptr);
+                             const std::vector<uint32_t>* files = nullptr, const char* kind = "scenario");
 
 }  // namespace sscs

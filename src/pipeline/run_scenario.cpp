@@ -46,7 +46,7 @@ std::string run_request_refusal(const PreparedScenario& ps, const RunRequest& re
 Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& request) {
   const Workcell& wc = *ps.wc;
   const Plan& plan = *ps.plan;
-  RunInputs inputs = collect_run_inputs(*ps.spec, ps.overrides, wc, ps.geometry, ps.sources);
+  RunInputs inputs = collect_run_inputs(*ps.spec, ps.overrides, wc, ps.geometry, ps.sources, nullptr, ps.campaign ? "campaign" : "scenario");
   RunOptions run;
   run.out_dir = request.out;
   run.bundle = request.bundle;
