@@ -195,6 +195,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
     std::cerr << "sscs: error: " << recorded.error() << "\n";
     return kInputError;
   }
+  recorded->set_arrivals(plan.arrivals);
   Expected<std::vector<double>> frame_times = recorded->frame_times(plan.settings.fps);
   if (!frame_times) {
     std::cerr << "sscs: error: " << frame_times.error() << "\n";

@@ -44,6 +44,10 @@ std::string within_window(std::string_view text, size_t max) {
 
 
 void Diagnostics::error(SourceMark mark, std::string message) {
+  // Once each: the same mistake at the same place, met again (one line that makes forty objects,
+  // a campaign's forty loads), is one error.
+  for (const Diagnostic& e : errors_)
+    if (e.mark.file == mark.file && e.mark.line == mark.line && e.mark.column == mark.column && e.message == message) return;
   ++count_;
   if (errors_.size() < limit_) errors_.push_back({mark, std::move(message)});
 }

@@ -64,6 +64,10 @@ struct GeometryModel {
 struct ScenePose {
   std::vector<Eigen::Isometry3d> X_world_object;
   std::vector<std::vector<Eigen::Isometry3d>> X_object_part;
+  /// Per object (or empty: none), whether it is not there now: a campaign's load before it
+  /// arrives. Frames do not draw it.
+  std::vector<char> hidden;
+  bool hides(int object) const { return static_cast<size_t>(object) < hidden.size() && hidden[object]; }
   /// The geometry's own placement.
   static ScenePose of(const GeometryModel& geometry);
 };

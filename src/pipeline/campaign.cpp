@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -21,6 +23,30 @@ std::string substitute(std::string text, const std::string& load, const std::str
   return text;
 }
 
+std::string load_name(const std::string& pattern, long n) {
+  std::string out = pattern;
+  for (size_t at = out.find("{n}"); at != std::string::npos; at = out.find("{n}", at)) out.replace(at, 3, std::to_string(n));
+  return out;
+}
+
+/// How many loads a stream brings: `count` (default 1, or as many as `times`).
+long load_count(const LoadStreamSpec& l, Diagnostics* diag) {
+  const long times = static_cast<long>(l.arrive.times.size());
+  if (!l.count.present || l.count.null) return l.arrive.kind == ArrivalSpec::Kind::Times ? times : 1;
+  const bool digits = !l.count.text.empty() && l.count.text.size() <= 6 &&
+                      std::all_of(l.count.text.begin(), l.count.text.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  const long n = digits ? std::stol(l.count.text) : -1;
+  if (n < 1) {
+    if (diag) diag->error(l.count.mark, fmt::format("count must be a whole number from 1 to 999999, found '{}'", l.count.text));
+    return 0;
+  }
+  if (l.arrive.kind == ArrivalSpec::Kind::Times && n != times) {
+    if (diag) diag->error(l.count.mark, fmt::format("count is {} but arrive lists {} times: one time a load", n, times));
+    return 0;
+  }
+  return n;
+}
+
 class CampaignCompiler {
  public:
   CampaignCompiler(const CampaignSpec& spec, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag)
@@ -29,11 +55,8 @@ class CampaignCompiler {
   std::optional<CampaignCommands> run() {
     CampaignCommands c;
     c.settings = compile_settings(spec_, wc_, geometry_, diag_);
-    if (!spec_.loads.empty())
-      diag_.error(spec_.loads.front().mark,
-                  "arriving loads (`loads:`) are not run by this version of sscs yet; a campaign's jobs can go over the "
-                  "vault's own objects (`each:` with `after:`)");
     c.seed = seed();
+    arrivals(c);
     c.stop_on_failure = spec_.on_failure.present && spec_.on_failure.text == "stop";
     std::vector<std::vector<int>> selected;
     for (size_t ti = 0; ti < spec_.jobs.size(); ++ti) {
@@ -80,6 +103,42 @@ class CampaignCompiler {
       return 0;
     }
     return std::stoull(s.text);
+  }
+
+  /// When each load of `loads:` is due at its spot: every (from first), the times listed, or
+  /// exponential gaps of the mean (from the seed: a generator of its own, so a change in the
+  /// slot choices leaves the arrivals as they were).
+  void arrivals(CampaignCommands& c) {
+    std::mt19937_64 rng(c.seed ^ 0x9e3779b97f4a7c15ull);
+    auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };  // [0, 1), the same on any platform
+    for (const LoadStreamSpec& l : spec_.loads) {
+      const long n = load_count(l, nullptr);  // (its errors were reported with the vault's loads)
+      std::optional<FrameRef> spot = l.at.present ? frame(l.at) : std::nullopt;
+      if (!spot) continue;
+      const ArrivalSpec& a = l.arrive;
+      auto time = [&](const Scalar& v, const char* what, double fallback) {
+        if (!v.present || v.null) return fallback;
+        const double x = literal_si(v, Dim::Time, what, diag_).value_or(fallback);
+        if (x < 0) diag_.error(v.mark, fmt::format("{} must not be negative, found {}", what, v.text));
+        return std::max(x, 0.0);
+      };
+      const double every = a.kind == ArrivalSpec::Kind::Every ? time(a.every, "arrive every", 0) : 0;
+      const double first = a.kind == ArrivalSpec::Kind::Every ? time(a.first, "arrive first", 0) : 0;
+      const double mean = a.kind == ArrivalSpec::Kind::Random ? time(a.mean, "arrive random mean", 0) : 0;
+      if (a.kind == ArrivalSpec::Kind::Random && !(mean > 0)) diag_.error(a.mean.mark, "arrive random mean must be positive");
+      double t = 0;
+      for (long k = 1; k <= n; ++k) {
+        switch (a.kind) {
+          case ArrivalSpec::Kind::Every: t = first + (k - 1) * every; break;
+          case ArrivalSpec::Kind::Times:
+            t = time(a.times[k - 1], "an arrival time", 0);
+            break;
+          case ArrivalSpec::Kind::Random: t += -mean * std::log1p(-uniform()); break;
+        }
+        const int o = wc_.find_object(load_name(l.name.text, k));
+        if (o >= 0) c.arrivals.push_back({o, t, *spot});
+      }
+    }
   }
 
   std::vector<std::string> names_of(bool devices_only) const {
@@ -212,6 +271,25 @@ class CampaignCompiler {
 };
 
 }  // namespace
+
+void add_arriving_loads(const CampaignSpec& spec, VaultSpec& vault, Diagnostics& diag) {
+  for (const LoadStreamSpec& l : spec.loads) {
+    const long n = load_count(l, &diag);
+    if (!l.name.present || l.name.null || !l.type.present || !l.at.present) continue;
+    for (long k = 1; k <= n; ++k) {
+      ObjectSpec o;
+      o.mark = l.mark;
+      o.type = l.type.text;
+      o.type_mark = l.type.mark;
+      o.name = l.name;
+      o.name.text = load_name(l.name.text, k);
+      o.at = l.at;
+      for (size_t a = 0; a < l.attributes.size(); ++a)
+        o.attributes.push_back({l.attributes[a].first, l.attribute_marks[a], l.attributes[a].second});
+      vault.objects.push_back(std::move(o));
+    }
+  }
+}
 
 StepSpec expand_step(const StepSpec& step, const std::string& load, const std::string& device, const std::string& place) {
   StepSpec out = step;

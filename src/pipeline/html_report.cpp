@@ -60,6 +60,7 @@ Expected<std::string> run_gltf(const OpenedRun& run, const CompileOptions& optio
   for (const Track& track : ps.plan->tracks) driven.push_back(track.object);
   auto recorded = RecordedRun::read(run.dir(), *ps.wc, ps.geometry, driven);
   if (!recorded) return Unexpected{recorded.error()};
+  recorded->set_arrivals(ps.plan->arrivals);
   const Eigen::AlignedBox3d bounds = scene_bounds(ps.geometry);
   SceneAnimation animation;
   animation.times = recorded->log_times();

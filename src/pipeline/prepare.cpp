@@ -2,6 +2,7 @@
 
 #include "load/campaign.h"
 #include "pipeline/campaign.h"
+#include "load/load.h"
 
 #include "geometry/mesh_io.h"
 
@@ -37,7 +38,16 @@ bool PreparedScenario::prepare(const std::string& path, const CompileOptions& ba
   for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
   overrides.insert(overrides.end(), base.overrides.begin(), base.overrides.end());
   options.overrides = overrides;
-  PreparedVault vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true, .contacts = nullptr});  // frames draw what devices look like
+  PreparedVault vault;
+  if (campaign) {  // its arriving loads are objects of the vault, kept away until they arrive
+    std::optional<VaultSpec> v = load_vault(spec->vault_path, sources, diag);
+    if (!v || diag.has_errors()) return false;
+    add_arriving_loads(*campaign, *v, diag);
+    if (diag.has_errors()) return false;
+    vault = prepare_vault(*v, options, sources, diag, {.visuals = true, .contacts = nullptr});
+  } else {
+    vault = prepare_vault(spec->vault_path, options, sources, diag, {.visuals = true, .contacts = nullptr});  // frames draw what devices look like
+  }
   wc = std::move(vault.wc);
   geometry = std::move(vault.geometry);
   if (wc && !diag.has_errors() && campaign) {

@@ -273,7 +273,7 @@ struct Renderer::Impl {
     gl.UniformMatrix4fv(gl.GetUniformLocation(depth, "light_projection"), 1, GL_FALSE, light_vp.data());
     const GLint u_model = gl.GetUniformLocation(depth, "model");
     for (const Item& it : items) {
-      if (it.inside) continue;  // rooms and containers do not shade what they hold
+      if (it.inside || pose.hides(it.object)) continue;  // rooms and containers do not shade what they hold
       const Eigen::Matrix4f model = to_float(world_pose(it, pose).matrix());
       gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
       gl.BindVertexArray(meshes[it.mesh].vao);
@@ -398,7 +398,7 @@ struct Renderer::Impl {
       gl.UniformMatrix4fv(gl.GetUniformLocation(ids, "light_projection"), 1, GL_FALSE, vp.data());
       const GLint u_model = gl.GetUniformLocation(ids, "model"), u_id = gl.GetUniformLocation(ids, "id_color");
       for (const Item& it : items) {
-        if (!everything && slot[it.object] < 0) continue;
+        if ((!everything && slot[it.object] < 0) || pose.hides(it.object)) continue;
         const Eigen::Matrix4f model = to_float(world_pose(it, pose).matrix());
         gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
         const int id = it.object + 1;  // 0: nothing
@@ -452,6 +452,7 @@ struct Renderer::Impl {
     gl.ActiveTexture(GL_TEXTURE0);
     gl.BindTexture(GL_TEXTURE_2D, shadow_map);
     for (const Item& it : items) {
+      if (pose.hides(it.object)) continue;
       const Eigen::Isometry3d X = world_pose(it, pose);
       const Eigen::Matrix4f model = to_float(X.matrix());
       const Eigen::Matrix3f normal = X.linear().inverse().transpose().cast<float>();

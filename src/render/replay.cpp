@@ -1,5 +1,7 @@
 #include "render/replay.h"
 
+#include "simulate/plan.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -187,6 +189,7 @@ std::vector<int> RecordedRun::logged_objects() const {
   std::vector<int> out;
   for (const auto* series : {&devices_, &objects_})
     for (const auto& [o, s] : *series) out.push_back(o);
+  for (const auto& [o, t] : arrivals_) out.push_back(o);  // they appear
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -210,6 +213,12 @@ ScenePose RecordedRun::at(double t) const {
     X.translation() = va.head<3>() + f * (vb.head<3>() - va.head<3>());
     pose.X_world_object[o] = X;
   }
+  for (const auto& [o, arrived] : arrivals_)
+    if (t < arrived - 1e-9) {
+      if (pose.hidden.empty()) pose.hidden.assign(pose.X_world_object.size(), 0);
+      pose.hidden[o] = 1;
+      pose.X_world_object[o] = absent_pose(o);
+    }
   return pose;
 }
 

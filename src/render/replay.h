@@ -29,6 +29,9 @@ class RecordedRun {
   /// logged rows (linear, orientations slerped); objects never logged stay where they stood.
   ScenePose at(double t) const;
   double duration() const { return duration_; }
+  /// A campaign's arriving loads and when each arrived (the plan's; infinity: never): before
+  /// that, at() hides them and keeps them far below everything (a glTF's animation too).
+  void set_arrivals(const std::vector<std::pair<int, double>>& arrivals) { arrivals_ = arrivals; }
   /// Every time a log has a row at (devices' trajectories, objects.csv), increasing, each one
   /// once; 0 first. Times closer than a 32-bit float tells apart (glTF's) are kept once.
   std::vector<double> log_times() const;
@@ -48,6 +51,7 @@ class RecordedRun {
   const GeometryModel* geometry_ = nullptr;
   std::string dir_;
   std::map<int, Series> devices_, objects_;
+  std::vector<std::pair<int, double>> arrivals_;
   double duration_ = 0;
 };
 

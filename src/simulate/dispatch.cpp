@@ -42,13 +42,22 @@ class Dispatcher {
       for (const FrameRef& f : tmpl.slots)
         if (seen.insert(frame_text(wc_, f)).second)
           plan.slot_frames.emplace_back(frame_text(wc_, f), planner_.frame_pose(f.object, f.frame).translation());
-    // Events in planned time: readiness, devices going idle, claims and slots freed (a job's end).
+    for (size_t k = 0; k < c_.arrivals.size(); ++k) {
+      const CampaignCommands::Arrival& a = c_.arrivals[k];
+      spots_[frame_text(wc_, a.spot)].queue.push_back(k);
+      arriving_[a.object] = INFINITY;
+      planner_.set_absent(a.object, true);
+    }
+    // Events in planned time: arrivals, readiness, devices going idle, claims and slots freed (a job's end).
     double t = 0;
     while (!stopped_) {
+      arrive(t);
       start_what_can(t);
       double next = INFINITY;
       for (size_t i = 0; i < c_.jobs.size(); ++i)
-        if (!plan.jobs[i].started && c_.jobs[i].ready > t) next = std::min(next, c_.jobs[i].ready);
+        if (!plan.jobs[i].started && ready(i) > t) next = std::min(next, ready(i));
+      for (const auto& [key, spot] : spots_)
+        if (const double at = spot.next_arrival(c_); at > t) next = std::min(next, at);
       for (const auto& [d, until] : busy_until_)
         if (until > t) next = std::min(next, until);
       if (!std::isfinite(next) || stopped_ || next >= stop_at_) break;
@@ -58,6 +67,7 @@ class Dispatcher {
       }
       t = next;
     }
+    for (const CampaignCommands::Arrival& a : c_.arrivals) plan.arrivals.emplace_back(a.object, arriving_[a.object]);
     for (size_t i = 0; i < plan.jobs.size(); ++i)
       if (!plan.jobs[i].started) plan.jobs[i].why_not = why_not(i);
     if (terminal_) plan.failure = terminal_;  // on_failure: stop: the run stops there
@@ -65,14 +75,52 @@ class Dispatcher {
   }
 
  private:
+  /// A spot loads arrive at, one at a time: the arrivals in their order, and when the load
+  /// standing there leaves (infinity until the job taking it is planned; 0: none stands there).
+  struct Spot {
+    std::vector<size_t> queue;  // CampaignCommands::arrivals
+    size_t next = 0;
+    int occupant = -1;
+    double free_at = 0;
+    double next_arrival(const CampaignCommands& c) const {
+      return next < queue.size() ? std::max(c.arrivals[queue[next]].scheduled, free_at) : INFINITY;
+    }
+  };
+
+  /// When job i is ready: its `after`, and for an arriving load once it has arrived (infinity before).
+  double ready(size_t i) const {
+    auto it = arriving_.find(c_.jobs[i].object);
+    return it == arriving_.end() ? c_.jobs[i].ready : std::max(c_.jobs[i].ready, it->second);
+  }
+
+  /// The loads due at t arrive (each spot's next, once the load before it has left).
+  void arrive(double t) {
+    for (auto& [key, spot] : spots_) {
+      const double at = spot.next_arrival(c_);
+      if (at > t + 1e-9 || at >= stop_at_) continue;
+      const int o = c_.arrivals[spot.queue[spot.next++]].object;
+      arriving_[o] = at;
+      planner_.set_absent(o, false);
+      spot.occupant = o;
+      spot.free_at = INFINITY;  // until the job that takes it lifts it away
+      for (size_t i = 0; i < c_.jobs.size(); ++i)
+        if (c_.jobs[i].object == o) planner_.plan().jobs[i].ready = ready(i);
+    }
+  }
+
   /// Starts, in queue order, every ready job that can start at t, until none can.
   void start_what_can(double t) {
     Plan& plan = planner_.plan();
     if (t >= stop_at_) return;  // the campaign stopped at a failure (on_failure: stop)
     for (bool any = true; any && !stopped_ && t < stop_at_;) {
       any = false;
-      for (size_t i = 0; i < c_.jobs.size() && !stopped_; ++i) {
-        if (plan.jobs[i].started || c_.jobs[i].ready > t) continue;
+      // The queue: in the order the jobs became ready (ties: the order of jobs:, then the names).
+      std::vector<size_t> queue;
+      for (size_t i = 0; i < c_.jobs.size(); ++i)
+        if (!plan.jobs[i].started && ready(i) <= t + 1e-9) queue.push_back(i);
+      std::stable_sort(queue.begin(), queue.end(), [&](size_t a, size_t b) { return ready(a) < ready(b); });
+      for (size_t i : queue) {
+        if (stopped_) break;
         const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
         if (!claims_free(tmpl, t)) continue;
         const int d = idle_device(tmpl, t);
@@ -84,6 +132,7 @@ class Dispatcher {
         }
         start(i, d, place, t);
         any = true;
+        break;  // the queue again: what this job took is taken
       }
     }
   }
@@ -115,7 +164,7 @@ class Dispatcher {
       bool taken = false;
       for (size_t o = 0; o < wc_.objects.size() && !taken; ++o)
         if (!geometry_.objects[o].device && !wc_.types[wc_.objects[o].type].container && static_cast<int>(o) != f.object &&
-            !geometry_.objects[o].shapes.empty())
+            !geometry_.objects[o].shapes.empty() && !absent(static_cast<int>(o)))
           taken = (planner_.object_pose(static_cast<int>(o)).translation() - p).norm() <= kSlotOccupied;
       if (!taken) free.emplace_back(&f, p);
     }
@@ -151,12 +200,16 @@ class Dispatcher {
     job.place = place ? frame_text(wc_, *place) : "";
     Diagnostics local;
     std::vector<StepCommand> steps = c_.steps(JobBinding{j.job_template, j.object, d, place}, local);
-    double at = t;
+    double at = t, lifted_at = INFINITY;
+    bool grasped = false;
     size_t k = 0;
     for (; k < steps.size() && !local.has_errors(); ++k) {
       steps[k].index = next_index_++;
       at = planner_.plan(steps[k], at, static_cast<int>(i), local);
       if (planner_.failure()) break;
+      if (steps[k].kind == StepKind::Grasp && steps[k].object == j.object) grasped = true;
+      else if (grasped && !std::isfinite(lifted_at) && (steps[k].kind == StepKind::MoveTo || steps[k].kind == StepKind::MoveJoints))
+        lifted_at = at;
     }
     for (const Diagnostic& e : local.errors())
       diag_.error(e.mark, fmt::format("{} (job '{}' for {}, on {})", e.message, tmpl.name, wc_.objects[j.object].name,
@@ -187,14 +240,33 @@ class Dispatcher {
         out_.insert(d);  // the device takes no more jobs
       }
     }
+    // The load this job takes leaves its arrival spot with the move after its grasp: the next may come then.
+    for (auto& [key, spot] : spots_)
+      if (spot.occupant == j.object) {
+        spot.free_at = lifted_at;
+        if (std::isfinite(lifted_at)) spot.occupant = -1;
+      }
     job.end = at;
     busy_until_[d] = at;
     for (int z : tmpl.claims) claimed_until_[z] = at;
     if (place && !tmpl.slots.empty()) reserved_.emplace_back(*place, at);
   }
 
+  bool absent(int o) const {
+    auto it = arriving_.find(o);
+    return it != arriving_.end() && !std::isfinite(it->second);
+  }
+
   std::string why_not(size_t i) const {
     const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
+    if (absent(c_.jobs[i].object)) {
+      for (const auto& [key, spot] : spots_)
+        if (spot.occupant >= 0 && std::find_if(spot.queue.begin(), spot.queue.end(), [&](size_t k) {
+              return c_.arrivals[k].object == c_.jobs[i].object;
+            }) != spot.queue.end())
+          return fmt::format("it never arrived: {} still stood at {}, where it arrives", wc_.objects[spot.occupant].name, key);
+      return "it never arrived: the campaign ended first";
+    }
     if (terminal_) return fmt::format("the campaign stopped at {:g} s, when a job failed (on_failure: stop)", terminal_->t);
     if (past_limit_ || c_.jobs[i].ready > c_.settings.limit) return "the campaign's time limit came first";
     bool any_device = false;
@@ -211,6 +283,8 @@ class Dispatcher {
   StepPlanner planner_;
   std::mt19937_64 rng_;  // fully specified by the standard: the same picks on any platform
   std::map<int, double> busy_until_, claimed_until_;
+  std::map<std::string, Spot> spots_;  // by the frame's name
+  std::map<int, double> arriving_;     // arriving load -> when it arrived (infinity: not yet)
   std::vector<std::pair<FrameRef, double>> reserved_;  // slots and until when their job runs
   std::set<int> out_;                                  // devices that failed a job (on_failure: continue)
   size_t next_index_ = 0;

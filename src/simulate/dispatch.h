@@ -59,6 +59,14 @@ struct CampaignCommands {
     double ready = 0;
   };
   std::vector<Job> jobs;
+  /// Loads that arrive (`loads:`, objects of the compiled vault standing at their spot): each
+  /// no earlier than `scheduled`, and once its spot is free (the load before it lifted away).
+  struct Arrival {
+    int object = -1;
+    double scheduled = 0;
+    FrameRef spot;
+  };
+  std::vector<Arrival> arrivals;  ///< in the order of `loads:`, then of {n}
   /// A job's steps compiled for its binding, their input errors into `diag` (named with the job).
   std::function<std::vector<StepCommand>(const JobBinding&, Diagnostics& diag)> steps;
 };

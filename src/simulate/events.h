@@ -19,11 +19,11 @@ inline double r9(double x) { return std::round(x * 1e9) / 1e9; }
 /// Every kind of event a run records, in the alphabetical order of their names (summary.json
 /// counts them in that order).
 enum class EventKind : uint8_t {
-  AtRest, Collision, Constraint, Displaced, Grasp, GraspMissed, JointLimit, KeepOut, Landed, LoadShifted, NotAtRest, Propped, Release, Singular,
+  Arrived, AtRest, Collision, Constraint, Displaced, Grasp, GraspMissed, JointLimit, KeepOut, Landed, LoadShifted, NotAtRest, Propped, Release, Singular,
   StepEnd, StepStart, TimeLimit, TrackingError, Unreachable, WallLimit,
 };
-inline constexpr std::array<std::string_view, 20> kEventKindNames = {
-    "at_rest", "collision", "constraint", "displaced", "grasp", "grasp_missed", "joint_limit", "keep_out", "landed", "load_shifted",
+inline constexpr std::array<std::string_view, 21> kEventKindNames = {
+    "arrived", "at_rest", "collision", "constraint", "displaced", "grasp", "grasp_missed", "joint_limit", "keep_out", "landed", "load_shifted",
     "not_at_rest", "propped", "release", "singular", "step_end", "step_start", "time_limit", "tracking_error", "unreachable", "wall_limit"};
 static_assert(static_cast<size_t>(EventKind::WallLimit) + 1 == kEventKindNames.size());
 /// The name events.jsonl writes (`step_start`, `collision`, ...).

@@ -332,7 +332,7 @@ class Planner {
     if (!collisions_) collisions_ = std::make_unique<CollisionWorld>(geometry_);
     for (size_t o = 0; o < wc_.objects.size(); ++o) {  // what was carried, set down, or stood on that
       if (geometry_.objects[o].device) continue;
-      const Eigen::Isometry3d X = object_pose(static_cast<int>(o));
+      const Eigen::Isometry3d X = absent_.count(static_cast<int>(o)) ? absent_pose(static_cast<int>(o)) : object_pose(static_cast<int>(o));
       if (placed_.count(static_cast<int>(o)) || !X.isApprox(geometry_.objects[o].X_world_object, 1e-12)) {
         collisions_->move(static_cast<int>(o), X);
         placed_.insert(static_cast<int>(o));
@@ -509,6 +509,7 @@ class Planner {
   const GeometryModel& geometry_;
   Diagnostics* diag_;
   int job_ = -1;  // the campaign job whose steps are planned, or -1
+  std::set<int> absent_;  // a campaign's loads not arrived yet
   Plan plan_;
   std::map<int, DeviceState> states_;
   std::map<int, Eigen::Isometry3d> moved_;
@@ -583,6 +584,17 @@ PlanFailure StepPlanner::take_failure() {
 }
 
 double StepPlanner::free_at(int device) { return planner_->state(device).free; }
+
+void StepPlanner::set_absent(int object, bool absent) {
+  if (absent) planner_->absent_.insert(object);
+  else planner_->absent_.erase(object);
+}
+
+Eigen::Isometry3d absent_pose(int object) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(0, 0, -1e4 - 20.0 * object);
+  return X;
+}
 
 Eigen::Isometry3d StepPlanner::object_pose(int o) const { return planner_->object_pose(o); }
 

@@ -158,6 +158,8 @@ struct Plan {
   /// The frames a campaign's jobs choose slots from (every template's, once), where they are.
   std::vector<std::pair<std::string, Eigen::Vector3d>> slot_frames;
   std::vector<int> campaign_devices;  ///< every device a campaign's jobs may go to, in order
+  /// A campaign's arriving loads: when each arrives (infinity: never, its spot stayed taken).
+  std::vector<std::pair<int, double>> arrivals;
   const Track* track(int object) const;
   /// Whether `ps` is the step the plan failed at (it began and never finished), or its group,
   /// or a step a job failed at.
@@ -177,6 +179,10 @@ std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workce
 
 namespace sscs {
 
+/// Where collision queries keep an object that is not there (a campaign's load before it
+/// arrives): far below everything, apart from every other.
+Eigen::Isometry3d absent_pose(int object);
+
 /// Plans steps one at a time, each for its device no earlier than a given time (a campaign's
 /// dispatcher, which decides what runs next from where planning has everything then).
 class StepPlanner {
@@ -195,6 +201,8 @@ class StepPlanner {
   PlanFailure take_failure();
   /// When `device`'s planned motions end.
   double free_at(int device);
+  /// A campaign's load not yet arrived: planning leaves it out (what a move would meet, slots).
+  void set_absent(int object, bool absent);
   /// World pose of object `o` where planning has it now, and of its frame `frame`.
   Eigen::Isometry3d object_pose(int o) const;
   Eigen::Isometry3d frame_pose(int o, const std::string& frame) const;

@@ -211,6 +211,7 @@ void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tra
 void ConstraintRechecks::judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples,
                                EventLog& events) {
   for (const CheckResult& r : report.results) {
+    if (std::any_of(r.subjects.begin(), r.subjects.end(), [&](int o) { return absent_.count(o) > 0; })) continue;
     auto key = std::make_pair(r.constraint, r.subjects);
     bool failing = r.status != Status::Pass;
     bool was = failing_[key];

@@ -61,6 +61,12 @@ class ConstraintRechecks {
   /// `values` first (once, when some rule must be checked).
   void check_inside_step(double t, const ClearanceTracker& tracker, const std::function<void()>& pose, const GeometryModel& live,
                          const std::vector<double>& values, EventLog& events);
+  /// A campaign's load not arrived yet: what a rule says of it is not judged (it stands at its
+  /// spot in the geometry, with those to come after it).
+  void set_absent(int object, bool absent) {
+    if (absent) absent_.insert(object);
+    else absent_.erase(object);
+  }
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
 
@@ -75,6 +81,7 @@ class ConstraintRechecks {
                       const std::string& message, bool between_samples, EventLog& events);
 
   std::map<std::pair<int, std::vector<int>>, bool> failing_;  ///< (constraint, subjects) -> failing now
+  std::set<int> absent_;
   size_t failures_ = 0;
   double tolerance_ = 0;
   struct Watched {

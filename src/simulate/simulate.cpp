@@ -113,6 +113,17 @@ class Run {
     const long every = std::max(1L, std::lround(1.0 / (plan_.settings.rate * dt)));
     started_.assign(plan_.steps.size(), 0);
     ended_.assign(plan_.steps.size(), 0);
+    steps_in_order_ = std::is_sorted(plan_.steps.begin(), plan_.steps.end(),
+                                     [](const PlannedStep& a, const PlannedStep& b) { return a.start < b.start; });
+    // A campaign's loads are away until they arrive (never, when their spot stays taken).
+    for (const auto& [o, at] : plan_.arrivals) {
+      world_.set_present(o, false);
+      clearances_.move(o, absent_pose(o));
+      rechecks_.set_absent(o, true);
+      absent_.insert(o);
+      if (std::isfinite(at)) arrivals_.emplace_back(at, o);
+    }
+    std::sort(arrivals_.begin(), arrivals_.end());
     wall_start_ = std::chrono::steady_clock::now();
     follow_motion(0);
     long k = 0;
@@ -160,10 +171,19 @@ class Run {
     const double dt = plan_.settings.timestep;
     // Steps are in order of start: those before `first_open_` have ended, none after the first
     // not yet due has begun (a campaign's hours of steps, looked at each tick).
+    // A campaign's loads due now arrive (before the steps that may take them).
+    for (; next_arrival_ < arrivals_.size() && arrivals_[next_arrival_].first <= t + dt / 2; ++next_arrival_) {
+      const int o = arrivals_[next_arrival_].second;
+      world_.set_present(o, true);
+      clearances_.move(o, geometry_.objects[o].X_world_object);
+      rechecks_.set_absent(o, false);
+      absent_.erase(o);
+      events_.add(t, EventKind::Arrived, {{"object", wc_.objects[o].name}});
+    }
     while (first_open_ < plan_.steps.size() && ended_[first_open_]) ++first_open_;
     for (size_t i = first_open_; i < plan_.steps.size(); ++i) {
       const PlannedStep& ps = plan_.steps[i];
-      if (!started_[i] && ps.start > t + dt / 2) break;
+      if (!started_[i] && ps.start > t + dt / 2 && steps_in_order_) break;
       if (!started_[i] && ps.start <= t + dt / 2) {
         started_[i] = 1;
         current_step_ = i;
@@ -438,11 +458,17 @@ class Run {
     auto due = [&](double t) {
       if (t > t0 + dt / 2) n = std::min(n, std::max(1L, static_cast<long>(std::ceil((t - dt / 2) / dt - 1e-9)) - k));
     };
-    for (size_t i = 0; i < plan_.steps.size(); ++i) {
-      if (!started_[i]) due(plan_.steps[i].start);
-      else if (!ended_[i]) due(plan_.steps[i].end);
+    for (size_t i = first_open_; i < plan_.steps.size(); ++i) {
+      if (!started_[i]) {
+        due(plan_.steps[i].start);
+        if (steps_in_order_) break;  // (no later step begins sooner)
+      } else if (!ended_[i]) {
+        due(plan_.steps[i].end);
+      }
     }
     if (plan_.failure) due(plan_.failure->t);
+    if (job_failures_seen_ < plan_.job_failures.size()) due(plan_.job_failures[job_failures_seen_].t);
+    if (next_arrival_ < arrivals_.size()) due(arrivals_[next_arrival_].first);
     due(plan_.settings.limit);
     due(plan_.end);
     if (options_.on_frame) due(frames_ * options_.frame_interval);
@@ -1099,6 +1125,10 @@ class Run {
     }
     for (size_t o = 0; o < wc_.objects.size(); ++o)
       if (world_.dynamic(static_cast<int>(o))) p.X_world_object[o] = world_.pose(static_cast<int>(o));
+    if (!absent_.empty()) {
+      p.hidden.assign(wc_.objects.size(), 0);
+      for (int o : absent_) p.hidden[o] = 1;
+    }
     return p;
   }
 
@@ -1469,6 +1499,10 @@ class Run {
   long steps_ = 0;                                // physics steps taken
   std::vector<char> started_, ended_;  // per step
   size_t first_open_ = 0;              // steps before it have ended
+  bool steps_in_order_ = true;         // the plan's steps in order of start (a break in the look for what is due)
+  std::vector<std::pair<double, int>> arrivals_;  // a campaign's: (when, load), in time order
+  size_t next_arrival_ = 0;
+  std::set<int> absent_;               // loads not arrived yet
   size_t job_failures_seen_ = 0;       // a campaign's job failures with their events
   std::optional<CampaignOutcome> campaign_;  // a campaign's jobs and figures, once the run is over
   double settle_until_ = -1;           // after the last step: when loose objects must rest by

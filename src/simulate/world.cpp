@@ -976,6 +976,13 @@ int PhysicsWorld::held(int device) const {
 
 bool PhysicsWorld::dynamic(int o) const { return impl_->bodies[o] != nullptr; }
 
+void PhysicsWorld::set_present(int o, bool present) {
+  for (dGeomID geom : impl_->geoms[o]) {
+    if (present) dGeomEnable(geom);
+    else dGeomDisable(geom);
+  }
+}
+
 bool PhysicsWorld::at_rest(int o) const {
   const Impl& w = *impl_;
   return w.bodies[o] && (!dBodyIsEnabled(w.bodies[o]) || w.still_for[o] >= kRestTime - 1e-9);

@@ -127,6 +127,8 @@ class PhysicsWorld {
   /// (docs/simulation.md says how the mass is found).
   void make_dynamic(int object);
   bool dynamic(int object) const;
+  /// A campaign's arriving load is absent until it arrives: its geometry touches nothing.
+  void set_present(int object, bool present);
   /// Whether a dynamic object has come to rest (slower than 5 mm/s and 0.01 rad/s for 0.2 s).
   bool at_rest(int object) const;
   /// Advances one timestep: contacts, then the ODE step (in fast mode only when something free

@@ -2778,6 +2778,35 @@ def campaigns(sscs, root):
             expect(f"slots ({choice})", "the places", [j["place"] for j in jobs], [f"{pad}.top" for pad in pads])
             expect(f"slots ({choice})", "where the drums landed", landed, {f"D_{k + 1}": pad for k, pad in enumerate(pads)})
             expect(f"slots ({choice})", "slots", s["campaign"]["slots"], {"used": 3, "free_at_end": 0})
+        # Arriving loads (tests/data/campaigns/receive.yaml): due every 20 s at one spot, each waits
+        # for the one before it to be lifted away (the end of the move after its grasp): In_4, due
+        # at 60 s, arrives when In_3 is lifted. Physics and fast mode agree on the jobs and where
+        # the drums rest (within 5 mm).
+        runs = {}
+        for mode in ("fast", "physics"):
+            path = os.path.join(tmp, f"receive-{mode}.yaml")
+            text = open(os.path.join(root, "tests/data/campaigns/receive.yaml")).read().replace(
+                "vault: dock.yaml", f"vault: {root}/tests/data/campaigns/dock.yaml")
+            open(path, "w").write(text if mode == "fast" else text.replace("mode: fast, ", ""))
+            out = os.path.join(tmp, f"receive-{mode}")
+            p = run(sscs, root, ["simulate", path, "--out", out, "--no-frames", "--quiet", "--allow-outside-root"])
+            events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+            jobs = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+            runs[mode] = (p, events, jobs)
+            expect(f"receive ({mode})", "status", (p.returncode, [j["status"] for j in jobs]), (0, ["done"] * 4))
+            arrived = {e["object"]: e["t"] for e in events if e["kind"] == "arrived"}
+            lifted = [e["t"] for e in events if e["kind"] == "step_end" and e.get("job") == "store In_3" and e["step"] == 3 + 2 * 8]
+            expect(f"receive ({mode})", "arrivals", [arrived.get(f"In_{k}") for k in (1, 2, 3)], [0.0, 20.0, 40.0])
+            if not lifted or abs(arrived.get("In_4", -1) - lifted[0]) > 1e-9 or lifted[0] <= 60:
+                fail(f"receive ({mode}): In_4 should arrive when In_3 is lifted away ({lifted}), not at {arrived.get('In_4')}")
+            expect(f"receive ({mode})", "places", [j["place"] for j in jobs], ["Pad_1.top", "Pad_2.top", "Pad_3.top", "Pad_4.top"])
+            if any(e["kind"] == "collision" for e in events):
+                fail(f"receive ({mode}): a collision (loads not arrived yet are not there): {[e for e in events if e['kind'] == 'collision']}")
+        rest = {m: {e["object"]: e["position"] for e in runs[m][1] if e["kind"] == "at_rest"} for m in runs}
+        for o, at in rest["physics"].items():
+            if o not in rest["fast"] or math.dist(at, rest["fast"][o]) > 0.005:
+                fail(f"receive: {o} rests at {at} in physics, at {rest['fast'].get(o)} in fast mode")
+        expect("receive", "the jobs in fast and physics mode", [r[2] for r in [runs["fast"]]], [runs["physics"][2]])
         # The same seed, the same bytes (random choices).
         path = os.path.join(tmp, "slots-random.yaml")
         open(path, "w").write(open(os.path.join(tmp, "slots-first.yaml")).read().replace("choose: first", "choose: random")
