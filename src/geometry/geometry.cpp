@@ -458,6 +458,12 @@ ScenePose ScenePose::of(const GeometryModel& geometry) {
   return p;
 }
 
+Eigen::Isometry3d absent_pose(int object) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(0, 0, -1e4 - 20.0 * object);
+  return X;
+}
+
 void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object, const std::vector<Eigen::Isometry3d>* X_object_part) {
   const Eigen::Isometry3d move = X_world_object * g.X_world_object.inverse();
   std::vector<std::pair<std::string, Eigen::Isometry3d>> part_frames;

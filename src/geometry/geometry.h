@@ -72,6 +72,10 @@ struct ScenePose {
   static ScenePose of(const GeometryModel& geometry);
 };
 
+/// Where collision queries and drawings keep an object that is not there (a campaign's load
+/// before it arrives): far below everything, apart from every other.
+Eigen::Isometry3d absent_pose(int object);
+
 /// Moves an object's geometry to a new world pose and, for a device given `X_object_part`, its
 /// parts to new poses (its joint values now): shapes, bounds and frames follow. For simulations
 /// that re-check constraints during a motion; the object's children stay where they were.

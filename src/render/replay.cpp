@@ -1,7 +1,5 @@
 #include "render/replay.h"
 
-#include "simulate/plan.h"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>

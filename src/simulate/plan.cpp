@@ -590,11 +590,6 @@ void StepPlanner::set_absent(int object, bool absent) {
   else planner_->absent_.erase(object);
 }
 
-Eigen::Isometry3d absent_pose(int object) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.translation() = Eigen::Vector3d(0, 0, -1e4 - 20.0 * object);
-  return X;
-}
 
 Eigen::Isometry3d StepPlanner::object_pose(int o) const { return planner_->object_pose(o); }
 

@@ -179,10 +179,6 @@ std::optional<Plan> plan_scenario(const ScenarioCommands& scenario, const Workce
 
 namespace sscs {
 
-/// Where collision queries keep an object that is not there (a campaign's load before it
-/// arrives): far below everything, apart from every other.
-Eigen::Isometry3d absent_pose(int object);
-
 /// Plans steps one at a time, each for its device no earlier than a given time (a campaign's
 /// dispatcher, which decides what runs next from where planning has everything then).
 class StepPlanner {
