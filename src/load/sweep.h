@@ -36,7 +36,8 @@ struct SweepSpec {
   std::string name;
   SourceMark mark;
   std::string description;
-  Scalar vault, scenario;              ///< as written (either may be absent)
+  Scalar vault, scenario;              ///< as written (either may be absent); `campaign:` is read into scenario
+  bool campaign = false;               ///< the run file was given as `campaign:`
   std::string vault_path, scenario_path;  ///< resolved against the sweep file's folder
   std::vector<VarySpec> vary;
   bool random = false;                 ///< mode: {random: {n, seed}}; else grid

@@ -83,6 +83,11 @@ std::optional<SweepSpec> load_sweep(uint32_t file, Sources& sources, Diagnostics
   s.description = load::text(root.take("description"), "description", diag);
   s.vault = load::scalar(root.take("vault"), "vault", diag);
   s.scenario = load::scalar(root.take("scenario"), "scenario", diag);
+  // A campaign runs where a scenario would (campaign-format.md): the same key underneath.
+  if (Scalar campaign = load::scalar(root.take("campaign"), "campaign", diag); campaign.present) {
+    if (s.scenario.present) diag.error(campaign.mark, "a sweep runs a scenario or a campaign, not both; remove one");
+    else s.scenario = campaign, s.campaign = true;
+  }
   if (s.vault.present) s.vault_path = beside(s.path, s.vault.text);
   if (s.scenario.present) s.scenario_path = beside(s.path, s.scenario.text);
 
@@ -99,7 +104,7 @@ std::optional<SweepSpec> load_sweep(uint32_t file, Sources& sources, Diagnostics
     varies_scenario |= v.name == "scenario";
   }
   if (!s.vault.present && !s.scenario.present && !varies_vault && !varies_scenario)
-    diag.error(root.mark(), "a sweep needs a vault (vault: FILE) or a scenario (scenario: FILE), or varies one");
+    diag.error(root.mark(), "a sweep needs a vault (vault: FILE), a scenario (scenario: FILE) or a campaign (campaign: FILE), or varies one");
   for (const VarySpec& v : s.vary) {
     if (v.name == "vault" && s.vault.present)
       diag.error(v.mark, "'vault' is varied and also given (vault:); remove one");

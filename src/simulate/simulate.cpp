@@ -1385,6 +1385,7 @@ class Run {
         else reach.positions.emplace_back();
       }
       campaign_ = campaign_outcome(wc_, plan_, reach);
+      s.campaign = campaign_->figures;
       // A campaign in which a job failed has failed, though it went on (on_failure: continue).
       if (campaign_->figures.failed > 0) s.status = RunStatus::Failed;
     }

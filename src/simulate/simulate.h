@@ -6,6 +6,7 @@
 /// appears under its final name only when complete.
 #include <csignal>
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -14,6 +15,7 @@
 #include "geometry/geometry.h"
 #include "simulate/plan.h"
 #include "simulate/run_inputs.h"
+#include "simulate/summary_file.h"
 
 namespace sscs {
 
@@ -33,6 +35,8 @@ struct RunSummary {
   std::string stopped_by;
   double stopped_at = 0;
   std::string stop_message;
+  /// A campaign's figures (summary.json's `campaign` block), for a sweep's metrics.
+  std::optional<RunSummaryFile::Campaign> campaign;
 };
 
 struct RunOptions {

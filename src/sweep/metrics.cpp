@@ -36,11 +36,43 @@ const std::vector<std::string>& run_fields() {
   return fields;
 }
 
+const std::vector<std::string>& campaign_fields() {
+  static const std::vector<std::string> fields = {"throughput", "makespan", "wait_mean", "wait_max", "jobs_done", "jobs_failed"};
+  return fields;
+}
+
+namespace {
+
+/// `utilization(DEVICE)` is read as the variable `utilization_DEVICE_`: as long as what it
+/// replaces, so the columns of errors stay where the file has them.
+constexpr std::string_view kUtilization = "utilization(";
+
+std::string utilization_variables(std::string text) {
+  for (size_t at = text.find(kUtilization); at != std::string::npos; at = text.find(kUtilization, at + 1)) {
+    const bool word_start = at == 0 || !(std::isalnum(static_cast<unsigned char>(text[at - 1])) || text[at - 1] == '_');
+    const size_t close = text.find(')', at);
+    if (!word_start || close == std::string::npos) continue;
+    std::string_view device = trim_blanks(std::string_view(text).substr(at + kUtilization.size(), close - at - kUtilization.size()));
+    if (!is_valid_name(std::string(device)) || device.find('-') != std::string_view::npos) continue;
+    text[at + kUtilization.size() - 1] = '_';
+    text[close] = '_';
+  }
+  return text;
+}
+
+/// The device of a variable `utilization_DEVICE_`, or "".
+std::string utilization_device(std::string_view name) {
+  if (!name.starts_with("utilization_") || !name.ends_with("_") || name.size() <= kUtilization.size() + 1) return "";
+  return std::string(trim_blanks(name.substr(kUtilization.size(), name.size() - kUtilization.size() - 1)));
+}
+
+}  // namespace
+
 std::optional<Metric> Metric::parse(const MetricSpec& spec, Diagnostics& diag) {
   using K = SelectionCall::Kind;
   Metric m;
   m.spec_ = spec;
-  const std::string& text = spec.expr.text;
+  const std::string text = utilization_variables(spec.expr.text);
   Expression::Error err;
   auto rewritten = rewrite_selection_calls(text, {K::Count, K::Sum, K::Min, K::Max, K::Avg, K::MinMargin, K::Margin}, &err);
   if (!rewritten) {
@@ -59,7 +91,7 @@ std::optional<Metric> Metric::parse(const MetricSpec& spec, Diagnostics& diag) {
   return m;
 }
 
-void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) const {
+void Metric::validate(const Workcell& wc, bool simulated, bool campaign, Diagnostics& diag) const {
   auto where = [&](size_t pos) { return mark_at(spec_.expr, pos); };
   using K = SelectionCall::Kind;
   for (const SelectionCall& c : calls_) {
@@ -94,6 +126,24 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
   }
   for (const std::string& name : expr_->names()) {
     if (RewrittenExpression::call_index(name) >= 0) continue;
+    const bool is_campaign = std::find(campaign_fields().begin(), campaign_fields().end(), name) != campaign_fields().end() ||
+                             !utilization_device(name).empty();
+    if (is_campaign && !campaign) {
+      diag.error(spec_.expr.mark, fmt::format("metric '{}' reads '{}', which only a sweep of a campaign has (campaign:)", spec_.name,
+                                              utilization_device(name).empty() ? name : fmt::format("utilization({})", utilization_device(name))));
+      continue;
+    }
+    if (const std::string d = utilization_device(name); !d.empty()) {
+      const int o = wc.find_object(d);
+      if (o < 0) {
+        std::vector<std::string> names;
+        for (const Object& x : wc.objects) names.push_back(x.name);
+        diag.error(spec_.expr.mark, fmt::format("metric '{}': utilization({}) names no object of vault '{}'{}", spec_.name, d, wc.name,
+                                                did_you_mean(d, names)));
+      }
+      continue;
+    }
+    if (is_campaign) continue;
     bool is_run = std::find(run_fields().begin(), run_fields().end(), name) != run_fields().end();
     if (is_run && !simulated) {
       diag.error(spec_.expr.mark, fmt::format("metric '{}' reads '{}', which only a simulated sweep has (add scenario:)", spec_.name, name));
@@ -115,7 +165,9 @@ void Metric::validate(const Workcell& wc, bool simulated, Diagnostics& diag) con
       auto d = member_dim(wc, c.attribute);
       return d && *d != Dim::None ? d : std::nullopt;
     }
-    if (name == "cycle_time" || name == "simulated") return Dim::Time;
+    if (name == "cycle_time" || name == "simulated" || name == "makespan" || name == "wait_mean" || name == "wait_max") return Dim::Time;
+    if (name == "jobs_done" || name == "jobs_failed" || !utilization_device(name).empty()) return Dim::None;
+    if (name == "throughput") return std::nullopt;  // jobs per hour
     if (name == "collisions" || name == "events" || std::find(kCounts.begin(), kCounts.end(), name) != kCounts.end())
       return Dim::None;
     auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == name; });
@@ -195,6 +247,19 @@ Expected<double> Metric::evaluate(const Workcell& wc, const GeometryModel& geome
       values.push_back(static_cast<double>(run->collisions));
     } else if (run && name == "events") {
       values.push_back(static_cast<double>(run->events));
+    } else if (const std::string d = utilization_device(name); run && !d.empty()) {
+      double u = kNaN;
+      if (run->campaign)
+        for (const auto& [device, use] : run->campaign->devices)
+          if (device == d) u = use.utilization;
+      if (std::isnan(u)) why = fmt::format("metric '{}': {} takes no jobs of this campaign", spec_.name, d);
+      values.push_back(u);
+    } else if (run && std::find(campaign_fields().begin(), campaign_fields().end(), name) != campaign_fields().end()) {
+      if (!run->campaign) return Unexpected{fmt::format("metric '{}': '{}' is a campaign's, and this run is none", spec_.name, name)};
+      const RunSummaryFile::Campaign& c = *run->campaign;
+      values.push_back(name == "throughput" ? c.throughput : name == "makespan" ? c.makespan : name == "wait_mean" ? c.wait_mean
+                       : name == "wait_max" ? c.wait_max : name == "jobs_done" ? static_cast<double>(c.done)
+                                                                : static_cast<double>(c.failed));
     } else {
       auto p = std::find_if(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == name; });
       if (p == wc.parameters.end()) return Unexpected{fmt::format("metric '{}': '{}' is no parameter of this variant", spec_.name, name)};

@@ -36,8 +36,8 @@ class Metric {
 
   /// Reports what the metric names that `wc` (a variant's vault as written, before its values
   /// change) does not have: types and objects in selectors, attributes, constraints, variables;
-  /// and run fields when the sweep simulates nothing.
-  void validate(const Workcell& wc, bool simulated, Diagnostics& diag) const;
+  /// and run fields when the sweep simulates nothing (campaign fields when it runs no campaign).
+  void validate(const Workcell& wc, bool simulated, bool campaign, Diagnostics& diag) const;
 
   /// The metric of one variant, or why it has none: undefined (min_margin() of no margins, a
   /// selector that selects nothing), not computable (a selected object lacking the attribute) or
@@ -55,5 +55,8 @@ class Metric {
 
 /// The variables a metric reads besides calls: run fields (only when a scenario is simulated).
 const std::vector<std::string>& run_fields();
+/// What a sweep of a campaign adds: throughput, makespan, wait_mean, wait_max, jobs_done,
+/// jobs_failed (and utilization(DEVICE)).
+const std::vector<std::string>& campaign_fields();
 
 }  // namespace sscs

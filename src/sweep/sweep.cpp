@@ -30,10 +30,12 @@
 #include "geometry/geometry.h"
 #include "geometry/mesh_io.h"
 #include "load/load.h"
+#include "load/campaign.h"
 #include "load/scenario.h"
 #include "load/sweep.h"
 #include "pipeline/prepare.h"
 #include "report/report.h"
+#include "pipeline/campaign.h"
 #include "pipeline/scenario.h"
 #include "pipeline/resolved.h"
 #include "simulate/simulate.h"
@@ -55,8 +57,9 @@ using Overrides = std::vector<std::pair<std::string, std::string>>;
 struct Case {
   std::string vault_path, scenario_path;
   std::string library_dir;  ///< a varied `library` folder ("" for none)
-  const VaultSpec* vault = nullptr;
-  const ScenarioSpec* scenario = nullptr;
+  const VaultSpec* vault = nullptr;  ///< a campaign's: with its arriving loads
+  const ScenarioSpec* scenario = nullptr;  ///< a campaign's: its run settings
+  const CampaignSpec* campaign = nullptr;
   std::shared_ptr<const std::vector<ObjectType>> library;
   std::shared_ptr<PluginSet> plugins;
   Overrides overrides;
@@ -106,7 +109,13 @@ class Study {
   void validate_axes(const Workcell& wc, const Case& c);
   void validate_axis_values(const Workcell& wc, const std::vector<Axis>& axes);
   /// Every varied parameter exists in the vault, and every metric names what the vault has.
-  void validate_names(const Workcell& wc, const std::string& vault_path, bool simulated);
+  void validate_names(const Workcell& wc, const std::string& vault_path, bool simulated, bool campaign);
+  /// The case's run planned: its scenario's steps, or its campaign dispatched.
+  static std::optional<Plan> plan_run(const Case& c, const Workcell& wc, const GeometryModel& geometry, Diagnostics& diag) {
+    if (!c.campaign) return plan_scenario(*c.scenario, wc, geometry, diag);
+    auto commands = compile_campaign(*c.campaign, wc, geometry, diag);
+    return commands ? plan_campaign(*commands, wc, geometry, diag) : std::nullopt;
+  }
   void report_with_vault(const std::vector<Axis>& axes);
   VariantRow evaluate(const Variant& v, const std::string& dir);
   VariantRow base_row(const Variant& v) const;
@@ -126,6 +135,8 @@ class Study {
   std::vector<Metric> metrics_;
   std::map<std::string, VaultSpec> vaults_;
   std::map<std::string, ScenarioSpec> scenarios_;
+  std::map<std::string, CampaignSpec> campaigns_;  ///< the run files that are campaigns (their settings in scenarios_)
+  std::map<std::pair<std::string, std::string>, VaultSpec> campaign_vaults_;  ///< (vault, campaign): with its loads
   std::vector<Case> cases_;
   std::vector<size_t> case_of_;  ///< per variant
   MeshCache meshes_;
@@ -157,11 +168,21 @@ const VaultSpec* Study::vault_file(const std::string& path, SourceMark where) {
 }
 
 const ScenarioSpec* Study::scenario_file(const std::string& path, SourceMark where) {
-  return parsed(scenarios_, path, where, "scenario",
-                [](const std::string& p, Sources& s, Diagnostics& d) { return load_scenario(p, s, d); });
+  return parsed(scenarios_, path, where, spec_.campaign ? "campaign" : "scenario",
+                [this](const std::string& p, Sources& s, Diagnostics& d) -> std::optional<ScenarioSpec> {
+                  auto file = load_run_file(p, s, d);
+                  if (!file) return std::nullopt;
+                  if (auto* c = std::get_if<CampaignSpec>(&*file)) {
+                    ScenarioSpec settings;
+                    static_cast<RunFileSpec&>(settings) = *c;
+                    campaigns_.emplace(p, std::move(*c));
+                    return settings;
+                  }
+                  return std::move(std::get<ScenarioSpec>(*file));
+                });
 }
 
-void Study::validate_names(const Workcell& wc, const std::string& vault_path, bool simulated) {
+void Study::validate_names(const Workcell& wc, const std::string& vault_path, bool simulated, bool campaign) {
   for (const VarySpec& v : spec_.vary) {
     if (v.files()) continue;
     bool found = std::any_of(wc.parameters.begin(), wc.parameters.end(), [&](const Parameter& x) { return x.name == v.name; });
@@ -171,7 +192,7 @@ void Study::validate_names(const Workcell& wc, const std::string& vault_path, bo
     diag_.error(v.mark, fmt::format("vault '{}' ({}) has no parameter '{}' to vary{}", wc.name, vault_path, v.name,
                                     did_you_mean(v.name, names)));
   }
-  for (const Metric& m : metrics_) m.validate(wc, simulated, diag_);
+  for (const Metric& m : metrics_) m.validate(wc, simulated, campaign, diag_);
 }
 
 void Study::report_with_vault(const std::vector<Axis>& axes) {
@@ -185,12 +206,12 @@ void Study::report_with_vault(const std::vector<Axis>& axes) {
   Diagnostics scratch;  // the vault's own errors are reported when the values are fixed
   auto wc = compile(*vault, options, sources_, scratch);
   if (!wc) return;
-  validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty());
+  validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty(), spec_.campaign);
   validate_axis_values(*wc, axes);
 }
 
 void Study::validate_axes(const Workcell& wc, const Case& c) {
-  validate_names(wc, c.vault_path, c.scenario != nullptr);
+  validate_names(wc, c.vault_path, c.scenario != nullptr, c.campaign != nullptr);
   validate_axis_values(wc, set_.axes);
 }
 
@@ -244,7 +265,7 @@ bool Study::prepare_case(Case& c) {
   if (!c.library) c.library = std::make_shared<const std::vector<ObjectType>>(wc->types);
   validate_axes(*wc, c);
   GeometryModel geometry = build_geometry(*wc, diag_, &meshes_);  // reads every mesh once, before the forks
-  if (c.scenario && !diag_.has_errors()) plan_scenario(*c.scenario, *wc, geometry, diag_);
+  if (c.scenario && !diag_.has_errors()) plan_run(c, *wc, geometry, diag_);
   return !diag_.has_errors();
 }
 
@@ -283,6 +304,7 @@ bool Study::prepare(const std::string& path) {
       c.scenario_path = spec_.scenario_path;
     }
     if (!c.scenario_path.empty() && !(c.scenario = scenario_file(c.scenario_path, scenario_mark))) return false;
+    if (auto it = campaigns_.find(c.scenario_path); it != campaigns_.end()) c.campaign = &it->second;
     if (vault_axis >= 0) {
       c.vault_path = set_.value(v, vault_axis).set_text;
       if (!(c.vault = vault_file(c.vault_path, set_.value(v, vault_axis).mark))) return false;
@@ -292,6 +314,17 @@ bool Study::prepare(const std::string& path) {
     } else {
       c.vault_path = c.scenario->vault_path;
       if (!(c.vault = vault_file(c.vault_path, c.scenario->vault.mark))) return false;
+    }
+    if (c.campaign) {  // its arriving loads are objects of its vault
+      auto at = campaign_vaults_.find({c.vault_path, c.scenario_path});
+      if (at == campaign_vaults_.end()) {
+        std::optional<VaultSpec> with_loads = load_vault(c.vault_path, sources_, diag_);  // (a spec is not copied)
+        if (!with_loads) return false;
+        add_arriving_loads(*c.campaign, *with_loads, diag_);
+        at = campaign_vaults_.emplace(std::make_pair(c.vault_path, c.scenario_path), std::move(*with_loads)).first;
+      }
+      if (diag_.has_errors()) return false;
+      c.vault = &at->second;
     }
     if (library_axis >= 0) {
       const AxisValue& dir = set_.value(v, library_axis);
@@ -387,13 +420,15 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
   std::optional<RunSummary> run;
   if (c.scenario) {
     geometry.contacts.reset();  // a run's moving shapes are never placed alike twice: nothing to remember
-    auto plan = plan_scenario(*c.scenario, *wc, geometry, diag);
+    auto plan = plan_run(c, *wc, geometry, diag);
     if (!plan || diag.has_errors()) {
       row.status = "error";
-      row.message = "the scenario cannot run with these values: " + first_line(diag.format_errors(sources_));
+      row.message = fmt::format("the {} cannot run with these values: {}", c.campaign ? "campaign" : "scenario",
+                                first_line(diag.format_errors(sources_)));
       return row;
     }
-    RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_, &c.files);
+    RunInputs inputs = collect_run_inputs(*c.scenario, options.overrides, *wc, geometry, sources_, &c.files,
+                                          c.campaign ? "campaign" : "scenario");
     RunOptions ro;
     ro.out_dir = dir + "/run";
     ro.scenario_name = c.scenario->name;

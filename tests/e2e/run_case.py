@@ -2807,6 +2807,23 @@ def campaigns(sscs, root):
             if o not in rest["fast"] or math.dist(at, rest["fast"][o]) > 0.005:
                 fail(f"receive: {o} rests at {at} in physics, at {rest['fast'].get(o)} in fast mode")
         expect("receive", "the jobs in fast and physics mode", [r[2] for r in [runs["fast"]]], [runs["physics"][2]])
+        # A sweep of a campaign (tests/data/campaigns/receive-pads.yaml): each row's campaign
+        # metrics are those of the campaign run alone with that value.
+        sweep = os.path.join(tmp, "sweep")
+        p = run(sscs, root, ["sweep", "tests/data/campaigns/receive-pads.yaml", "--out", sweep, "--jobs", "2", "--quiet"])
+        rows = list(csv.DictReader(open(os.path.join(sweep, "results.csv")))) if os.path.exists(os.path.join(sweep, "results.csv")) else []
+        expect("receive-pads (sweep)", "variants", (p.returncode, len(rows)), (0, 3))
+        for r in rows:
+            out = os.path.join(tmp, f"alone-{r['pad_x']}")
+            run(sscs, root, ["simulate", "tests/data/campaigns/receive.yaml", "--set", f"pad_x={r['pad_x']} m", "--out", out, "--no-frames", "--quiet"])
+            c = json.load(open(os.path.join(out, "summary.json")))["campaign"]
+            want = {"makespan": c["makespan"], "throughput": c["throughput"], "busy": c["devices"]["G1"]["utilization"],
+                    "waited": c["wait"]["max"], "done": c["jobs"]["done"]}
+            got = {k: float(r[k]) for k in want}
+            if any(abs(got[k] - want[k]) > 1e-9 * max(1, abs(want[k])) for k in want):
+                fail(f"receive-pads (sweep): pad_x = {r['pad_x']} gives {got}, the campaign alone {want}")
+        if len({r["makespan"] for r in rows}) != 3:
+            fail(f"receive-pads (sweep): the pads' distance should change the makespan: {rows}")
         # The same seed, the same bytes (random choices).
         path = os.path.join(tmp, "slots-random.yaml")
         open(path, "w").write(open(os.path.join(tmp, "slots-first.yaml")).read().replace("choose: first", "choose: random")

@@ -179,7 +179,7 @@ TEST_F(MetricTest, CountsSumsAndMarginsMatchHandCounts) {
     auto m = Metric::parse(spec, diag);
     EXPECT_TRUE(m) << diag.format(sources);
     Diagnostics check_diag;
-    m->validate(wc, false, check_diag);
+    m->validate(wc, false, false, check_diag);
     EXPECT_FALSE(check_diag.has_errors()) << check_diag.format(sources);
     Expected<double> v = m->evaluate(wc, g, report, nullptr);
     EXPECT_TRUE(v) << v.error();
@@ -221,7 +221,7 @@ TEST_F(MetricTest, UnknownNamesAreInputErrors) {
     spec.expr.text = text;
     Diagnostics d;
     auto m = Metric::parse(spec, d);
-    if (m) m->validate(wc, simulated, d);
+    if (m) m->validate(wc, simulated, false, d);
     return d.errors().empty() ? std::string() : d.errors()[0].message;
   };
   EXPECT_EQ(errors_of("margin(shrot)"), "metric 'm': vault 'T' has no constraint 'shrot' (did you mean 'short'?)");
@@ -270,7 +270,7 @@ TEST_F(MetricTest, AggregatesReadWhatAVaultExpressionReads) {
     Diagnostics d;
     auto m = Metric::parse(spec, d);
     ASSERT_TRUE(m) << d.format(sources);
-    m->validate(wc, false, d);
+    m->validate(wc, false, false, d);
     ASSERT_FALSE(d.has_errors()) << calls[k] << ": " << d.format(sources);
     Expected<double> v = m->evaluate(wc, g, report, nullptr);
     ASSERT_TRUE(v) << calls[k] << ": " << v.error();
