@@ -1016,7 +1016,9 @@ class Run {
       CollisionEpisode& ep = collisions_[index];
       const auto& [a, part_a, b, part_b] = key;
       const auto last = last_contact_.find(key);
-      if (a < 0 || b < 0 || last == last_contact_.end() || last->second >= t - 1e-12 || t - last->second > kApart ||
+      // (A device against itself: its parts' solids overlap at their joints by design, and the
+      // object against itself is no pair to measure; its episode is its contacts'.)
+      if (a < 0 || b < 0 || a == b || last == last_contact_.end() || last->second >= t - 1e-12 || t - last->second > kApart ||
           !still_colliding(a, b))
         continue;
       for (int o : {a, b}) {
@@ -1057,7 +1059,9 @@ class Run {
   /// its body that a 0.80 m push frees).
   void grow_collisions_by_distance(double t) {
     for (CollisionEpisode& ep : collisions_) {
-      if (ep.a < 0 || ep.b < 0 || t - ep.file.end > kApart) continue;
+      // A device against itself is measured by its contacts only (the object against itself
+      // read 0.2 m deep, the whole arm's overlap at its joints, for a touch of its links).
+      if (ep.a < 0 || ep.b < 0 || ep.a == ep.b || t - ep.file.end > kApart) continue;
       const std::optional<double> d = clearances_.distance(ep.a, ep.b);
       if (!d || *d >= 0) continue;
       if (!ep.measured || -*d > ep.depth) deepest(ep, t, -*d, nullptr);
