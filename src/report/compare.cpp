@@ -18,7 +18,7 @@ namespace sscs {
 namespace {
 
 /// One comparable figure of a run.
-struct Metric {
+struct CompareRow {
   std::string name;
   std::string unit;
   std::vector<std::string> values;  // one per run, "" when absent
@@ -37,13 +37,13 @@ const T* find_in(const std::vector<std::pair<std::string, T>>& pairs, const std:
 /// read by scripts that rank runs: 0.0297 and 0.0304 must not both be 0.030).
 enum class Digits { Rounded, Full };
 
-std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
+std::vector<CompareRow> metrics(const std::vector<RunRecord>& runs, Digits digits) {
   // Rounded: `fixed` decimals, but a clearance keeps 4 significant digits (a 0.4 mm penetration is not "-0.000").
   auto number = [digits](double v, int fixed) {
     if (digits == Digits::Full) return fmt::format("{}", v);
     return fixed >= 0 ? fmt::format("{:.{}f}", v, fixed) : fmt::format("{:.4g}", v);
   };
-  std::vector<Metric> out = {{"scenario", "", {}}, {"status", "", {}}, {"cycle time", "s", {}}};
+  std::vector<CompareRow> out = {{"scenario", "", {}}, {"status", "", {}}, {"cycle time", "s", {}}};
   std::set<std::string> devices, kinds;
   for (const RunRecord& r : runs) {
     for (const auto& [name, d] : r.summary.devices) devices.insert(name);
@@ -52,7 +52,7 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
     out[1].values.push_back(r.summary.status);
     out[2].values.push_back(r.summary.cycle_time ? number(*r.summary.cycle_time, 3) : "");
   }
-  Metric clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
+  CompareRow clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
   for (const RunRecord& r : runs) {
     const auto& mc = r.summary.min_clearance;
     clearance.values.push_back(mc ? number(mc->distance, -1) : "> 2");
@@ -63,7 +63,7 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
   for (const std::string& d : devices) {
     // Joint travel per joint kind (degrees and metres are never added): a row for each kind the
     // device has in any of the runs.
-    Metric path{d + " tool path", "m", {}}, turned{d + " joint travel, revolute", "deg", {}}, slid{d + " joint travel, prismatic", "m", {}};
+    CompareRow path{d + " tool path", "m", {}}, turned{d + " joint travel, revolute", "deg", {}}, slid{d + " joint travel, prismatic", "m", {}};
     bool any_turned = false, any_slid = false;
     for (const RunRecord& r : runs) {
       const RunSummaryFile::DeviceFigures* f = find_in(r.summary.devices, d);
@@ -83,7 +83,7 @@ std::vector<Metric> metrics(const std::vector<RunRecord>& runs, Digits digits) {
   std::stable_partition(order.begin(), order.end(), [](const std::string& k) { return k == "collision"; });
   if (!kinds.count("collision")) order.insert(order.begin(), "collision");
   for (const std::string& k : order) {
-    Metric m{k + " events", "", {}};
+    CompareRow m{k + " events", "", {}};
     for (const RunRecord& r : runs) {
       const size_t* n = find_in(r.summary.events, k);
       m.values.push_back(fmt::format("{}", n ? *n : 0));
@@ -123,13 +123,13 @@ Expected<std::vector<RunRecord>> read_runs(const std::vector<std::string>& paths
 }
 
 std::string compare_text(const std::vector<RunRecord>& runs) {
-  std::vector<Metric> ms = metrics(runs, Digits::Rounded);
+  std::vector<CompareRow> ms = metrics(runs, Digits::Rounded);
   std::vector<std::string> head = {""};
   for (const RunRecord& r : runs) head.push_back(r.path);
   std::vector<size_t> width(head.size(), 0);
-  auto label = [](const Metric& m) { return m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit); };
+  auto label = [](const CompareRow& m) { return m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit); };
   for (size_t c = 0; c < head.size(); ++c) width[c] = head[c].size();
-  for (const Metric& m : ms) {
+  for (const CompareRow& m : ms) {
     width[0] = std::max(width[0], label(m).size());
     for (size_t c = 0; c < m.values.size(); ++c) width[c + 1] = std::max(width[c + 1], m.values[c].size());
   }
@@ -141,7 +141,7 @@ std::string compare_text(const std::vector<RunRecord>& runs) {
     out += line + "\n";
   };
   row(head);
-  for (const Metric& m : ms) {
+  for (const CompareRow& m : ms) {
     std::vector<std::string> cells = {label(m)};
     cells.insert(cells.end(), m.values.begin(), m.values.end());
     row(cells);
@@ -165,15 +165,15 @@ std::string compare_json(const std::vector<RunRecord>& runs) {
 }
 
 std::string compare_csv(const std::vector<RunRecord>& runs) {
-  std::vector<Metric> ms = metrics(runs, Digits::Full);
+  std::vector<CompareRow> ms = metrics(runs, Digits::Full);
   std::vector<std::string> head = {"run"};
-  for (const Metric& m : ms) head.push_back(m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit));
+  for (const CompareRow& m : ms) head.push_back(m.unit.empty() ? m.name : fmt::format("{} ({})", m.name, m.unit));
   std::string out;
   for (size_t c = 0; c < head.size(); ++c) out += (c ? "," : "") + csv_field(head[c]);
   out += "\n";
   for (size_t r = 0; r < runs.size(); ++r) {
     out += csv_field(runs[r].path);
-    for (const Metric& m : ms) out += "," + csv_field(m.values[r]);
+    for (const CompareRow& m : ms) out += "," + csv_field(m.values[r]);
     out += "\n";
   }
   return out;
