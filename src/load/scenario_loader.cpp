@@ -236,7 +236,7 @@ std::optional<ScenarioSpec> load_scenario(const std::string& path, Sources& sour
 
 namespace {
 bool is_campaign(const yaml::Document& doc) {
-  return doc.root().is_map() && doc.root().find("campaign").valid() && !doc.root().find("scenario").valid();
+  return !doc.empty() && doc.root().is_map() && doc.root().find("campaign").valid() && !doc.root().find("scenario").valid();
 }
 }  // namespace
 

@@ -2447,7 +2447,7 @@ def riders(sscs, root):
     where the other run left it (also where ODE's solver gave up on a step on contacts: its
     physics_messages, said in the failure). And a weld that must break: a tall drum on a pallet a
     gantry accelerates tips and falls off, welded or not (tests/data/riders/tall-rider.yaml)."""
-    cases = rider_cases(random.Random(36), 12)
+    cases = rider_cases(random.Random(36), 8)
     kinds = ("collision", "load_shifted", "displaced", "not_at_rest", "landed", "propped")
     with tempfile.TemporaryDirectory() as tmp:
         def one(job):
