@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -13,8 +14,11 @@ namespace sscs {
 
 namespace {
 
+enum class JobStatus : uint8_t { NotStarted, Done, Failed };
+const char* status_name(JobStatus s) { return s == JobStatus::Done ? "done" : s == JobStatus::Failed ? "failed" : "not_started"; }
+
 struct JobRow {
-  const char* status = "not_started";
+  JobStatus status = JobStatus::NotStarted;
   double start = NAN, end = NAN;
   std::string message;
 };
@@ -44,14 +48,14 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
                            : *job.failure < plan.job_failures.size() ? &plan.job_failures[*job.failure]
                            : plan.failure ? &*plan.failure : nullptr;
     if (f && f->t <= stop) {
-      row.status = "failed";
+      row.status = JobStatus::Failed;
       row.end = f->t;
       row.message = f->message;
     } else if (!f && all_ended[i]) {
-      row.status = "done";
+      row.status = JobStatus::Done;
       row.end = job.end;
     } else {
-      row.status = "failed";
+      row.status = JobStatus::Failed;
       row.end = reach.stopped_at;
       row.message = fmt::format("the campaign stopped at {:g} s: {}", r9(reach.stopped_at), reach.stop_message);
     }
@@ -62,10 +66,9 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   double first = INFINITY, last = -INFINITY;
   std::vector<double> waits;
   for (size_t i = 0; i < rows.size(); ++i) {
-    const std::string status = rows[i].status;
-    c.done += status == "done";
-    c.failed += status == "failed";
-    c.not_started += status == "not_started";
+    c.done += rows[i].status == JobStatus::Done;
+    c.failed += rows[i].status == JobStatus::Failed;
+    c.not_started += rows[i].status == JobStatus::NotStarted;
     if (plan.jobs[i].ready <= stop) first = std::min(first, plan.jobs[i].ready);
     if (std::isfinite(rows[i].start)) {
       last = std::max(last, rows[i].end);
@@ -106,7 +109,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   long waiting = 0;
   for (const auto& [t, change] : queue) c.queue_max = std::max<size_t>(c.queue_max, static_cast<size_t>(std::max(0L, waiting += change)));
   for (size_t i = 0; i < rows.size(); ++i)
-    if (std::string(rows[i].status) == "done")
+    if (rows[i].status == JobStatus::Done)
       for (const auto& [name, p] : plan.slot_frames)
         if (plan.jobs[i].place == name) ++c.slots_used;
   for (const auto& [name, p] : plan.slot_frames) {
@@ -122,7 +125,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
     const bool ran = std::isfinite(r.start);
     const std::vector<std::string> cells = {job.name, wc.objects[job.object].name, ran ? wc.objects[job.device].name : "",
                                             ran ? job.place : "", number(job.ready), number(r.start), number(r.end),
-                                            ran ? number(r.start - job.ready) : "", ran ? number(r.end - r.start) : "", r.status,
+                                            ran ? number(r.start - job.ready) : "", ran ? number(r.end - r.start) : "", status_name(r.status),
                                             r.message};
     for (size_t k = 0; k < cells.size(); ++k) out.jobs_csv += (k ? "," : "") + csv_field(cells[k]);
     out.jobs_csv += "\n";

@@ -206,7 +206,7 @@ class Planner {
   }
 
   void fail(double t, EventKind kind, size_t step, int d, std::string message, double error = 0) {
-    plan_.failure = PlanFailure{t, kind, step, d, std::move(message), error};
+    plan_.failure = PlanFailure{t, kind, step, d, std::move(message), error, job_};
   }
 
   /// Plans one step starting at t0; returns when it ends.

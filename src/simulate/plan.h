@@ -128,6 +128,7 @@ struct PlanFailure {
   int device = -1;
   std::string message;
   double position_error = 0;  ///< unreachable: the best position error, m
+  int job = -1;               ///< a campaign's job the step belongs to, or -1
 };
 
 /// One job of a campaign as dispatched: a template applied to an object, on a device, to a

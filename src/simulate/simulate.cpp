@@ -366,8 +366,7 @@ class Run {
 
   void failure_event(double t, const PlanFailure& f) {
     nlohmann::ordered_json fields = {{"step", f.step}, {"device", wc_.objects[f.device].name}};
-    for (const PlannedStep& ps : plan_.steps)
-      if (ps.index == f.step && ps.job >= 0) fields["job"] = job_label(ps.job);
+    if (f.job >= 0) fields["job"] = job_label(f.job);
     fields["message"] = f.message;
     if (f.kind == EventKind::Unreachable) fields["position_error"] = r9(f.position_error);
     events_.add(t, f.kind, fields);
