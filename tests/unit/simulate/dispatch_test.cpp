@@ -104,7 +104,9 @@ TEST_F(Dispatch, RandomCampaignsKeepTheQueueClaimsAndDevicesRules) {
         if (ps.job == static_cast<int>(i)) {
           first = std::min(first, ps.start);
           last = std::max(last, ps.end);
-          if (ps.device >= 0) EXPECT_EQ(ps.device, a.device) << text;
+          if (ps.device >= 0) {
+            EXPECT_EQ(ps.device, a.device) << text;
+          }
         }
       EXPECT_NEAR(first, a.start, 1e-9) << text;
       EXPECT_NEAR(last, a.end, 1e-9) << text;
