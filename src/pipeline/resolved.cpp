@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -12,6 +13,8 @@
 #include "core/data_dirs.h"
 #include "core/digest.h"
 #include "core/files.h"
+#include "core/pose.h"
+#include "core/units.h"
 #include "core/yaml_edit.h"
 #include "geometry/mesh_io.h"
 
@@ -276,6 +279,134 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
   std::sort(out.not_copied.begin(), out.not_copied.end());
   out.not_copied.erase(std::unique(out.not_copied.begin(), out.not_copied.end()), out.not_copied.end());
   return out;
+}
+
+namespace {
+
+/// A number as final.yaml writes it: exact where it can be (the shortest text that reads back the
+/// same double), else to 1e-9 (a pose the physics left, an angle turned into degrees).
+std::string final_number(double x, bool rounded) {
+  if (rounded) x = std::round(x * 1e9) / 1e9;
+  if (x == 0) x = 0;  // no -0
+  return fmt::format("{}", x);
+}
+
+/// A value of `dim` (SI) in the file's unit: a plain number means that unit.
+std::string in_file_unit(double si, Dim dim) {
+  const double factor = file_unit_to_si(dim);
+  return final_number(si / factor, factor != 1);
+}
+
+}  // namespace
+
+std::string final_vault_text(const Workcell& wc, const Sources& sources, const FinalState& end, const std::string& title,
+                             bool beside_resolved) {
+  const uint32_t file = file_of(sources, wc.path);
+  Diagnostics diag;
+  yaml::Document doc = yaml::parse(sources, file, diag);
+  if (doc.empty() || !doc.root().is_map()) throw std::logic_error(fmt::format("'{}' no longer parses as it did", wc.path));
+  const fs::path folder = fs::absolute(wc.path).parent_path();
+  std::vector<yaml::TopLevelChange> changes;
+  changes.push_back({"description", yaml::flow_scalar(fmt::format("{} as {} left it at {} s (final.yaml of sscs simulate)", wc.name,
+                                                                  title, final_number(end.t, true)))});
+
+  // Where its types and plugins are found from the run folder.
+  if (beside_resolved) {
+    changes.push_back({"library", "[resolved/library]"});
+    changes.push_back({"standard_library", "false"});
+  } else if (yaml::Node lib = doc.root().find("library"); lib.valid() && lib.is_sequence()) {
+    std::vector<std::string> dirs;
+    for (size_t i = 0; i < lib.size(); ++i)
+      dirs.push_back(yaml::flow_scalar((folder / std::string(lib.item(i).text())).lexically_normal().generic_string()));
+    changes.push_back({"library", fmt::format("[{}]", fmt::join(dirs, ", "))});
+  }
+  if (!wc.vault_plugin_dirs.empty()) {
+    std::vector<std::string> dirs;
+    for (const std::string& d : wc.vault_plugin_dirs) dirs.push_back(yaml::flow_scalar(d));
+    changes.push_back({"plugins", fmt::format("[{}]", fmt::join(dirs, ", "))});
+  }
+
+  // The parameters at the values the run used (the constraints may name them).
+  if (!wc.parameters.empty()) {
+    std::string text;
+    for (const Parameter& p : wc.parameters) {
+      const double v = wc.values[p.slot];
+      std::string value;
+      if (p.type == AttrType::Integer) value = fmt::format("{{value: {}, type: integer}}", static_cast<long long>(v));
+      else if (p.type == AttrType::Boolean) value = v != 0 ? "true" : "false";
+      else if (p.dim == Dim::Fraction) value = fmt::format("\"{}%\"", final_number(v * 100, true));
+      else if (*file_unit(p.dim)) value = fmt::format("\"{} {}\"", in_file_unit(v, p.dim), file_unit(p.dim));
+      else value = final_number(v, false);
+      text += fmt::format("\n  {}: {}", p.name, value);
+    }
+    changes.push_back({"parameters", text});
+  }
+
+  // Every object, one line each. What stands where the vault had it, on a parent that did too,
+  // is written as the vault wrote it (at its frame); the rest where the run left it.
+  std::vector<signed char> stayed(wc.objects.size(), -1);
+  std::function<bool(int)> stays = [&](int o) {
+    if (stayed[o] < 0) stayed[o] = !end.moved[o] && (wc.objects[o].parent < 0 || stays(wc.objects[o].parent));
+    return stayed[o] == 1;
+  };
+  std::string objects;
+  for (size_t o = 0; o < wc.objects.size(); ++o) {
+    if (end.gone[o]) continue;
+    const Object& obj = wc.objects[o];
+    const ObjectType& type = wc.types[obj.type];
+    const double* slots = &wc.values[obj.first_slot];
+    std::vector<std::string> items = {fmt::format("type: {}", yaml::flow_scalar(type.name)), fmt::format("name: {}", obj.name)};
+    // Its place: as compiled when it stands where the vault has it, else where the run left it,
+    // in its parent's frame where the parent stands at the end.
+    const bool stayed = stays(static_cast<int>(o));
+    Eigen::Vector3d xyz, rpy;
+    if (stayed) {
+      if (!obj.at.empty()) items.push_back(fmt::format("at: {}.{}", wc.objects[obj.parent].name, obj.at));
+      else if (obj.parent >= 0) items.push_back(fmt::format("parent: {}", wc.objects[obj.parent].name));
+      xyz = {slots[kLocationSlot], slots[kLocationSlot + 1], slots[kLocationSlot + 2]};
+      rpy = {slots[kOrientationSlot], slots[kOrientationSlot + 1], slots[kOrientationSlot + 2]};
+    } else {
+      Eigen::Isometry3d X = end.X_world[o];
+      if (obj.parent >= 0) {
+        items.push_back(fmt::format("parent: {}", wc.objects[obj.parent].name));
+        X = end.X_world[obj.parent].inverse() * X;
+      }
+      xyz = X.translation();
+      rpy = rotation_to_rpy(X.linear());
+    }
+    items.push_back(fmt::format("location: [{}, {}, {}]", final_number(xyz.x(), !stayed), final_number(xyz.y(), !stayed),
+                                final_number(xyz.z(), !stayed)));
+    if ((rpy / kRadPerDeg).cwiseAbs().maxCoeff() >= 5e-10)  // (what rounds to no turn is none)
+      items.push_back(fmt::format("orientation: [{}, {}, {}]", in_file_unit(rpy.x(), Dim::Angle), in_file_unit(rpy.y(), Dim::Angle),
+                                  in_file_unit(rpy.z(), Dim::Angle)));
+    if (!obj.geomodel.empty()) {
+      const std::string rel = inside(obj.geomodel, folder);
+      items.push_back(fmt::format("geomodel: {}", yaml::flow_scalar(beside_resolved && !rel.empty() ? "resolved/" + rel : obj.geomodel)));
+    }
+    if (!obj.color.empty()) items.push_back(fmt::format("color: {}", yaml::flow_scalar(obj.color)));
+    for (size_t a = 0; a < type.attributes.size(); ++a) {
+      const AttributeDef& def = type.attributes[a];
+      const uint32_t slot = obj.first_slot + kFirstAttributeSlot + static_cast<uint32_t>(a);
+      double v = wc.values[slot];
+      bool changed = false;
+      for (const auto& [index, value] : end.attributes[o])
+        if (index == static_cast<int>(a)) v = value, changed = true;
+      std::string text;
+      if (def.type == AttrType::String || def.type == AttrType::Enum) text = yaml::flow_scalar(wc.texts[slot]);
+      else if (def.type == AttrType::Boolean) text = v != 0 ? "true" : "false";
+      else if (def.type == AttrType::Integer) text = fmt::format("{}", static_cast<long long>(v));
+      else text = changed ? final_number(v / file_unit_to_si(def.dim), true) : in_file_unit(v, def.dim);
+      items.push_back(fmt::format("{}: {}", def.name, text));
+    }
+    objects += fmt::format("\n  - {{{}}}", fmt::join(items, ", "));
+  }
+  changes.push_back({"objects", objects});
+  std::string text = yaml::replace_top_level(sources.text(file), doc.root(), changes);
+  return with_schema_modeline(
+      fmt::format("# The vault as {} left it (sscs simulate writes it): every object where it came to rest, the loads\n"
+                  "# that arrived added; check it, render it, or start the next campaign from it.\n{}",
+                  title, text),
+      "vault");
 }
 
 }  // namespace sscs

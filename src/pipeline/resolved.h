@@ -12,6 +12,7 @@
 #include "geometry/geometry.h"
 #include "load/scenario.h"
 #include "simulate/run_inputs.h"
+#include "simulate/simulate.h"
 
 namespace sscs {
 
@@ -23,5 +24,16 @@ namespace sscs {
 RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std::pair<std::string, std::string>>& overrides,
                              const Workcell& wc, const GeometryModel& geometry, const Sources& sources,
                              const std::vector<uint32_t>* files = nullptr, const char* kind = "scenario");
+
+/// A campaign run's final.yaml (campaign-format.md): the vault as the run leaves it, a vault file
+/// that checks and starts the next campaign. The vault's own text with its objects listed one by
+/// one (arrays expanded, expressions evaluated to numbers in the file's units), each where it
+/// stands at the end (in its parent's frame; `at:` kept for what did not move), the loads that
+/// arrived added and those that never did left out, devices at their last joint values; its
+/// parameters pinned to the values the run used; constraints, cameras and the rest as written.
+/// `beside_resolved`: the run folder holds resolved/ (its library and meshes are named there);
+/// else the vault's library and mesh files are named by absolute path. `title`: the run's name.
+std::string final_vault_text(const Workcell& wc, const Sources& sources, const FinalState& end, const std::string& title,
+                             bool beside_resolved);
 
 }  // namespace sscs

@@ -56,6 +56,8 @@ Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& 
   run.wall_limit = request.wall_limit;
   run.progress = request.progress;
   run.progress_to = request.progress_to;
+  if (ps.campaign)  // the vault as the campaign leaves it, naming resolved/'s library beside it
+    run.final_vault = [&](const FinalState& end) { return final_vault_text(wc, ps.sources, end, "campaign " + ps.spec->name, true); };
   // run_simulation moves the run into place (and packs the bundle) when it is complete;
   // whatever else happens, the staging folder goes with this scope.
   StagedDir staging(request.out.empty() ? request.bundle : request.out);

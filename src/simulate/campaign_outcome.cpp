@@ -43,7 +43,21 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
                                 : job.why_not;
       continue;
     }
+    if (const auto out = reach.out_at.find(job.device); out != reach.out_at.end() && job.start > out->second + 1e-9) {
+      row.message = fmt::format("planned for {}, which was out after a failure at {:g} s (on_failure: continue); it was "
+                                "not given to another device",
+                                wc.objects[job.device].name, r9(out->second));
+      continue;
+    }
     row.start = job.start;
+    if (const auto failed = std::find_if(reach.job_failures.begin(), reach.job_failures.end(),
+                                         [i](const RunReach::JobFailure& f) { return f.job == static_cast<int>(i); });
+        failed != reach.job_failures.end() && failed->t <= stop) {
+      row.status = JobStatus::Failed;
+      row.end = failed->t;
+      row.message = failed->message;
+      continue;
+    }
     const PlanFailure* f = !job.failure ? nullptr
                            : *job.failure < plan.job_failures.size() ? &plan.job_failures[*job.failure]
                            : plan.failure ? &*plan.failure : nullptr;

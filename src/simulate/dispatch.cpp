@@ -71,6 +71,7 @@ class Dispatcher {
     for (size_t i = 0; i < plan.jobs.size(); ++i)
       if (!plan.jobs[i].started) plan.jobs[i].why_not = why_not(i);
     if (terminal_) plan.failure = terminal_;  // on_failure: stop: the run stops there
+    plan.jobs_fail_alone = !c_.stop_on_failure;
     return planner_.finish(diag_);
   }
 

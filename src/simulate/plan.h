@@ -161,6 +161,9 @@ struct Plan {
   std::vector<int> campaign_devices;  ///< every device a campaign's jobs may go to, in order
   /// A campaign's arriving loads: when each arrives (infinity: never, its spot stayed taken).
   std::vector<std::pair<int, double>> arrivals;
+  /// A campaign with `on_failure: continue`: a job the run itself fails (a grasp missed) fails
+  /// alone, its device out, and the run goes on. Otherwise such a failure stops the run.
+  bool jobs_fail_alone = false;
   const Track* track(int object) const;
   /// Whether `ps` is the step the plan failed at (it began and never finished), or its group,
   /// or a step a job failed at.

@@ -13,6 +13,7 @@
 #include <ostream>
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -113,6 +114,8 @@ class Run {
     const long every = std::max(1L, std::lround(1.0 / (plan_.settings.rate * dt)));
     started_.assign(plan_.steps.size(), 0);
     ended_.assign(plan_.steps.size(), 0);
+    skipped_.assign(plan_.steps.size(), 0);
+    end_ = plan_.end;
     steps_in_order_ = std::is_sorted(plan_.steps.begin(), plan_.steps.end(),
                                      [](const PlannedStep& a, const PlannedStep& b) { return a.start < b.start; });
     // A campaign's loads are away until they arrive (never, when their spot stays taken).
@@ -180,10 +183,11 @@ class Run {
       absent_.erase(o);
       events_.add(t, EventKind::Arrived, {{"object", wc_.objects[o].name}});
     }
-    while (first_open_ < plan_.steps.size() && ended_[first_open_]) ++first_open_;
+    while (first_open_ < plan_.steps.size() && closed(first_open_)) ++first_open_;
     for (size_t i = first_open_; i < plan_.steps.size(); ++i) {
       const PlannedStep& ps = plan_.steps[i];
       if (!started_[i] && ps.start > t + dt / 2 && steps_in_order_) break;
+      if (skipped_[i]) continue;
       if (!started_[i] && ps.start <= t + dt / 2) {
         started_[i] = 1;
         current_step_ = i;
@@ -193,6 +197,7 @@ class Run {
         step_event(t, EventKind::StepStart, ps);
         if (ps.kind == StepKind::Grasp && !grasp(t, ps)) return false;
         if (ps.kind == StepKind::Release && world_.held(ps.device) >= 0) release(t, ps);
+        if (skipped_[i]) continue;  // its job failed here (a grasp missed), the run goes on
       }
       // The step the plan failed at began and never ended (its step_end was logged at the failure).
       if (started_[i] && !ended_[i] && ps.end <= t + dt / 2 && !plan_.failed_at(ps)) {
@@ -219,8 +224,16 @@ class Run {
       const std::string message = fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
                                               wc_.objects[ps.device].name, wc_.objects[ps.object].name, stable(gap),
                                               kGraspReach, why);
-      events_.add(t, EventKind::GraspMissed, {{"step", ps.index}, {"device", wc_.objects[ps.device].name},
-                                              {"object", wc_.objects[ps.object].name}, {"distance", r9(gap)}, {"message", message}});
+      nlohmann::ordered_json fields = {{"step", ps.index}, {"device", wc_.objects[ps.device].name}};
+      if (ps.job >= 0) fields["job"] = job_label(ps.job);
+      fields["object"] = wc_.objects[ps.object].name;
+      fields["distance"] = r9(gap);
+      fields["message"] = message;
+      events_.add(t, EventKind::GraspMissed, fields);
+      if (plan_.jobs_fail_alone && ps.job >= 0) {  // a campaign going on after it (on_failure: continue)
+        fail_job(t, ps, message);
+        return true;
+      }
       stop(EventKind::GraspMissed, message);
       return false;
     }
@@ -275,6 +288,37 @@ class Run {
     }
     return true;
   }
+
+  /// A campaign's job failed in the run at step `ps` (on_failure: continue): the job ends there,
+  /// its device stands still where it is, and the steps of its jobs not begun never are
+  /// (campaign-format.md, "Failure": the device is out).
+  void fail_job(double t, const PlannedStep& ps, const std::string& message) {
+    const int d = ps.device;
+    run_failures_.push_back({ps.job, t, message});
+    out_at_.emplace(d, t);
+    for (size_t i = 0; i < plan_.steps.size(); ++i) {
+      const PlannedStep& s = plan_.steps[i];
+      const bool its = s.device == d || (s.job >= 0 && plan_.jobs[s.job].device == d);
+      if (its && (!started_[i] || &s == &ps)) skipped_[i] = 1;
+    }
+    // The run ends when the steps left end (a device out leaves none of its own).
+    end_ = t;
+    for (size_t i = 0; i < plan_.steps.size(); ++i)
+      if (!skipped_[i]) end_ = std::max(end_, plan_.steps[i].end);
+    for (const PlanFailure& f : plan_.job_failures) end_ = std::max(end_, f.t);
+    if (plan_.failure) end_ = std::max(end_, plan_.failure->t);
+    for (DeviceRun& dr : devices_)
+      if (dr.object == d) {
+        Track held;  // where it is (held back, it pressed on against what held it)
+        held.object = d;
+        held.q_start = world_.joints(d);
+        held_tracks_.push_back(std::move(held));
+        dr.track = &held_tracks_.back();
+      }
+  }
+
+  /// Whether step i is over: ended, or never to run (its job failed).
+  bool closed(size_t i) const { return ended_[i] || skipped_[i]; }
 
   /// A device's rated load (kg): its type's `payload` or `capacity` attribute, if it has one.
   std::optional<double> rated_load(int device) const {
@@ -381,7 +425,7 @@ class Run {
   /// After the last step: true once every loose object rests (or 5 s have passed: not_at_rest).
   bool settled(double t) {
     const double dt = plan_.settings.timestep;
-    if (t >= plan_.end - dt / 2) {
+    if (t >= end_ - dt / 2) {
       if (settle_until_ < 0) settle_until_ = t + kSettleLimit;
       bool settled = true;
       for (int o : loose()) settled = settled && world_.at_rest(o);
@@ -458,6 +502,7 @@ class Run {
       if (t > t0 + dt / 2) n = std::min(n, std::max(1L, static_cast<long>(std::ceil((t - dt / 2) / dt - 1e-9)) - k));
     };
     for (size_t i = first_open_; i < plan_.steps.size(); ++i) {
+      if (skipped_[i]) continue;
       if (!started_[i]) {
         due(plan_.steps[i].start);
         if (steps_in_order_) break;  // (no later step begins sooner)
@@ -469,7 +514,7 @@ class Run {
     if (job_failures_seen_ < plan_.job_failures.size()) due(plan_.job_failures[job_failures_seen_].t);
     if (next_arrival_ < arrivals_.size()) due(arrivals_[next_arrival_].first);
     due(plan_.settings.limit);
-    due(plan_.end);
+    due(end_);
     if (options_.on_frame) due(frames_ * options_.frame_interval);
     if (n < 2) return 0;
     const double t1 = (k + n) * dt;
@@ -605,6 +650,7 @@ class Run {
     put("summary.json", fmt::format("{}\n", summary_json(summary).dump(2)));
     put("events.jsonl", events_.jsonl());
     if (campaign_) put("jobs.csv", campaign_->jobs_csv);
+    if (campaign_ && options_.final_vault) put("final.yaml", options_.final_vault(final_state()));
     for (const auto& [rel, text] : recorder_.files()) put(rel, text);
     if (options_.inputs)
       for (const auto& [rel, bytes] : options_.inputs->resolved) put(rel, bytes);
@@ -1360,11 +1406,40 @@ class Run {
     stop_message_ = message;
   }
 
+  /// How the run leaves the vault: every object where it stands, devices at their last joint
+  /// values, the loads that never arrived gone.
+  FinalState final_state() const {
+    FinalState end;
+    end.t = t_end_;
+    const size_t n = wc_.objects.size();
+    end.gone.assign(n, 0);
+    end.moved.assign(n, 0);
+    end.attributes.resize(n);
+    for (size_t o = 0; o < n; ++o) {
+      const Eigen::Isometry3d& compiled = geometry_.objects[o].X_world_object;
+      end.X_world.push_back(geometry_.objects[o].device ? compiled : world_.pose(static_cast<int>(o)));
+      end.moved[o] = (end.X_world.back().matrix() - compiled.matrix()).cwiseAbs().maxCoeff() > 1e-12;
+    }
+    for (int o : absent_) end.gone[o] = 1;
+    for (const DeviceRun& dr : devices_) {
+      const Device& m = *geometry_.objects[dr.object].device;
+      const Eigen::VectorXd q = dr.track->at(t_end_);
+      const Object& obj = wc_.objects[dr.object];
+      const double* attributes = &wc_.values[obj.first_slot + kFirstAttributeSlot];
+      for (int k = 0; k < m.dof(); ++k) {  // (within its limits: one held back stands a hair past them)
+        const AttributeDef& def = wc_.types[obj.type].attributes[m.joint(k).attribute];
+        end.attributes[dr.object].emplace_back(m.joint(k).attribute, std::clamp(q[k], def.lower(attributes), def.upper(attributes)));
+      }
+    }
+    return end;
+  }
+
   RunSummary finish(double t_end) {
+    t_end_ = t_end;
     clearances_.finish();  // the pieces of motion left to halve
     RunSummary s;
     // A run that stopped has no cycle time: its cycle was not done.
-    s.cycle_time = failed_ ? std::numeric_limits<double>::quiet_NaN() : plan_.end;
+    s.cycle_time = failed_ ? std::numeric_limits<double>::quiet_NaN() : end_;
     s.stopped_by = stopped_by_;
     s.stopped_at = t_end;
     s.stop_message = stop_message_;
@@ -1382,6 +1457,8 @@ class Run {
       reach.ended = ended_;
       if (failed_) reach.stopped_at = t_end;
       reach.stop_message = stop_message_.empty() ? stopped_by_ : stop_message_;
+      reach.job_failures = run_failures_;
+      reach.out_at = out_at_;
       for (size_t o = 0; o < wc_.objects.size(); ++o) {
         const bool solid = !geometry_.objects[o].device && !wc_.types[wc_.objects[o].type].container && !geometry_.objects[o].shapes.empty();
         if (solid) reach.positions.emplace_back(world_.pose(static_cast<int>(o)).translation());
@@ -1410,14 +1487,17 @@ class Run {
     // end (null), never a planned time the run did not reach.
     const double reached = s.stopped_by.empty() ? std::numeric_limits<double>::infinity() : s.stopped_at;
     auto when = [&](double t) { return t <= reached + 1e-9 ? std::optional(r9(t)) : std::nullopt; };
-    for (const PlannedStep& ps : plan_.steps) {
+    for (size_t i = 0; i < plan_.steps.size(); ++i) {
+      const PlannedStep& ps = plan_.steps[i];
       RunSummaryFile::Step st;
       st.index = ps.index;
       st.action = step_kind_name(ps.kind);
       if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
       if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
-      st.start = when(ps.start);
-      st.end = plan_.failed_at(ps) ? std::nullopt : when(ps.end);  // it began and never finished
+      // A step of a job that failed in the run: never begun, or begun and never finished.
+      const bool skipped = i < skipped_.size() && skipped_[i];
+      st.start = skipped && !started_[i] ? std::nullopt : when(ps.start);
+      st.end = plan_.failed_at(ps) || skipped ? std::nullopt : when(ps.end);  // it began and never finished
       f.steps.push_back(std::move(st));
     }
     for (const PlannedStep& ps : plan_.not_begun) {  // after the failure
@@ -1502,6 +1582,10 @@ class Run {
   long glides_ = 0;                               // fast mode: glides between ticks
   long steps_ = 0;                                // physics steps taken
   std::vector<char> started_, ended_;  // per step
+  std::vector<char> skipped_;          // per step: never to run or end, its job failed in the run
+  std::vector<RunReach::JobFailure> run_failures_;  // jobs the run failed, going on (on_failure: continue)
+  std::map<int, double> out_at_;       // their devices: out from then
+  std::deque<Track> held_tracks_;      // their devices' tracks from then: standing still
   size_t first_open_ = 0;              // steps before it have ended
   bool steps_in_order_ = true;         // the plan's steps in order of start (a break in the look for what is due)
   std::vector<std::pair<double, int>> arrivals_;  // a campaign's: (when, load), in time order
@@ -1509,6 +1593,8 @@ class Run {
   std::set<int> absent_;               // loads not arrived yet
   size_t job_failures_seen_ = 0;       // a campaign's job failures with their events
   std::optional<CampaignOutcome> campaign_;  // a campaign's jobs and figures, once the run is over
+  double t_end_ = 0;                   // when the run ended
+  double end_ = 0;                     // when the last step to run ends (the plan's end, less a device out's)
   double settle_until_ = -1;           // after the last step: when loose objects must rest by
   std::chrono::steady_clock::time_point wall_start_;
   size_t current_step_ = 0;

@@ -9,6 +9,8 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "compile/workcell.h"
 #include "core/expected.h"
@@ -39,6 +41,16 @@ struct RunSummary {
   std::optional<RunSummaryFile::Campaign> campaign;
 };
 
+/// How a campaign's run leaves the vault (final.yaml): where each object stands at the end.
+struct FinalState {
+  double t = 0;                                ///< s: when the run ended
+  std::vector<Eigen::Isometry3d> X_world;      ///< per object: its frame in the world
+  std::vector<char> moved;                     ///< per object: not where the vault put it
+  std::vector<char> gone;                      ///< per object: not there (a load that never arrived)
+  /// Per object: attributes (index) with a new value, SI: a device's joints where it stopped.
+  std::vector<std::vector<std::pair<int, double>>> attributes;
+};
+
 struct RunOptions {
   std::string out_dir;          ///< written atomically: a temporary folder renamed at the end ("" for none)
   std::string bundle;           ///< the same tree as one zip archive ("" for none), also atomic
@@ -63,6 +75,8 @@ struct RunOptions {
   /// Called when the simulation is over, before the outputs are written (frames flushed);
   /// returns an error message or "".
   std::function<std::string()> before_write;
+  /// A campaign's final.yaml from how the run leaves the vault (none when unset).
+  std::function<std::string(const FinalState& end)> final_vault;
   /// The folder the outputs are assembled in before they are moved into place; "" for
   /// run_work_dir(*this). A frame sink writes into it too.
   std::string work_dir;

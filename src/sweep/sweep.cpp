@@ -433,6 +433,8 @@ VariantRow Study::evaluate(const Variant& v, const std::string& dir) {
     ro.out_dir = dir + "/run";
     ro.scenario_name = c.scenario->name;
     ro.inputs = &inputs;
+    if (c.campaign)
+      ro.final_vault = [&](const FinalState& end) { return final_vault_text(*wc, sources_, end, "campaign " + c.scenario->name, true); };
     Expected<RunSummary> ran = run_simulation(*wc, geometry, *plan, ro);
     if (!ran) throw std::runtime_error(ran.error());
     run = std::move(*ran);

@@ -2769,6 +2769,37 @@ def campaigns(sscs, root):
         jobs = list(csv.DictReader(open(os.path.join(tmp, "stop", "jobs.csv"))))
         expect("failure (stop)", "the jobs", [(j["object"], j["status"]) for j in jobs],
                [("Mark_2", "failed"), ("Mark_3", "not_started"), ("Nark_1", "failed"), ("Nark_2", "not_started"), ("Nark_3", "not_started")])
+        # A failure the run finds, not the plan (tests/data/campaigns/grasp-missed.yaml): a block
+        # hangs over D_2, G1's tool is held back on it and its grasp misses; with continue that job
+        # fails alone, G1 is out (D_3 never starts), G2 lifts both its drums. Fast mode hands G1 to
+        # the physics where it meets the block, and agrees.
+        for mode in ("physics", "fast"):
+            path = os.path.join(tmp, f"grasp-missed-{mode}.yaml")
+            open(path, "w").write(open(os.path.join(root, "tests/data/campaigns/grasp-missed.yaml")).read()
+                                  .replace("mode: physics", f"mode: {mode}")
+                                  .replace("vault: floating.yaml", f"vault: {root}/tests/data/campaigns/floating.yaml"))
+            out = os.path.join(tmp, f"gm-{mode}")
+            p = run(sscs, root, ["simulate", path, "--out", out, "--no-frames", "--quiet", "--allow-outside-root"])
+            s = json.load(open(os.path.join(out, "summary.json")))
+            jobs = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+            events = [json.loads(line) for line in open(os.path.join(out, "events.jsonl"))]
+            expect(f"grasp missed ({mode})", "the jobs", [(j["object"], j["device"], j["status"]) for j in jobs],
+                   [("D_1", "G1", "done"), ("D_2", "G1", "failed"), ("D_3", "", "not_started"), ("E_1", "G2", "done"), ("E_2", "G2", "done")])
+            expect(f"grasp missed ({mode})", "status", (p.returncode, s["status"], "stopped" in s), (1, "failed", False))
+            missed = [(e["job"], e["object"]) for e in events if e["kind"] == "grasp_missed"]
+            expect(f"grasp missed ({mode})", "its event", missed, [("lift_1 D_2", "D_2")])
+            if "cannot grasp D_2" not in jobs[1]["message"] or "G1, which was out after a failure" not in jobs[2]["message"]:
+                fail(f"grasp missed ({mode}): the messages say {jobs[1]['message']!r} and {jobs[2]['message']!r}")
+            # G1 did nothing after it: the run ends with G2's last job, G1 stands still where it stopped.
+            expect(f"grasp missed ({mode})", "the makespan and G1's busy time", (s["campaign"]["makespan"], s["campaign"]["devices"]["G1"]["busy"]),
+                   (float(jobs[4]["end"]), round(float(jobs[0]["duration"]) + float(jobs[1]["duration"]), 9)))
+            late = [e for e in events if e["kind"].startswith("step_") and e.get("device") == "G1" and e["t"] > float(jobs[1]["end"])]
+            if late:
+                fail(f"grasp missed ({mode}): G1 is out, yet it went on: {late[:2]}")
+        # final.yaml: the vault as the campaign left it. It checks; the drums stand on the pads
+        # the jobs chose (pad tops (5, 1.5, 0.7), (4.5, 2.5, 0.6), (4, 3.5, 0.5)); the next
+        # campaign starts from it and finds every drum where it says (each grasp holds).
+        slots_final = None
         # Slots: pads' top frames; Pad_1 is the farthest and highest, Pad_3 the nearest and lowest
         # (tests/data/campaigns/store.yaml: pad tops (5, 1.5, 0.7), (4.5, 2.5, 0.6), (4, 3.5, 0.5);
         # drums at (1.5, 1.5), (1.5, 2.5), (1.5, 3.5)): nearest to D_1 is Pad_2 (3.219 m against
@@ -2788,6 +2819,27 @@ def campaigns(sscs, root):
             expect(f"slots ({choice})", "the places", [j["place"] for j in jobs], [f"{pad}.top" for pad in pads])
             expect(f"slots ({choice})", "where the drums landed", landed, {f"D_{k + 1}": pad for k, pad in enumerate(pads)})
             expect(f"slots ({choice})", "slots", s["campaign"]["slots"], {"used": 3, "free_at_end": 0})
+            if choice == "nearest":
+                slots_final = out
+        final = os.path.join(slots_final, "final.yaml")
+        p = run(sscs, root, ["check", final, "--allow-outside-root"])
+        expect("final.yaml", "its check", (p.returncode, p.stdout.strip().splitlines()[-1:] if p.stdout else []), (0, ["1 passed, 0 failed, 0 warnings"]))
+        placed = {o["name"]: o for o in yaml_loader()(final)["objects"]}
+        tops = {"Pad_1": (5, 1.5, 0.7), "Pad_2": (4.5, 2.5, 0.6), "Pad_3": (4, 3.5, 0.5)}
+        for drum, pad in zip(("D_1", "D_2", "D_3"), order["nearest"]):
+            if math.dist(placed[drum]["location"], tops[pad]) > 0.005:
+                fail(f"final.yaml: {drum} stands at {placed[drum]['location']}, its pad's top is {tops[pad]}")
+        nxt = os.path.join(slots_final, "next.yaml")
+        open(nxt, "w").write("sscs: 1\ncampaign: next\nvault: final.yaml\nsim: {mode: fast, limit: 300 s}\njobs:\n"
+                             "  - name: lift\n    each: \"D_*\"\n    devices: [G1]\n    steps:\n"
+                             "      - {move_to: {target: \"{load}.top\", offset: {xyz: [0, 0, 0.5], rpy: [180, 0, 0]}}}\n"
+                             "      - {move_to: {target: \"{load}.top\", offset: {rpy: [180, 0, 0]}}, path: linear}\n"
+                             "      - {grasp: \"{load}\"}\n"
+                             "      - {release: {}}\n"
+                             "      - {move_to: {target: \"{load}.top\", offset: {xyz: [0, 0, 0.5], rpy: [180, 0, 0]}}, path: linear}\n")
+        p = run(sscs, root, ["simulate", nxt, "--out", os.path.join(tmp, "next"), "--no-frames", "--quiet", "--allow-outside-root"])
+        jobs = list(csv.DictReader(open(os.path.join(tmp, "next", "jobs.csv")))) if os.path.exists(os.path.join(tmp, "next", "jobs.csv")) else []
+        expect("final.yaml", "the next campaign from it", (p.returncode, [j["status"] for j in jobs], p.stderr[-300:]), (0, ["done"] * 3, p.stderr[-300:]))
         # Arriving loads (tests/data/campaigns/receive.yaml): due every 20 s at one spot, each waits
         # for the one before it to be lifted away (the end of the move after its grasp): In_4, due
         # at 60 s, arrives when In_3 is lifted. Physics and fast mode agree on the jobs and where
@@ -2843,8 +2895,8 @@ def campaigns(sscs, root):
         for f in ("jobs.csv", "events.jsonl", "summary.json", "objects.csv"):
             if open(os.path.join(tmp, "random-1", f), "rb").read() != open(os.path.join(tmp, "random-2", f), "rb").read():
                 fail(f"slots (random, seed 11): two runs wrote different {f}")
-    print("campaigns: hand-computed makespans, waits, utilizations and queues; concurrency, claims, a failure alone, "
-          "slot choices, repeatable runs")
+    print("campaigns: hand-computed makespans, waits, utilizations and queues; concurrency, claims, a failure alone "
+          "(planned and in the run), slot choices, final.yaml, repeatable runs")
 
 
 def fast(sscs, root):
