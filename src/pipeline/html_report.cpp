@@ -114,10 +114,13 @@ Expected<std::string> run_html(const OpenedRun& run, const CompileOptions& optio
   Expected<std::string> glb = run_gltf(run, options, true, warnings);
   if (!glb) return Unexpected{glb.error()};
   HtmlReport page;
+  // A campaign's jobs (its Gantt chart, queue and utilization).
+  const std::optional<std::string> jobs = read_file_bytes((dir / "jobs.csv").string());
   page.title = fmt::format("sscs simulate: {} ({})", summary->value("scenario", std::string("run")), summary->value("status", std::string("?")));
   page.models.push_back(std::move(*glb));
   page.data = {{"kind", "run"}, {"title", page.title}, {"generator", generator()}, {"source", run.given()}, {"summary", *summary},
                {"events", events}, {"trajectories", trajectories}, {"model", "sscs-model-0"}};
+  if (jobs) page.data["jobs"] = *jobs;
   return html_page(page);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <set>
 
 #include <fmt/format.h>
@@ -51,6 +52,39 @@ std::vector<CompareRow> metrics(const std::vector<RunRecord>& runs, Digits digit
     out[0].values.push_back(r.summary.scenario);
     out[1].values.push_back(r.summary.status);
     out[2].values.push_back(r.summary.cycle_time ? number(*r.summary.cycle_time, 3) : "");
+  }
+  // A campaign's figures (campaign-format.md), where any run is one: what decides between two
+  // concepts over hours.
+  if (std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return r.summary.campaign.has_value(); })) {
+    using Campaign = RunSummaryFile::Campaign;
+    auto figure = [&](const char* name, const char* unit, const std::function<std::string(const Campaign&)>& value) {
+      CompareRow row{name, unit, {}};
+      for (const RunRecord& r : runs) row.values.push_back(r.summary.campaign ? value(*r.summary.campaign) : "");
+      out.push_back(std::move(row));
+    };
+    figure("throughput", "jobs/h", [&](const Campaign& c) { return number(c.throughput, 2); });
+    figure("makespan", "s", [&](const Campaign& c) { return number(c.makespan, 3); });
+    figure("jobs done", "", [](const Campaign& c) { return fmt::format("{}", c.done); });
+    figure("jobs failed", "", [](const Campaign& c) { return fmt::format("{}", c.failed); });
+    figure("jobs not started", "", [](const Campaign& c) { return fmt::format("{}", c.not_started); });
+    figure("wait mean", "s", [&](const Campaign& c) { return number(c.wait_mean, 3); });
+    figure("wait p95", "s", [&](const Campaign& c) { return number(c.wait_p95, 3); });
+    figure("wait max", "s", [&](const Campaign& c) { return number(c.wait_max, 3); });
+    figure("queue max", "", [](const Campaign& c) { return fmt::format("{}", c.queue_max); });
+    std::set<std::string> used;
+    for (const RunRecord& r : runs)
+      if (r.summary.campaign)
+        for (const auto& [name, use] : r.summary.campaign->devices) used.insert(name);
+    for (const std::string& d : used) {
+      CompareRow row{d + " utilization", "", {}}, jobs{d + " jobs", "", {}};
+      for (const RunRecord& r : runs) {
+        const Campaign::DeviceUse* use = r.summary.campaign ? find_in(r.summary.campaign->devices, d) : nullptr;
+        row.values.push_back(use ? number(use->utilization, 3) : "");
+        jobs.values.push_back(use ? fmt::format("{}", use->jobs) : "");
+      }
+      out.push_back(std::move(row));
+      out.push_back(std::move(jobs));
+    }
   }
   CompareRow clearance{"min clearance", "m", {}}, pair{"closest pair", "", {}};
   for (const RunRecord& r : runs) {
@@ -157,7 +191,8 @@ std::string compare_json(const std::vector<RunRecord>& runs) {
     nlohmann::ordered_json e;
     e["run"] = r.path;
     const nlohmann::ordered_json whole = r.summary.to_json();
-    for (const char* k : {"scenario", "vault", "status", "cycle_time", "min_clearance", "devices", "events"}) e[k] = whole[k];
+    for (const char* k : {"scenario", "vault", "status", "cycle_time", "min_clearance", "devices", "events", "campaign"})
+      if (whole.contains(k)) e[k] = whole[k];
     arr.push_back(std::move(e));
   }
   j["runs"] = std::move(arr);

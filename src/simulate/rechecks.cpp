@@ -146,26 +146,32 @@ void ConstraintRechecks::note_inside(const CheckReport& report, const GeometryMo
   }
 }
 
-bool ConstraintRechecks::inside_clear(const ClearanceTracker& tracker, const std::map<int, std::vector<double>>& ahead) const {
+bool ConstraintRechecks::inside_clear(const ClearanceTracker& tracker, const std::map<int, std::vector<double>>& ahead, double* room) const {
   auto most = [](const std::vector<double>* v) { return v && !v->empty() ? *std::max_element(v->begin(), v->end()) : 0.0; };
   auto next = [&](int o) {
     auto it = ahead.find(o);
     return it == ahead.end() ? nullptr : &it->second;
   };
+  bool clear = true;
   for (const Inside& in : inside_) {
     if (std::any_of(in.members.begin(), in.members.end(), [](const Inside::Member& m) { return m.margin.empty(); })) continue;
-    const double container_went = most(tracker.travelled(in.container)) + most(next(in.container));
+    const double container_gone = most(tracker.travelled(in.container)), container_ahead = most(next(in.container));
     for (const Inside::Member& m : in.members) {
       const std::vector<double>* now = tracker.travelled(m.object);
       const std::vector<double>* more = next(m.object);
       for (size_t p = 0; p < m.margin.size(); ++p) {
-        const double went = (now && p < now->size() ? (*now)[p] : 0.0) - (p < m.travelled_then.size() ? m.travelled_then[p] : 0.0) +
-                            (more && p < more->size() ? (*more)[p] : 0.0);
-        if (m.margin[p] + in.eps - went - container_went <= 0) return false;
+        const double gone = (now && p < now->size() ? (*now)[p] : 0.0) - (p < m.travelled_then.size() ? m.travelled_then[p] : 0.0);
+        const double going = (more && p < more->size() ? (*more)[p] : 0.0) + container_ahead;
+        const double left = m.margin[p] + in.eps - gone - container_gone;
+        if (left - going <= 0) {
+          clear = false;
+          if (room) *room = std::min(*room, going > 0 ? left / going : 0.0);
+          if (!room) return false;
+        }
       }
     }
   }
-  return true;
+  return clear;
 }
 
 void ConstraintRechecks::check_inside_step(double t, const ClearanceTracker& tracker, const std::function<void()>& pose,

@@ -42,8 +42,9 @@ class ConstraintRechecks {
   void check(double t, const GeometryModel& live, const std::vector<double>& values, EventLog& events,
              const ClearanceTracker* tracker = nullptr);
   /// Whether every `inside` rule is certain to hold while its objects go at most `ahead` (m: per
-  /// object, per part) further than the tracker has them gone now (fast mode's glide).
-  bool inside_clear(const ClearanceTracker& tracker, const std::map<int, std::vector<double>>& ahead) const;
+  /// object, per part) further than the tracker has them gone now (fast mode's glide). When not,
+  /// `room` (if given) is the share of `ahead` the tightest of them leaves room for.
+  bool inside_clear(const ClearanceTracker& tracker, const std::map<int, std::vector<double>>& ahead, double* room = nullptr) const;
   /// Whether some `bound` or `expr` re-checked reads the motion itself (a moved object's
   /// location, orientation or bounding box, a device's joint values): those are also checked
   /// at every physics step between the samples (`check_step`).

@@ -517,6 +517,33 @@ class Run {
     due(end_);
     if (options_.on_frame) due(frames_ * options_.frame_interval);
     if (n < 2) return 0;
+    // A glide to the next due tick where nothing can touch; else a shorter one, as far as the
+    // room found allows (the devices' travel is not proportional to time: checked again).
+    // After a refusal the next look is a tick later, then 2, 4, ... up to 16 (what is in contact
+    // or nearly stays so a while; the ticks stepped meanwhile are as certain as a glide).
+    if (k < next_glide_look_) return 0;
+    std::vector<double> at;
+    double room = 0;
+    long glided = 0;
+    if (glide_clear(k, n, at, &room)) glided = glide_to(n, at);
+    else if (const long shorter = static_cast<long>(std::floor(n * std::min(room, 1.0) * 0.8)); shorter >= 2 && shorter < n &&
+             glide_clear(k, shorter, at, nullptr))
+      glided = glide_to(shorter, at);
+    glide_backoff_ = glided > 0 ? 1 : std::min(2 * glide_backoff_, 16L);
+    next_glide_look_ = glided > 0 ? 0 : k + glide_backoff_;
+    return glided;
+  }
+
+  /// Whether the devices can glide from tick k to k + n without anything coming within reach of
+  /// what moves (`at`: the glide's sub-steps). When not, `room` (if given) is the share of the
+  /// travel the nearest thing leaves room for (0: none, or not known).
+  bool glide_clear(long k, long n, std::vector<double>& at, double* room) {
+    const double dt = plan_.settings.timestep;
+    const double t0 = k * dt;
+    auto refuse = [room](double share) {
+      if (room) *room = std::max(0.0, share);
+      return false;
+    };
     const double t1 = (k + n) * dt;
     // Sub-steps: no joint turns more than 1 degree in one (the bound from the poses at their ends
     // is then within 1e-6 of a point's path).
@@ -528,7 +555,7 @@ class Run {
         if (m.joint(j).type == JointType::Revolute) pieces = std::max(pieces, static_cast<int>(std::ceil(std::abs(dq[j]) / (kPi / 180))));
     }
     pieces = std::min<long>(pieces * 2, n);  // halves: a joint may turn back within the glide
-    std::vector<double> at(pieces + 1);
+    at.assign(pieces + 1, 0.0);
     for (int i = 0; i <= pieces; ++i) at[i] = t0 + (t1 - t0) * i / pieces;
     // How far each device (and its load) can go: the tracker's bound over the sub-steps.
     CollisionWorld& near = clearances_.world();
@@ -558,7 +585,7 @@ class Run {
       if (load >= 0) went[d] = std::max(went[d], ahead[load][0]);
       all += went[d];
     }
-    if (all == 0) return glide_to(n, at);  // nothing moves: nothing new can touch
+    if (all == 0) return true;  // nothing moves: nothing new can touch
     // Nothing within reach of what moves, where everything is now.
     for (size_t d = 0; d < devices_.size(); ++d) {
       if (went[d] == 0) continue;
@@ -566,7 +593,13 @@ class Run {
       const Device& m = *geometry_.objects[o].device;
       // It, and the others towards it; beyond the clearance rules' gaps too (no dip below one
       // is looked for inside a glide).
-      const double gap = all + kGlideMargin + rechecks_.widest_watch();
+      const double keep = kGlideMargin + rechecks_.widest_watch(), gap = all + keep;
+      // The nearest shape within `gap` (proximity lists what its bounds bring that near).
+      auto nearest = [](const std::vector<Proximity>& found) {
+        double d = INFINITY;
+        for (const Proximity& p : found) d = std::min(d, p.distance);
+        return d;
+      };
       const size_t parts = geometry_.objects[o].X_object_part.size();
       motion_.resize(parts);
       for (size_t p = 0; p < parts; ++p) motion_[p] = world_.part_pose(o, static_cast<int>(p));
@@ -579,22 +612,27 @@ class Run {
         std::vector<int> load_skip = chain(load);
         load_skip.push_back(o);
         // The floor is no object of the collision world: a drum lowered into it glided through.
-        if (!near.proximity(load, load_skip, gap).empty() || near.lowest(load) - world_.floor_z() <= gap) return 0;
+        const double clear = std::min(nearest(near.proximity(load, load_skip, gap)), near.lowest(load) - world_.floor_z());
+        if (clear <= gap) return refuse((clear - keep) / all);
         // The load against the device's parts but the tool's (which hold it).
         std::vector<char> others(parts, 1);
         for (size_t p = 0; p < parts; ++p) others[p] = !m.tool_parts()[p];
         const std::optional<Proximity> own = near.pair_distance(o, load, others);
-        if (own && own->distance <= gap) return 0;
+        if (own && own->distance <= gap) return refuse((own->distance - keep) / all);
       }
-      if (!near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts).empty() || !near.self_clear(o, 2 * went[d] + kGlideMargin) ||
-          near.lowest(o, devices_[d].moving_parts) - world_.floor_z() <= gap)
-        return 0;
+      const double clear = std::min(nearest(near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts)),
+                                    near.lowest(o, devices_[d].moving_parts) - world_.floor_z());
+      if (clear <= gap) return refuse((clear - keep) / all);
+      if (!near.self_clear(o, 2 * went[d] + kGlideMargin)) return refuse(0.5);
     }
-    if (rechecks_.watches_inside() && !rechecks_.inside_clear(clearances_, ahead)) return 0;
-    return glide_to(n, at);
+    if (rechecks_.watches_inside()) {
+      double share = INFINITY;
+      if (!rechecks_.inside_clear(clearances_, ahead, &share)) return refuse(share);
+    }
+    return true;
   }
 
-  /// The glide itself: each sub-step placed and followed, the devices' travel and limits kept.
+      /// The glide itself: each sub-step placed and followed, the devices' travel and limits kept.
   long glide_to(long n, const std::vector<double>& at) {
     // Between its sub-steps the tracker halves in time, with poses from the plan.
     for (const DeviceRun& dr : devices_) {
@@ -1580,6 +1618,7 @@ class Run {
   bool interrupted_ = false;
   std::vector<RunSummaryFile::HandOver> handed_;  // fast mode: devices that went on in physics
   long glides_ = 0;                               // fast mode: glides between ticks
+  long glide_backoff_ = 1, next_glide_look_ = 0;  // fast mode: ticks to the next look for a glide after a refusal
   long steps_ = 0;                                // physics steps taken
   std::vector<char> started_, ended_;  // per step
   std::vector<char> skipped_;          // per step: never to run or end, its job failed in the run

@@ -273,6 +273,10 @@ struct PhysicsWorld::Impl {
     for (size_t o = 0; o < bodies.size(); ++o) {
       std::sort(now[o].begin(), now[o].end());
       if (!bodies[o]) continue;
+      if (asleep(bodies[o])) {  // its contacts are not looked for (collide): it touches what it did
+        now[o] = touching[o];
+        continue;
+      }
       for (const auto& partner : touching[o])
         if (!std::binary_search(now[o].begin(), now[o].end(), partner)) {
           dBodyEnable(bodies[o]);  // also restarts its idle time
@@ -561,18 +565,31 @@ struct PhysicsWorld::Impl {
 
   /// The step's collision pass: what moves against what moves, then each of its geoms against
   /// the scenery's quadtree (only the blocks its box overlaps).
+  /// Fast mode: a free body asleep where it came to rest (step()) is scenery again until
+  /// something that moves touches it (ODE wakes a body a contact joins to an awake one, and
+  /// dynamics_needed() one that a kinematic part or load touches): its contacts with the scenery
+  /// and with other sleepers are not looked for (a store's racked drums on their beams, each step).
+  /// Whether free body `o` touched a device's part or a held load at this step's contacts.
+  bool touches_device(size_t o) const {
+    for (const auto& [other, part] : touching[o])
+      if (part >= 0 || (other >= 0 && bodies[other] && dBodyIsKinematic(bodies[other]))) return true;
+    return false;
+  }
+  bool asleep(dBodyID b) const { return options.fast && b && !dBodyIsEnabled(b) && !dBodyIsKinematic(b); }
   static void collide(void* data) {
     Impl& w = *static_cast<Impl*>(data);
     dSpaceCollide(w.space, &w, &near_callback);
-    for (int i = 0, n = dSpaceGetNumGeoms(w.space); i < n; ++i)
-      dSpaceCollide2(dSpaceGetGeom(w.space, i), reinterpret_cast<dGeomID>(w.scenery), &w, &near_callback);
+    for (int i = 0, n = dSpaceGetNumGeoms(w.space); i < n; ++i) {
+      dGeomID g = dSpaceGetGeom(w.space, i);
+      if (!w.asleep(dGeomGetBody(g))) dSpaceCollide2(g, reinterpret_cast<dGeomID>(w.scenery), &w, &near_callback);
+    }
   }
   /// A new geom into the scenery, or among what moves when it has a body.
   void add_geom(dGeomID g) { dSpaceAdd(dGeomGetBody(g) ? space : scenery, g); }
 
   void near(dGeomID g1, dGeomID g2) {
     dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
-    if (!b1 && !b2) return;  // scenery does not collide with scenery
+    if ((!b1 || asleep(b1)) && (!b2 || asleep(b2))) return;  // scenery does not collide with scenery
     if (b1 == b2) return;
     const GeomTag& t1 = *static_cast<const GeomTag*>(dGeomGetData(g1));
     const GeomTag& t2 = *static_cast<const GeomTag*>(dGeomGetData(g2));
@@ -1047,6 +1064,13 @@ void PhysicsWorld::step() {
     mean /= static_cast<double>(r.samples.size());
     const bool still = r.samples.size() == w.rest_samples && mean.head<3>().norm() < kRestSpeed && mean.tail<3>().norm() < kRestTurn;
     w.still_for[o] = still ? w.still_for[o] + w.options.timestep : 0;
+    // Fast mode: at rest, it sleeps (ODE's auto-disable judges only the steps it takes), unless
+    // it touches a device or what one holds: leaning on a tool, the tool's push decides whether
+    // it is propped, and ODE never puts such a body to sleep either (one island with parts that
+    // never sleep).
+    if (w.options.fast && w.still_for[o] >= kRestTime - 1e-9 && dBodyIsEnabled(w.bodies[o]) && !dBodyIsKinematic(w.bodies[o]) &&
+        !w.rides.count(static_cast<int>(o)) && !w.touches_device(o))
+      dBodyDisable(w.bodies[o]);
   }
   w.time += w.options.timestep;
 }

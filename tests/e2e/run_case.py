@@ -2744,6 +2744,17 @@ def campaigns(sscs, root):
         expect("six-on-two", "who did what", [(j["object"], j["device"], j["start"]) for j in jobs2],
                [("Mark_1", "G1", "0"), ("Mark_2", "G2", "0"), ("Mark_3", "G1", "6"), ("Nark_1", "G2", "6"), ("Nark_2", "G1", "12"),
                 ("Nark_3", "G2", "12")])
+        # sscs compare puts two campaigns' figures side by side (one gantry against two).
+        p = run(sscs, root, ["compare", os.path.join(tmp, "six-on-one"), os.path.join(tmp, "six-on-two"), "--format", "csv"])
+        table = list(csv.DictReader(p.stdout.splitlines()))
+        expect("compare (campaigns)", "its figures", [(r["makespan (s)"], r["throughput (jobs/h)"], r["jobs done"], r["G1 utilization"],
+                                                       r["G2 utilization"], r["G2 jobs"], r["wait max (s)"]) for r in table],
+               [("36", "600", "6", "1", "", "", "30"), ("18", "1200", "6", "1", "1", "3", "12")])
+        p = run(sscs, root, ["compare", os.path.join(tmp, "six-on-one"), os.path.join(tmp, "six-on-two")])
+        if "throughput (jobs/h)" not in p.stdout or "G2 utilization" not in p.stdout:
+            fail(f"compare (campaigns): the text table has no campaign figures:\n{p.stdout}")
+        p = run(sscs, root, ["compare", os.path.join(tmp, "six-on-one"), os.path.join(tmp, "six-on-two"), "--format", "json"])
+        expect("compare (campaigns)", "its JSON", [r["campaign"]["makespan"] for r in json.loads(p.stdout)["runs"]], [36.0, 18.0])
         _, s, jobs, _ = campaign("claims", tmp)
         expect("claims", "starts", [(j["object"], j["start"], j["wait"]) for j in jobs],
                [("Mark_1", "0", "0"), ("Mark_2", "6", "6"), ("Mark_3", "12", "12"), ("Nark_1", "18", "18"), ("Nark_2", "24", "24"),

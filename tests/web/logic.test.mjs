@@ -147,3 +147,44 @@ test('splitNames: names found in a message, longest first, the rest kept in orde
   const back = S.splitNames(text, ['A', 'B', 'AB']).map((p) => (typeof p === 'string' ? p : p.name)).join('');
   assert.equal(back, text);
 });
+
+// A campaign's jobs.csv (tests/data/campaigns/claims.yaml's shape): G1 and G2 share a claim, so
+// the jobs run one at a time; Nark_3 never started; a message with a comma is quoted.
+const jobsCsv = 'job,object,device,place,ready,start,end,wait,duration,status,message\n'
+  + 'a,Mark_1,G1,,0,0,6,0,6,done,\n'
+  + 'b,Nark_1,G2,,0,6,12,6,6,done,\n'
+  + 'a,Mark_2,G1,,2,12,18,10,6,failed,"G1 cannot reach Mark_2, 0.3 m short"\n'
+  + 'b,Nark_3,,,4,,,,,not_started,"planned for G2, which was out"\n';
+
+test('campaign jobs: numbers, empty cells null, quoted messages whole', () => {
+  const jobs = S.campaignJobs(jobsCsv);
+  assert.equal(jobs.length, 4);
+  assert.deepEqual(jobs[1], { job: 'b', object: 'Nark_1', device: 'G2', place: '', ready: 0, start: 6, end: 12, wait: 6, status: 'done', message: '' });
+  assert.equal(jobs[2].message, 'G1 cannot reach Mark_2, 0.3 m short');
+  assert.equal(jobs[3].start, null);
+  assert.equal(jobs[3].device, '');
+});
+
+test('campaign queue: a job waits from ready to start, one never started to the end; its peak is queue_max', () => {
+  const q = S.queueSeries(S.campaignJobs(jobsCsv), 20);
+  // Nark_1 waits 0..6, Mark_2 2..12, Nark_3 4..20 (Mark_1 started when ready: never waited).
+  const at = (t) => { let v = 0; for (let k = 0; k < q.xs.length; ++k) if (q.xs[k] <= t) v = q.ys[k]; return v; };
+  assert.equal(at(1), 1);
+  assert.equal(at(3), 2);
+  assert.equal(at(5), 3);
+  assert.equal(at(7), 2);
+  assert.equal(at(13), 1);
+  assert.equal(at(20), 1);
+  assert.equal(Math.max(...q.ys), 3);
+});
+
+test('campaign utilization: time busy so far over time since the first ready; at the end busy / makespan', () => {
+  const jobs = S.campaignJobs(jobsCsv);
+  const g1 = S.utilizationSeries(jobs, 'G1', 18, 18);
+  assert.equal(g1.xs.length, 18);
+  assert.ok(Math.abs(g1.ys[5] - 1) < 1e-12);            // t = 6: busy 0..6
+  assert.ok(Math.abs(g1.ys[11] - 6 / 12) < 1e-12);      // t = 12: 6 of 12
+  assert.ok(Math.abs(g1.ys[17] - 12 / 18) < 1e-12);     // the end: 12 s busy in 18
+  const g2 = S.utilizationSeries(jobs, 'G2', 18, 18);
+  assert.ok(Math.abs(g2.ys[17] - 6 / 18) < 1e-12);
+});

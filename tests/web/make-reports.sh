@@ -27,6 +27,10 @@ run arm-loads-drum scenarios/drum-transfer/arm-loads-drum.yaml
 run gantry-loads-drum scenarios/drum-transfer/gantry-loads-drum.yaml
 run collision scenarios/drum-transfer/collision.yaml
 run store-drum scenarios/drum-store/store-drum.yaml
+# Campaigns (their Gantt chart, queue and utilization): a gantry setting three drums on pads, and one
+# whose unreachable job fails alone (its device out, its next job never started).
+run campaign-slots tests/data/campaigns/slots.yaml
+run campaign-failure tests/data/campaigns/failure.yaml
 # A run written only as a bundle: its report and glTF are those of the same run in a folder.
 "$sscs" simulate scenarios/drum-transfer/arm-loads-drum.yaml --bundle "$out/arm-bundle.zip" --no-frames "${q[@]}" >/dev/null
 "$sscs" report "$out/arm-bundle.zip" --html "$out/arm-bundle.html" "${q[@]}"

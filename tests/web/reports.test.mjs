@@ -224,6 +224,34 @@ for (const file of pages.filter((f) => existsSync(join(out, basename(f, '.html')
   });
 }
 
+for (const file of ['campaign-slots.html', 'campaign-failure.html']) {
+  test(`${file}: a Gantt bar per job (failures red) that jumps to its start, the queue and utilization plots, the final state`, async () => {
+    const { page, problems } = await open(file);
+    const dir = join(out, basename(file, '.html'));
+    const summary = JSON.parse(readFileSync(join(dir, 'summary.json'), 'utf8'));
+    const rows = readFileSync(join(dir, 'jobs.csv'), 'utf8').trim().split('\n').slice(1);
+    const bars = await page.$$eval('svg.gantt rect.job', (rs) => rs.map((r) => ({ job: +r.dataset.job, failed: r.classList.contains('failed'),
+      title: r.querySelector('title').textContent })));
+    assert.equal(bars.length, rows.length, 'one bar (or mark) a job');
+    assert.equal(bars.filter((b) => b.failed).length, summary.campaign.jobs.failed);
+    const figures = await page.$eval('[data-testid=campaign-figures]', (e) => e.textContent);
+    assert.ok(figures.includes(`${summary.campaign.jobs.done} done`) && figures.includes('makespan'), figures);
+    // The last job that started: a click on its bar jumps to its start.
+    const jobs = await page.evaluate(`window.SSCS.campaignJobs(${JSON.stringify(readFileSync(join(dir, 'jobs.csv'), 'utf8'))})`);
+    const last = jobs.reduce((best, j, k) => (typeof j.start === 'number' && (best < 0 || j.start > jobs[best].start) ? k : best), -1);
+    await page.evaluate('window.sscsReport.seek(0)');
+    await page.click(`svg.gantt rect.job[data-job="${last}"]`);
+    const t = await page.evaluate('window.sscsReport.view.time');
+    assert.ok(Math.abs(t - Math.min(jobs[last].start, await page.evaluate('window.sscsReport.view.duration'))) < 1e-6, `at ${t}, the job starts at ${jobs[last].start}`);
+    assert.equal(await page.$$eval('section.campaign svg.plot polyline', (p) => p.length), 1 + Object.keys(summary.campaign.devices).length);
+    await page.click('[data-testid=final-state]');
+    assert.ok(Math.abs(await page.evaluate('window.sscsReport.view.time') - await page.evaluate('window.sscsReport.view.duration')) < 1e-6);
+    await shot(page, basename(file, '.html'));
+    assert.deepEqual(problems, []);
+    await page.close();
+  });
+}
+
 test('arm-vs-gantry.html: a parameter of words (the scenario files) is an axis of categories with every variant on it', async () => {
   const { page } = await open('arm-vs-gantry.html');
   const results = JSON.parse(readFileSync(join(out, 'arm-vs-gantry', 'results.json'), 'utf8'));

@@ -333,8 +333,11 @@
       plotBox.append(el('figure', { 'data-device': device }, el('figcaption', {}, `${device}: joint positions`), p1.svg),
                      el('figure', {}, el('figcaption', {}, `${device}: joint velocities`), p2.svg));
     }
+    // A campaign: its jobs per device (a Gantt chart), the queue and each device's utilization.
+    const campaign = campaignSection(sum.campaign, data.jobs, duration, (t) => seek(t), (names) => view && view.frameObjects(names), plots);
     function onTime(t) {
       timeText.textContent = `${t.toFixed(2)} s`;
+      if (campaign) campaign.cursor(t);
       if (+scrub.value !== t) scrub.value = t;
       playhead.setAttribute('x1', tx(t));
       playhead.setAttribute('x2', tx(t));
@@ -351,12 +354,69 @@
     v.panel.append(controls, timeline);
     app.append(el('main', { class: 'run' }, v.panel,
       el('section', { class: 'side' }, el('h2', {}, 'Cycle time by step'), breakdown, el('h2', {}, 'Events'), el('div', { class: 'scroll' }, eventList))),
-      el('section', { class: 'wide' }, el('h2', {}, 'Joints'), plotBox));
+      campaign ? campaign.section : null, el('section', { class: 'wide' }, el('h2', {}, 'Joints'), plotBox));
     if (view) view.ready.then(() => {
       for (const c of view.cameras) cameraSelect.append(el('option', { value: c.name }, c.name === 'run' ? "the run's camera" : c.name));
       onTime(0);
     });
     return { kind: 'run', view, seek, jump, events, duration };
+  }
+
+  /** A campaign run's section (campaign-format.md): its figures, a Gantt chart of the jobs per
+   *  device (a bar per job from start to end, its wait from ready to start shaded under it,
+   *  failures red, jobs never started in a row of their own; a click jumps there and frames the
+   *  job's object), the queue's length and each device's utilization over time, and a button to
+   *  the final state. Null for a scenario's run. */
+  function campaignSection(c, jobsCsv, duration, seek, frame, plots) {
+    if (!c || typeof jobsCsv !== 'string') return null;
+    const jobs = S.campaignJobs(jobsCsv);
+    const devices = Object.keys(c.devices || {});
+    const end = Math.max(duration, ...jobs.map((j) => (typeof j.end === 'number' ? j.end : 0)));
+    const rows = devices.concat(jobs.some((j) => j.status === 'not_started') ? ['not started'] : []);
+    const W = 900, RH = 24, L = 120, H = rows.length * RH + 22;
+    const gx = S.scale(0, end || 1, L, W - 8);
+    const gantt = svg('svg', { viewBox: `0 0 ${W} ${H}`, class: 'gantt', 'data-testid': 'gantt' });
+    rows.forEach((d, r) => gantt.append(svg('text', { x: L - 6, y: r * RH + 16, 'text-anchor': 'end' }, d)));
+    for (const t of gx.ticks(8)) {
+      gantt.append(svg('line', { x1: gx(t), x2: gx(t), y1: 0, y2: rows.length * RH, class: 'gridline' }));
+      gantt.append(svg('text', { x: gx(t), y: H - 6, 'text-anchor': 'middle' }, S.num(t)));
+    }
+    const templates = [...new Set(jobs.map((j) => j.job))];
+    jobs.forEach((j, i) => {
+      const y = (j.status === 'not_started' ? rows.length - 1 : devices.indexOf(j.device)) * RH;
+      if (y < 0) return;
+      const said = `${j.job} ${j.object}${j.place ? ` to ${j.place}` : ''}: ${j.status.replace('_', ' ')}`
+        + (typeof j.start === 'number' ? `, ${S.time(j.start)}–${S.time(j.end)} s, waited ${S.num(j.wait, 's')}` : '')
+        + (j.message ? ` (${j.message})` : '');
+      const go = () => { seek(typeof j.start === 'number' ? j.start : j.ready || 0); frame([j.object]); };
+      if (typeof j.start !== 'number') {
+        gantt.append(svg('rect', { x: gx(j.ready || 0), y: y + 4, width: 3, height: 14, class: 'job not-started', 'data-job': i, onclick: go },
+          svg('title', {}, said)));
+        return;
+      }
+      if (typeof j.ready === 'number' && j.start > j.ready + 1e-9)
+        gantt.append(svg('rect', { x: gx(j.ready), y: y + 19, width: Math.max(1, gx(j.start) - gx(j.ready)), height: 4, class: 'wait' },
+          svg('title', {}, `${j.object} waited ${S.num(j.wait, 's')}`)));
+      gantt.append(svg('rect', { x: gx(j.start), y: y + 4, width: Math.max(1, gx(typeof j.end === 'number' ? j.end : end) - gx(j.start)), height: 14,
+        class: `job ${j.status === 'failed' ? 'failed' : `s${templates.indexOf(j.job) % 6}`}`, 'data-job': i, onclick: go }, svg('title', {}, said)));
+    });
+    const playhead = svg('line', { y1: 0, y2: rows.length * RH, class: 'cursor' });
+    gantt.append(playhead);
+    const queue = linePlot([{ name: 'queue', ...S.queueSeries(jobs, end) }], { xLabel: 't (s)', yLabel: 'jobs waiting', onClick: seek });
+    const use = linePlot(devices.map((d) => ({ name: d, ...S.utilizationSeries(jobs, d, end) })),
+      { xLabel: 't (s)', yLabel: 'utilization so far', onClick: seek });
+    plots.push(queue, use);
+    const busy = devices.map((d) => `${d} ${S.num(100 * c.devices[d].utilization)} % busy`).join(', ');
+    const section = el('section', { class: 'wide campaign', 'data-testid': 'campaign' }, el('h2', {}, 'Campaign'),
+      el('p', { 'data-testid': 'campaign-figures' }, `${c.jobs.done} done, ${c.jobs.failed} failed, ${c.jobs.not_started} not started; `
+        + `makespan ${S.num(c.makespan, 's')}, throughput ${S.num(c.throughput)} jobs/h, wait mean ${S.num(c.wait.mean, 's')} `
+        + `(max ${S.num(c.wait.max, 's')}), queue at most ${c.queue_max}; ${busy}. `,
+        el('button', { 'data-testid': 'final-state', onclick: () => seek(duration) }, 'final state')),
+      el('figure', {}, el('figcaption', {}, 'Jobs per device: a bar per job from its start to its end, its wait from ready to start '
+        + 'shaded under it, failures red (click one: the view jumps there)'), gantt),
+      el('div', { class: 'plots' }, el('figure', {}, el('figcaption', {}, 'Queue: jobs ready and waiting'), queue.svg),
+        el('figure', {}, el('figcaption', {}, 'Utilization so far: time busy over time since the first job was ready'), use.svg)));
+    return { section, cursor: (t) => { playhead.setAttribute('x1', gx(t)); playhead.setAttribute('x2', gx(t)); } };
   }
 
   function sweepPage(data, app) {

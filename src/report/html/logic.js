@@ -264,7 +264,59 @@
     return out;
   }
 
-  const api = { relativeLink, showControls, splitNames, checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, time, parseCsv, scale, extent,
+  /** A campaign's jobs.csv as rows: numbers where the file has them, null where it leaves a cell empty. */
+  function campaignJobs(text) {
+    const t = parseCsv(text || '');
+    const col = (name) => t.columns.indexOf(name);
+    const value = (r, name) => { const v = r[col(name)]; return v === '' || v === undefined ? null : v; };
+    return t.rows.map((r) => ({ job: String(value(r, 'job') ?? ''), object: String(value(r, 'object') ?? ''), device: String(value(r, 'device') ?? ''),
+      place: String(value(r, 'place') ?? ''), ready: value(r, 'ready'), start: value(r, 'start'), end: value(r, 'end'), wait: value(r, 'wait'),
+      status: String(value(r, 'status') ?? ''), message: String(value(r, 'message') ?? '') }));
+  }
+
+  /** The queue's length over time, as summary.json's queue_max counts it: a job joins when ready
+   *  and leaves when it starts (one started the moment it was ready never waited); one never
+   *  started waits to `end`. A step function: {xs, ys}. */
+  function queueSeries(jobs, end) {
+    const changes = [];
+    for (const j of jobs) {
+      if (typeof j.ready !== 'number') continue;
+      const started = typeof j.start === 'number';
+      if (started && j.start <= j.ready + 1e-9) continue;
+      changes.push([j.ready, +1]);
+      if (started) changes.push([j.start, -1]);
+    }
+    changes.sort((a, b) => a[0] - b[0] || a[1] - b[1]);  // at one time, starts before arrivals
+    const xs = [0], ys = [0];
+    let n = 0;
+    for (const [t, d] of changes) {
+      xs.push(t); ys.push(n);
+      n = Math.max(0, n + d);
+      xs.push(t); ys.push(n);
+    }
+    xs.push(Math.max(end, xs[xs.length - 1])); ys.push(n);
+    return { xs, ys };
+  }
+
+  /** A device's utilization so far at `points` times from the campaign's first ready job to `end`:
+   *  its jobs' time busy (start to end) up to t over the time since the first job was ready. At
+   *  the end it is summary.json's utilization. */
+  function utilizationSeries(jobs, device, end, points = 120) {
+    const readies = jobs.map((j) => j.ready).filter((t) => typeof t === 'number');
+    const first = readies.length ? Math.min(...readies) : 0;
+    const mine = jobs.filter((j) => j.device === device && typeof j.start === 'number' && typeof j.end === 'number');
+    const xs = [], ys = [];
+    for (let k = 1; k <= points; ++k) {
+      const t = first + ((end - first) * k) / points;
+      let busy = 0;
+      for (const j of mine) busy += Math.max(0, Math.min(t, j.end) - j.start);
+      xs.push(t);
+      ys.push(t > first ? busy / (t - first) : 0);
+    }
+    return { xs, ys };
+  }
+
+  const api = { campaignJobs, queueSeries, utilizationSeries, relativeLink, showControls, splitNames, checkRows, baselineChange, filterRows, compareCells, sortRows, distinct, num, time, parseCsv, scale, extent,
                 indexAt, stepBreakdown, notableEvents, sweepRows, axis, axisScale };
   root.SSCS = Object.assign(root.SSCS || {}, api);
   if (typeof module === 'object' && module.exports) module.exports = api;
