@@ -35,6 +35,11 @@ done
 echo "== sscs simulate scenarios/drum-store/store-drum.yaml (the crane stores a drum on a top level)"
 "$sscs" simulate scenarios/drum-store/store-drum.yaml --out "$out/store-drum" --force --html "$out/store-drum.html" --quiet
 grep -E '"(status|cycle_time)"' "$out/store-drum/summary.json" | sed 's/^ */  /'
+echo "== sscs simulate scenarios/drum-store/receiving.yaml (the store at work: 40 drums, one every 4 minutes, fast mode)"
+"$sscs" simulate scenarios/drum-store/receiving.yaml --out "$out/receiving" --force --html "$out/receiving.html" --quiet
+python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["campaign"]; print("  {} stored, {:.1f} drums/h, crane busy {:.0%}, makespan {:.0f} s".format(c["jobs"]["done"], c["throughput"], c["devices"]["Crane"]["utilization"], c["makespan"]))' "$out/receiving/summary.json"
+echo "== sscs sweep scenarios/drum-store/concepts.yaml (rows x levels x crane speed, 36 concepts each unloading a truck)"
+"$sscs" sweep scenarios/drum-store/concepts.yaml --out "$out/concepts" --force --jobs 2 --html "$out/concepts.html" --quiet || true
 echo
 echo
 echo "== sscs sweep scenarios/sweeps/aisle-rows.yaml (aisle width x rack rows, 55 variants)"
@@ -49,6 +54,8 @@ echo "HTML reports (open from disk; nothing is fetched):"
 echo "  the demo check:  $out/report.html"
 echo "  the arm's run:   $out/arm-loads-drum.html (animated 3D, events, joint plots; the crane's: $out/store-drum.html)"
 echo "  a sweep:         $out/aisle-rows.html (results table and plots)"
+echo "  the store at work: $out/receiving.html (Gantt chart, queue, utilization, the final state; $out/receiving/jobs.csv, final.yaml)"
+echo "  store concepts:  $out/concepts.html (36 concepts: rack positions, drums stored, drums an hour; $out/concepts/results.csv)"
 echo "reports: $out/report.json (JSON), $out/report.xml (JUnit)"
 echo "3D model: $out/demo.glb, and the arm's run animated: $out/arm-loads-drum.glb (open in Blender or any glTF viewer)"
 echo "still image: $out/demo.png"

@@ -73,8 +73,13 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   if (!summary.stopped_by.empty())
     status += fmt::format(" ({} at {:g} s{}{}), no cycle time", summary.stopped_by, stable(summary.stopped_at),
                           summary.stop_message.empty() ? "" : ": ", printable(within_window(summary.stop_message)));
-  else
+  else if (!summary.campaign)
     status += fmt::format(", cycle time {:g} s", stable(summary.cycle_time));
+  // A campaign says what became of its jobs: failed ones and ones never started are what a
+  // gate must see (a campaign that stored nothing read "ok, cycle time 0 s").
+  if (const auto& c = summary.campaign)
+    status += fmt::format(", {} jobs done, {} failed, {} not started, makespan {:g} s, {:g} jobs/h", c->done, c->failed, c->not_started,
+                          stable(c->makespan), stable(c->throughput));
   std::cout << fmt::format("{}: {}, {} collisions, {} events; written to {}\n", ps.spec->name, status, summary.collisions,
                            summary.events, where);
   if (!args.html.empty()) {

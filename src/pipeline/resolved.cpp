@@ -366,10 +366,15 @@ std::string final_vault_text(const Workcell& wc, const Sources& sources, const F
       xyz = {slots[kLocationSlot], slots[kLocationSlot + 1], slots[kLocationSlot + 2]};
       rpy = {slots[kOrientationSlot], slots[kOrientationSlot + 1], slots[kOrientationSlot + 2]};
     } else {
+      // In the room it stands in: what moved no longer hangs on what it stood at (a drum that
+      // arrived on the dock pallet and was stored in a rack is no child of the pallet, which
+      // no_overlap would then never compare it with).
+      int parent = obj.parent;
+      while (parent >= 0 && !wc.types[wc.objects[parent].type].container) parent = wc.objects[parent].parent;
       Eigen::Isometry3d X = end.X_world[o];
-      if (obj.parent >= 0) {
-        items.push_back(fmt::format("parent: {}", wc.objects[obj.parent].name));
-        X = end.X_world[obj.parent].inverse() * X;
+      if (parent >= 0) {
+        items.push_back(fmt::format("parent: {}", wc.objects[parent].name));
+        X = end.X_world[parent].inverse() * X;
       }
       xyz = X.translation();
       rpy = rotation_to_rpy(X.linear());

@@ -28,7 +28,8 @@ RunInputs collect_run_inputs(const ScenarioSpec& scenario, const std::vector<std
 /// A campaign run's final.yaml (campaign-format.md): the vault as the run leaves it, a vault file
 /// that checks and starts the next campaign. The vault's own text with its objects listed one by
 /// one (arrays expanded, expressions evaluated to numbers in the file's units), each where it
-/// stands at the end (in its parent's frame; `at:` kept for what did not move), the loads that
+/// stands at the end (`at:` kept for what did not move; what moved in the frame of the room it
+/// stands in), the loads that
 /// arrived added and those that never did left out, devices at their last joint values; its
 /// parameters pinned to the values the run used; constraints, cameras and the rest as written.
 /// `beside_resolved`: the run folder holds resolved/ (its library and meshes are named there);

@@ -114,7 +114,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   // never waited); those never started wait to the end.
   std::vector<std::pair<double, int>> queue;
   for (size_t i = 0; i < rows.size(); ++i) {
-    if (plan.jobs[i].ready > stop) continue;
+    if (!std::isfinite(plan.jobs[i].ready) || plan.jobs[i].ready > stop) continue;  // never ready (a load that never arrived)
     if (std::isfinite(rows[i].start) && rows[i].start <= plan.jobs[i].ready + 1e-9) continue;
     queue.emplace_back(plan.jobs[i].ready, +1);
     if (std::isfinite(rows[i].start)) queue.emplace_back(rows[i].start, -1);

@@ -48,6 +48,10 @@ class Dispatcher {
       arriving_[a.object] = INFINITY;
       planner_.set_absent(a.object, true);
     }
+    // A job of a load is ready once it arrives: never, if it never does (it was ready at 0 in
+    // jobs.csv, and the makespan, throughput and queue counted it).
+    for (size_t i = 0; i < c_.jobs.size(); ++i)
+      if (arriving_.count(c_.jobs[i].object)) plan.jobs[i].ready = INFINITY;
     // Events in planned time: arrivals, readiness, devices going idle, claims and slots freed (a job's end).
     double t = 0;
     while (!stopped_) {
@@ -72,6 +76,7 @@ class Dispatcher {
       if (!plan.jobs[i].started) plan.jobs[i].why_not = why_not(i);
     if (terminal_) plan.failure = terminal_;  // on_failure: stop: the run stops there
     plan.jobs_fail_alone = !c_.stop_on_failure;
+    plan.runs_to_limit = past_limit_ && !terminal_;
     return planner_.finish(diag_);
   }
 

@@ -164,6 +164,9 @@ struct Plan {
   /// A campaign with `on_failure: continue`: a job the run itself fails (a grasp missed) fails
   /// alone, its device out, and the run goes on. Otherwise such a failure stops the run.
   bool jobs_fail_alone = false;
+  /// A campaign with something due past `sim.limit` (a load, a job's `after`): it runs to the
+  /// limit and fails there (campaign-format.md, "Time"), though nothing moves before.
+  bool runs_to_limit = false;
   const Track* track(int object) const;
   /// Whether `ps` is the step the plan failed at (it began and never finished), or its group,
   /// or a step a job failed at.

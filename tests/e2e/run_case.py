@@ -1779,7 +1779,7 @@ def expanded_size(path):
 
 def kind_of(doc):
     if isinstance(doc, dict):
-        for k in ("campaign", "scenario", "sweep", "type", "vault", "cameras"):
+        for k in ("sweep", "campaign", "scenario", "type", "vault", "cameras"):  # (a sweep names its campaign or scenario)
             if k in doc:
                 return k
     return None
@@ -2886,6 +2886,9 @@ def campaigns(sscs, root):
         p = run(sscs, root, ["sweep", "tests/data/campaigns/receive-pads.yaml", "--out", sweep, "--jobs", "2", "--quiet"])
         rows = list(csv.DictReader(open(os.path.join(sweep, "results.csv")))) if os.path.exists(os.path.join(sweep, "results.csv")) else []
         expect("receive-pads (sweep)", "variants", (p.returncode, len(rows)), (0, 3))
+        # The check judges the vault as written (its no_overlap rule), not the four loads that
+        # arrive one at a time standing on InPad at once.
+        expect("receive-pads (sweep)", "the checks", [(r["status"], r["passed"], r["failed"]) for r in rows], [("pass", "1", "0")] * 3)
         for r in rows:
             out = os.path.join(tmp, f"alone-{r['pad_x']}")
             run(sscs, root, ["simulate", "tests/data/campaigns/receive.yaml", "--set", f"pad_x={r['pad_x']} m", "--out", out, "--no-frames", "--quiet"])
@@ -2897,6 +2900,46 @@ def campaigns(sscs, root):
                 fail(f"receive-pads (sweep): pad_x = {r['pad_x']} gives {got}, the campaign alone {want}")
         if len({r["makespan"] for r in rows}) != 3:
             fail(f"receive-pads (sweep): the pads' distance should change the makespan: {rows}")
+        # A load that never arrives is never ready: its row has no ready time, and the makespan,
+        # throughput and queue count only what arrived (receive.yaml with a 50 s limit: In_1..3
+        # arrive at 0, 20, 40 s; In_2 waits from 20 to 27.562, In_3 from 40 to the end; the job
+        # under way at 50 s fails there). By hand: makespan 50, 1 done, queue at most 1.
+        path = os.path.join(tmp, "receive-50.yaml")
+        open(path, "w").write(open(os.path.join(root, "tests/data/campaigns/receive.yaml")).read()
+                              .replace("limit: 600 s", "limit: 50 s").replace("vault: dock.yaml", f"vault: {root}/tests/data/campaigns/dock.yaml"))
+        p = run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, "r50"), "--no-frames", "--quiet", "--allow-outside-root"])
+        s = json.load(open(os.path.join(tmp, "r50", "summary.json")))
+        jobs = list(csv.DictReader(open(os.path.join(tmp, "r50", "jobs.csv"))))
+        expect("receive (limit 50 s)", "the jobs", [(j["object"], j["ready"], j["start"], j["end"], j["status"]) for j in jobs],
+               [("In_1", "0", "0", "27.562", "done"), ("In_2", "20", "27.562", "50", "failed"), ("In_3", "40", "", "", "not_started"),
+                ("In_4", "", "", "", "not_started")])
+        c = s["campaign"]
+        expect("receive (limit 50 s)", "its figures", (p.returncode, s["status"], c["makespan"], c["throughput"], c["queue_max"],
+                                                       c["devices"]["G1"]["utilization"]), (1, "failed", 50.0, 72.0, 1, 1.0))
+        # Every load due after the limit: the campaign runs to its limit and fails there (it
+        # ended at 0 s, "ok").
+        path = os.path.join(tmp, "receive-late.yaml")
+        open(path, "w").write(open(os.path.join(root, "tests/data/campaigns/receive.yaml")).read()
+                              .replace("arrive: {every: 20 s}", "arrive: {every: 20 s, first: 700 s}")
+                              .replace("vault: dock.yaml", f"vault: {root}/tests/data/campaigns/dock.yaml"))
+        p = run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, "late"), "--no-frames", "--quiet", "--allow-outside-root"])
+        s = json.load(open(os.path.join(tmp, "late", "summary.json")))
+        expect("receive (all after the limit)", "its verdict", (p.returncode, s["status"], s.get("stopped", {}).get("by"), s["simulated_time"],
+                                                                s["campaign"]["jobs"]["not_started"], s["campaign"]["queue_max"]),
+               (1, "failed", "time_limit", 600.0, 4, 0))
+        # The reference store at work (scenarios/drum-store/receiving.yaml, fast mode): all 40
+        # drums stored without a collision, the closest approach a stored drum's neighbour
+        # (0.139 m, certified), and its final.yaml keeps every rule of the store.
+        out = os.path.join(tmp, "store-receiving")
+        p = run(sscs, root, ["simulate", "scenarios/drum-store/receiving.yaml", "--out", out, "--no-frames", "--quiet"])
+        s = json.load(open(os.path.join(out, "summary.json")))
+        mc = s.get("min_clearance") or {}
+        expect("store receiving", "its verdict", (p.returncode, s["status"], s["events"].get("collision", 0), s["campaign"]["jobs"]["done"], mc.get("certified")),
+               (0, "ok", 0, 40, True))
+        if abs(mc.get("distance", 0) - 0.1392) > 5e-4:
+            fail(f"store receiving: the closest approach is {mc}, a drum beside its neighbour is 0.1392 m")
+        p = run(sscs, root, ["check", os.path.join(out, "final.yaml")])
+        expect("store receiving", "its final.yaml's check", (p.returncode, p.stdout.strip().splitlines()[-1:]), (0, ["12 passed, 0 failed, 0 warnings"]))
         # The same seed, the same bytes (random choices).
         path = os.path.join(tmp, "slots-random.yaml")
         open(path, "w").write(open(os.path.join(tmp, "slots-first.yaml")).read().replace("choose: first", "choose: random")
