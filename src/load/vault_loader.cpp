@@ -307,6 +307,19 @@ std::optional<VaultSpec> load_vault(uint32_t file, Sources& sources, Diagnostics
   yaml::Document doc = yaml::parse(sources, file, diag);
   timer.lap("parse");
   if (doc.empty()) return std::nullopt;
+  // A scenario, campaign or sweep named where a vault is expected (`sscs check receiving.yaml`):
+  // one error that says what it is and what reads it, not one per key it has and lacks.
+  if (doc.root().is_map())
+    for (const char* kind : {"scenario", "campaign", "sweep"})
+      if (doc.root().find(kind).valid() && !doc.root().find("objects").valid()) {
+        SourceMark at = doc.root().mark();
+        for (size_t i = 0; i < doc.root().size(); ++i)
+          if (doc.root().key(i).text() == kind) at = doc.root().key(i).mark();
+        diag.error(at,
+                   fmt::format("expected a vault file, found a {} file ('{}:' at its top); {}", kind, kind,
+                               std::string_view(kind) == "sweep" ? "run it with `sscs sweep FILE`" : "run it with `sscs simulate FILE`"));
+        return std::nullopt;
+      }
   MapReader root(doc.root(), "a vault file", diag);
   if (!root.ok()) return std::nullopt;
   load::check_version(root, diag);

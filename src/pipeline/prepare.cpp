@@ -1,5 +1,8 @@
 #include "pipeline/prepare.h"
 
+#include <fmt/format.h>
+
+#include "core/files.h"
 #include "load/campaign.h"
 #include "pipeline/campaign.h"
 #include "load/load.h"
@@ -33,6 +36,11 @@ bool PreparedScenario::prepare(const std::string& path, const CompileOptions& ba
     static_cast<RunFileSpec&>(*spec) = *campaign;  // its name, vault, settings and cameras: a run's
   } else {
     spec = std::move(std::get<ScenarioSpec>(*file));
+  }
+  // The vault it names, said at its `vault:` (it read "sscs: error: cannot read ...", no place).
+  if (std::string why = not_a_file(spec->vault_path); !why.empty()) {
+    diag.error(spec->vault.mark, fmt::format("cannot read the vault '{}': it {}", spec->vault.text, why));
+    return false;
   }
   CompileOptions options = base;
   for (const auto& [name, value] : spec->set) overrides.emplace_back(name, value.text);
