@@ -76,7 +76,19 @@ yaml::Node MapReader::take(std::string_view key) {
 
 yaml::Node MapReader::require(std::string_view key) {
   yaml::Node n = take(key);
-  if (ok_ && !n.valid()) diag_.error(node_.mark(), fmt::format("{} is missing the required key '{}'", what_, key));
+  if (!ok_ || n.valid()) return n;
+  // A key written misspelt (`devcies`): that one error, said where it is, not also "missing
+  // 'devices'" (a follow-on error); it is then known, so finish() does not say it again.
+  for (size_t i = 0; i < node_.size(); ++i) {
+    const std::string_view k = node_.key(i).text();
+    if (std::find(known_.begin(), known_.end(), k) != known_.end()) continue;
+    if (closest_name(k, {std::string(key)}) == key) {
+      diag_.error(node_.key(i).mark(), fmt::format("unknown key '{}' in {} (did you mean '{}'?)", k, what_, key));
+      known_.emplace_back(k);
+      return n;
+    }
+  }
+  diag_.error(node_.mark(), fmt::format("{} is missing the required key '{}'", what_, key));
   return n;
 }
 
