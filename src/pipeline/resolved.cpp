@@ -344,10 +344,10 @@ std::string final_vault_text(const Workcell& wc, const Sources& sources, const F
 
   // Every object, one line each. What stands where the vault had it, on a parent that did too,
   // is written as the vault wrote it (at its frame); the rest where the run left it.
-  std::vector<signed char> stayed(wc.objects.size(), -1);
+  std::vector<signed char> known_to_stay(wc.objects.size(), -1);  // per object: -1 not looked at yet
   std::function<bool(int)> stays = [&](int o) {
-    if (stayed[o] < 0) stayed[o] = !end.moved[o] && (wc.objects[o].parent < 0 || stays(wc.objects[o].parent));
-    return stayed[o] == 1;
+    if (known_to_stay[o] < 0) known_to_stay[o] = !end.moved[o] && (wc.objects[o].parent < 0 || stays(wc.objects[o].parent));
+    return known_to_stay[o] == 1;
   };
   std::string objects;
   for (size_t o = 0; o < wc.objects.size(); ++o) {
@@ -356,8 +356,7 @@ std::string final_vault_text(const Workcell& wc, const Sources& sources, const F
     const ObjectType& type = wc.types[obj.type];
     const double* slots = &wc.values[obj.first_slot];
     std::vector<std::string> items = {fmt::format("type: {}", yaml::flow_scalar(type.name)), fmt::format("name: {}", obj.name)};
-    // Its place: as compiled when it stands where the vault has it, else where the run left it,
-    // in its parent's frame where the parent stands at the end.
+    // Its place: as compiled when it stands where the vault has it, else where the run left it.
     const bool stayed = stays(static_cast<int>(o));
     Eigen::Vector3d xyz, rpy;
     if (stayed) {
