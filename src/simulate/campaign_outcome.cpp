@@ -28,7 +28,10 @@ std::string number(double x) { return std::isfinite(x) ? fmt::format("{}", r9(x)
 }  // namespace
 
 CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const RunReach& reach) {
-  const double stop = reach.stopped_at + 1e-9;
+  const double stop = std::min(reach.stopped_at, reach.ended_at) + 1e-9;
+  // A job ready only after the run ended (its `after` past the end of a campaign whose devices
+  // were out) was never ready: no ready time, no place in the queue.
+  auto ready = [&](size_t i) { return plan.jobs[i].ready <= stop ? plan.jobs[i].ready : INFINITY; };
   std::vector<JobRow> rows(plan.jobs.size());
   std::vector<char> all_ended(plan.jobs.size(), 1);
   for (size_t k = 0; k < plan.steps.size(); ++k)
@@ -38,12 +41,16 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   for (size_t i = 0; i < plan.jobs.size(); ++i) {
     const PlannedJob& job = plan.jobs[i];
     JobRow& row = rows[i];
-    if (!job.started || job.start > stop) {
-      row.message = job.started ? fmt::format("the campaign stopped at {:g} s, before it began: {}", r9(reach.stopped_at), reach.stop_message)
-                                : job.why_not;
+    const auto out = job.started ? reach.out_at.find(job.device) : reach.out_at.end();
+    const bool device_out = out != reach.out_at.end() && job.start > out->second + 1e-9;
+    if (!job.started || (job.start > stop && !device_out)) {
+      row.message = !job.started ? job.why_not
+                    : std::isfinite(reach.stopped_at)
+                        ? fmt::format("the campaign stopped at {:g} s, before it began: {}", r9(reach.stopped_at), reach.stop_message)
+                        : fmt::format("the run ended at {:g} s, before it began", r9(reach.ended_at));
       continue;
     }
-    if (const auto out = reach.out_at.find(job.device); out != reach.out_at.end() && job.start > out->second + 1e-9) {
+    if (device_out) {
       row.message = fmt::format("planned for {}, which was out after a failure at {:g} s (on_failure: continue); it was "
                                 "not given to another device",
                                 wc.objects[job.device].name, r9(out->second));
@@ -83,7 +90,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
     c.done += rows[i].status == JobStatus::Done;
     c.failed += rows[i].status == JobStatus::Failed;
     c.not_started += rows[i].status == JobStatus::NotStarted;
-    if (plan.jobs[i].ready <= stop) first = std::min(first, plan.jobs[i].ready);
+    first = std::min(first, ready(i));
     if (std::isfinite(rows[i].start)) {
       last = std::max(last, rows[i].end);
       waits.push_back(rows[i].start - plan.jobs[i].ready);
@@ -114,7 +121,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   // never waited); those never started wait to the end.
   std::vector<std::pair<double, int>> queue;
   for (size_t i = 0; i < rows.size(); ++i) {
-    if (!std::isfinite(plan.jobs[i].ready) || plan.jobs[i].ready > stop) continue;  // never ready (a load that never arrived)
+    if (!std::isfinite(ready(i))) continue;  // never ready (a load that never arrived, or the run ended first)
     if (std::isfinite(rows[i].start) && rows[i].start <= plan.jobs[i].ready + 1e-9) continue;
     queue.emplace_back(plan.jobs[i].ready, +1);
     if (std::isfinite(rows[i].start)) queue.emplace_back(rows[i].start, -1);
@@ -138,7 +145,7 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
     const JobRow& r = rows[i];
     const bool ran = std::isfinite(r.start);
     const std::vector<std::string> cells = {job.name, wc.objects[job.object].name, ran ? wc.objects[job.device].name : "",
-                                            ran ? job.place : "", number(job.ready), number(r.start), number(r.end),
+                                            ran ? job.place : "", number(ready(i)), number(r.start), number(r.end),
                                             ran ? number(r.start - job.ready) : "", ran ? number(r.end - r.start) : "", status_name(r.status),
                                             r.message};
     for (size_t k = 0; k < cells.size(); ++k) out.jobs_csv += (k ? "," : "") + csv_field(cells[k]);

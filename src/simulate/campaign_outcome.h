@@ -26,6 +26,7 @@ struct RunReach {
   std::vector<char> ended;  ///< per plan step: the run ended it
   double stopped_at = std::numeric_limits<double>::infinity();  ///< when the run stopped early, else infinity
   std::string stop_message;
+  double ended_at = std::numeric_limits<double>::infinity();  ///< when the run ended (a job ready later never was)
   /// Jobs the run itself failed (a grasp missed) while the campaign went on (on_failure:
   /// continue), and from when their devices were out.
   struct JobFailure {

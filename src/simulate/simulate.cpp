@@ -1471,7 +1471,9 @@ class Run {
       for (int k = 0; k < 3; ++k) {
         near.move(static_cast<int>(o), X);
         double d = INFINITY;
-        for (const Proximity& p : near.proximity(static_cast<int>(o), chain(static_cast<int>(o)), 1e-3)) d = std::min(d, p.distance);
+        for (const Proximity& p : near.proximity(static_cast<int>(o), chain(static_cast<int>(o)), 1e-3))
+          if (!geometry_.objects[p.other].device) d = std::min(d, p.distance);  // what it rests on, not a device's part
+        d = std::min(d, near.lowest(static_cast<int>(o)) - world_.floor_z());  // the floor is no object of the collision world
         if (!(d < 0 && d > -1e-3)) break;
         X.translation().z() += -d + 1e-9;
       }
@@ -1513,6 +1515,7 @@ class Run {
       RunReach reach;
       reach.ended = ended_;
       if (failed_) reach.stopped_at = t_end;
+      reach.ended_at = t_end;
       reach.stop_message = stop_message_.empty() ? stopped_by_ : stop_message_;
       reach.job_failures = run_failures_;
       reach.out_at = out_at_;

@@ -403,7 +403,9 @@
     const playhead = svg('line', { y1: 0, y2: rows.length * RH, class: 'cursor' });
     gantt.append(playhead);
     const queue = linePlot([{ name: 'queue', ...S.queueSeries(jobs, end) }], { xLabel: 't (s)', yLabel: 'jobs waiting', onClick: seek });
-    const use = linePlot(devices.map((d) => ({ name: d, ...S.utilizationSeries(jobs, d, end) })),
+    // To the last job's end, as the makespan runs (the run may go on while what was set down settles).
+    const lastEnd = Math.max(0, ...jobs.map((j) => (typeof j.end === 'number' ? j.end : 0)));
+    const use = linePlot(devices.map((d) => ({ name: d, ...S.utilizationSeries(jobs, d, lastEnd || end) })),
       { xLabel: 't (s)', yLabel: 'utilization so far', onClick: seek });
     plots.push(queue, use);
     const busy = devices.map((d) => `${d} ${S.num(100 * c.devices[d].utilization)} % busy`).join(', ');
