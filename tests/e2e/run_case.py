@@ -2806,7 +2806,7 @@ def campaigns(sscs, root):
                    (float(jobs[4]["end"]), round(float(jobs[0]["duration"]) + float(jobs[1]["duration"]), 9)))
             # final.yaml has what was set back on the floor on it, not 0.27 µm into it (the vault's
             # inside rules failed on it).
-            sunk = [(o["name"], o["location"][2]) for o in yaml_loader()(os.path.join(out, "final.yaml"))["objects"] if o["type"] == "drum" and o["location"][2] < 0]
+            sunk = [(o["name"], o["location"][2]) for o in yaml_loader()(os.path.join(out, "final.yaml"))["objects"] if o["type"] == "drum" and float(o["location"][2]) < 0]
             if sunk and mode == "fast":  # (physics mode: still 0.27 µm under, not yet lifted; the notes)
                 fail(f"grasp missed ({mode}): final.yaml has drums under the floor: {sunk}")
             late = [e for e in events if e["kind"].startswith("step_") and e.get("device") == "G1" and e["t"] > float(jobs[1]["end"])]
