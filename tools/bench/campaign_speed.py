@@ -20,6 +20,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sim_speed import timed  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 RECEIVING = "scenarios/drum-store/receiving.yaml"
 STUDY = "scenarios/drum-store/concepts.yaml"
@@ -40,16 +43,8 @@ def variant(tmp, mode, drums):
 
 
 def simulate(sscs, path, out):
-    t0 = time.perf_counter()
-    p = subprocess.run([sscs, "simulate", path, "--out", out, "--force", "--quiet", "--no-frames", "--allow-outside-root"],
-                       cwd=ROOT, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    summary = os.path.join(out, "summary.json")
-    if p.returncode not in (0, 1) or not os.path.exists(summary):
-        sys.stderr.write(f"campaign_speed: {sscs} {path}: exit {p.returncode}\n{p.stderr[-2000:]}")
-        return None
-    s = json.load(open(summary))
-    return wall, s["simulated_time"], s["status"]
+    """Wall seconds of one run, what it simulated and its status (sim_speed.py's, shared)."""
+    return timed(sscs, path, out)
 
 
 def sweep(sscs, out):
