@@ -35,9 +35,9 @@ done
 echo "== sscs simulate scenarios/drum-store/store-drum.yaml (the crane stores a drum on a top level)"
 "$sscs" simulate scenarios/drum-store/store-drum.yaml --out "$out/store-drum" --force --html "$out/store-drum.html" --quiet
 grep -E '"(status|cycle_time)"' "$out/store-drum/summary.json" | sed 's/^ */  /'
-echo "== sscs simulate scenarios/drum-store/receiving.yaml (the store at work: 40 drums, one every 4 minutes, fast mode)"
+echo "== sscs simulate scenarios/drum-store/receiving.yaml (the store at work: 40 drums, one every 4 minutes, for the crane; 8 pallets for the forklift; fast mode)"
 "$sscs" simulate scenarios/drum-store/receiving.yaml --out "$out/receiving" --force --html "$out/receiving.html" --quiet
-python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["campaign"]; print("  {} stored, {:.1f} drums/h, crane busy {:.0%}, makespan {:.0f} s".format(c["jobs"]["done"], c["throughput"], c["devices"]["Crane"]["utilization"], c["makespan"]))' "$out/receiving/summary.json"
+python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["campaign"]; d=c["devices"]; print("  {} drums and {} pallets stored, {:.1f} jobs/h, crane busy {:.0%}, forklift busy {:.0%}, makespan {:.0f} s".format(d["Crane"]["jobs"], d["Truck"]["jobs"], c["throughput"], d["Crane"]["utilization"], d["Truck"]["utilization"], c["makespan"]))' "$out/receiving/summary.json"
 echo "== sscs sweep scenarios/drum-store/concepts.yaml (rows x levels x crane speed, 36 concepts each unloading a truck)"
 "$sscs" sweep scenarios/drum-store/concepts.yaml --out "$out/concepts" --force --jobs 2 --html "$out/concepts.html" --quiet || true
 echo

@@ -1038,13 +1038,30 @@ double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3
   return moved(from, to, impl_->reach(object, part));
 }
 
+double CollisionWorld::descent_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
+  const double reach = impl_->reach(object, part);
+  const Eigen::AngleAxisd turn(to.linear() * from.linear().transpose());
+  // A point's displacement by the turn is perpendicular to its axis u: its z share is at most
+  // sqrt(1 - u_z^2) of it.
+  const double across = turn.angle() > 0 ? std::sqrt(std::max(0.0, 1 - turn.axis().z() * turn.axis().z())) : 0.0;
+  return std::max(0.0, from.translation().z() - to.translation().z()) + turn.angle() * reach * across +
+         reach * (1 - std::cos(turn.angle() / 2));
+}
+
 double CollisionWorld::lowest(int object, const std::vector<char>& parts) {
   const auto& mine = impl_->of(object);
   double low = INFINITY;
   for (size_t i = 0; i < mine.size(); ++i) {
     const int part = impl_->geometry.objects[object].shapes[i].part;
     if (!parts.empty() && (part < 0 || !parts[part])) continue;
-    low = std::min(low, mine[i]->getAABB().min_.z());
+    // The lowest corner of the shape's own box where it is turned (FCL's world box of a turned
+    // shape is the box of its bounding sphere: a pallet turned about z reached 0.5 m below the
+    // floor it was carried above).
+    const fcl::CollisionGeometryd& g = *mine[i]->collisionGeometry();
+    const Eigen::Matrix3d R = mine[i]->getRotation();
+    const Eigen::Vector3d half = (g.aabb_local.max_ - g.aabb_local.min_) / 2, centre = (g.aabb_local.max_ + g.aabb_local.min_) / 2;
+    const double z = (R * centre + mine[i]->getTranslation()).z() - R.row(2).cwiseAbs().dot(half);
+    low = std::min(low, std::max(z, mine[i]->getAABB().min_.z()));
   }
   return low;
 }

@@ -156,6 +156,11 @@ class CollisionWorld {
   /// frame's displacement plus the turn times the shapes' farthest reach from it. An upper bound
   /// whatever the path between, as long as the frame turned by less than half a turn.
   double travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to);
+  /// How far any point of those shapes can have come down (towards -z) meanwhile: the frame's
+  /// drop plus the turn's share across z (a turn about a vertical axis moves no point up or
+  /// down) and the bulge of an arc over its chord, for a turn of a degree or so between the
+  /// poses, as the glides' sub-steps are. A truck driving on the floor comes no nearer to it.
+  double descent_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to);
   /// Whether every two parts of device `object` that may not touch (not adjacent) are farther
   /// apart than `gap` where it is placed now.
   bool self_clear(int object, double gap);

@@ -328,7 +328,8 @@ std::string final_vault_text(const Workcell& wc, const Sources& sources, const F
 
   // The parameters at the values the run used (the constraints may name them).
   if (!wc.parameters.empty()) {
-    std::string text;
+    // The objects are written out below: a parameter set here moves none of them.
+    std::string text = "\n  # the run's values; the objects below are written where they stood, so a --set of these changes only the rules that name them";
     for (const Parameter& p : wc.parameters) {
       const double v = wc.values[p.slot];
       std::string value;

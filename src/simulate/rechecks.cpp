@@ -24,9 +24,16 @@ bool reads_motion(const Operand& op, const Workcell& wc, const std::set<int>& mo
       return op.members && std::any_of(op.members->begin(), op.members->end(), [&](const Operand& m) { return reads_motion(m, wc, moving); });
     case Operand::Kind::BoundingBox:
       return moving.count(op.object) > 0;
-    case Operand::Kind::Slot:
+    case Operand::Kind::Slot: {
       if (op.object < 0 || !moving.count(op.object)) return false;
-      return op.slot < wc.objects[op.object].first_slot + kFirstAttributeSlot || wc.types[wc.objects[op.object].type].device;
+      // Its place, or a joint's value: what a device's other attributes say (a forklift's
+      // turning_radius) stays as compiled.
+      const Object& o = wc.objects[op.object];
+      const int attribute = op.slot - o.first_slot - kFirstAttributeSlot;
+      if (attribute < 0) return true;
+      const ObjectType& type = wc.types[o.type];
+      return type.device && attribute < static_cast<int>(type.attributes.size()) && type.attributes[attribute].joint;
+    }
   }
   return false;
 }

@@ -518,17 +518,21 @@ class Run {
     if (options_.on_frame) due(frames_ * options_.frame_interval);
     if (n < 2) return 0;
     // A glide to the next due tick where nothing can touch; else a shorter one, as far as the
-    // room found allows (the devices' travel is not proportional to time: checked again).
+    // room found allows (the devices' travel is not proportional to time: checked again, and
+    // shortened again, up to four looks).
     // After a refusal the next look is a tick later, then 2, 4, ... up to 16 (what is in contact
     // or nearly stays so a while; the ticks stepped meanwhile are as certain as a glide).
     if (k < next_glide_look_) return 0;
     std::vector<double> at;
-    double room = 0;
     long glided = 0;
-    if (glide_clear(k, n, at, &room)) glided = glide_to(n, at);
-    else if (const long shorter = static_cast<long>(std::floor(n * std::min(room, 1.0) * 0.8)); shorter >= 2 && shorter < n &&
-             glide_clear(k, shorter, at, nullptr))
-      glided = glide_to(shorter, at);
+    for (long len = n, tries = 0; len >= 2 && tries < 4; ++tries) {  // (the room found is for the glide looked at)
+      double room = 0;
+      if (glide_clear(k, len, at, &room)) {
+        glided = glide_to(len, at);
+        break;
+      }
+      len = std::min(len - 1, static_cast<long>(std::floor(len * std::min(room, 1.0) * 0.8)));
+    }
     glide_backoff_ = glided > 0 ? 1 : std::min(2 * glide_backoff_, 16L);
     next_glide_look_ = glided > 0 ? 0 : k + glide_backoff_;
     return glided;
@@ -559,7 +563,8 @@ class Run {
     for (int i = 0; i <= pieces; ++i) at[i] = t0 + (t1 - t0) * i / pieces;
     // How far each device (and its load) can go: the tracker's bound over the sub-steps.
     CollisionWorld& near = clearances_.world();
-    std::vector<double> went(devices_.size(), 0.0);
+    std::vector<double> went(devices_.size(), 0.0), sank(devices_.size(), 0.0), load_sank(devices_.size(), 0.0);
+    std::vector<std::vector<std::vector<Eigen::Isometry3d>>> poses(devices_.size());  // per device, per sub-step
     std::map<int, std::vector<double>> ahead;  // per object, per part: how far it goes
     double all = 0;
     for (size_t d = 0; d < devices_.size(); ++d) {
@@ -572,16 +577,25 @@ class Run {
       std::vector<Eigen::Isometry3d> before = m.part_poses(devices_[d].track->at(at[0]));
       std::vector<double>& parts_went = ahead[o];
       parts_went.assign(before.size(), 0.0);
+      std::vector<double> parts_sank(before.size(), 0.0);  // towards the floor
+      poses[d].push_back(before);
       for (int i = 1; i <= pieces; ++i) {
         std::vector<Eigen::Isometry3d> now = m.part_poses(devices_[d].track->at(at[i]));
-        for (size_t p = 0; p < now.size(); ++p) parts_went[p] += near.travel_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
+        for (size_t p = 0; p < now.size(); ++p) {
+          parts_went[p] += near.travel_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
+          parts_sank[p] += near.descent_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
+        }
+        poses[d].push_back(now);
         if (load >= 0) {
           ahead[load].resize(1, 0.0);
-          ahead[load][0] += near.travel_bound(load, -1, X_wo * before[m.tool_part] * X_tool_load, X_wo * now[m.tool_part] * X_tool_load);
+          const Eigen::Isometry3d from = X_wo * before[m.tool_part] * X_tool_load, to = X_wo * now[m.tool_part] * X_tool_load;
+          ahead[load][0] += near.travel_bound(load, -1, from, to);
+          load_sank[d] += near.descent_bound(load, -1, from, to);
         }
         before = std::move(now);
       }
       went[d] = *std::max_element(parts_went.begin(), parts_went.end());
+      sank[d] = *std::max_element(parts_sank.begin(), parts_sank.end());
       if (load >= 0) went[d] = std::max(went[d], ahead[load][0]);
       all += went[d];
     }
@@ -612,24 +626,90 @@ class Run {
         std::vector<int> load_skip = chain(load);
         load_skip.push_back(o);
         // The floor is no object of the collision world: a drum lowered into it glided through.
-        const double clear = std::min(nearest(near.proximity(load, load_skip, gap)), near.lowest(load) - world_.floor_z());
+        // Only what goes down comes nearer to it (a pallet carried level at 0.1 m glides).
+        const double clear = nearest(near.proximity(load, load_skip, gap));
         if (clear <= gap) return refuse((clear - keep) / all);
-        // The load against the device's parts but the tool's (which hold it).
+        if (const double above = near.lowest(load) - world_.floor_z(); above <= load_sank[d] + keep)
+          return refuse(load_sank[d] > 0 ? (above - keep) / load_sank[d] : 0);
+        // The load against the device's parts but the tool's (which hold it): it moves with the
+        // tool, so only the joints between the tool and them bring it nearer (a truck driving
+        // with its forks still keeps its pallet where it was from its mast); measured again only
+        // when those joints moved.
         std::vector<char> others(parts, 1);
         for (size_t p = 0; p < parts; ++p) others[p] = !m.tool_parts()[p];
-        const std::optional<Proximity> own = near.pair_distance(o, load, others);
-        if (own && own->distance <= gap) return refuse((own->distance - keep) / all);
+        const double own = own_distance(o, load, others, poses[d].front());
+        const Eigen::Isometry3d X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(load);
+        const double own_gap = load_own_travel(o, load, others, poses[d], X_tool_load) + keep;
+        if (own <= own_gap) return refuse(own_gap > keep ? (own - keep) / (own_gap - keep) : 0);
       }
-      const double clear = std::min(nearest(near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts)),
-                                    near.lowest(o, devices_[d].moving_parts) - world_.floor_z());
+      const double clear = nearest(near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts));
       if (clear <= gap) return refuse((clear - keep) / all);
-      if (!near.self_clear(o, 2 * went[d] + kGlideMargin)) return refuse(0.5);
+      if (const double above = near.lowest(o, devices_[d].moving_parts) - world_.floor_z(); above <= sank[d] + keep)
+        return refuse(sank[d] > 0 ? (above - keep) / sank[d] : 0);
+      // Its own parts: how far one can come towards another it may not touch is its travel in
+      // the other's frame (a truck's drive moves no part against another, its mast's lift does).
+      if (!near.self_clear(o, 2 * went[d] + kGlideMargin) && !near.self_clear(o, own_travel(o, poses[d]) + kGlideMargin))
+        return refuse(0.5);
     }
     if (rechecks_.watches_inside()) {
       double share = INFINITY;
       if (!rechecks_.inside_clear(clearances_, ahead, &share)) return refuse(share);
     }
     return true;
+  }
+
+  /// The distance from load `load`, held by device `o`, to its parts `others` (parts: where they
+  /// are now, in the device's frame), measured when the parts moved against the tool since the
+  /// last time.
+  double own_distance(int o, int load, const std::vector<char>& others, const std::vector<Eigen::Isometry3d>& parts) {
+    const Device& m = *geometry_.objects[o].device;
+    OwnMemo& memo = own_memo_[o];
+    bool same = memo.load == load && memo.parts.size() == parts.size();
+    for (size_t p = 0; same && p < parts.size(); ++p)
+      same = (parts[m.tool_part].inverse() * parts[p]).isApprox(memo.parts[m.tool_part].inverse() * memo.parts[p], 1e-12);
+    if (!same) {
+      const std::optional<Proximity> found = clearances_.world().pair_distance(o, load, others);
+      memo = {load, parts, found ? found->distance : INFINITY};
+    }
+    return memo.distance;
+  }
+
+  /// How far load `load`, held at device `o`'s tool, can come towards its parts `others` over
+  /// the poses of its parts at a glide's sub-steps: its travel in each one's frame.
+  double load_own_travel(int o, int load, const std::vector<char>& others, const std::vector<std::vector<Eigen::Isometry3d>>& poses,
+                         const Eigen::Isometry3d& X_tool_load) {
+    const Device& m = *geometry_.objects[o].device;
+    CollisionWorld& near = clearances_.world();
+    double most = 0;
+    for (size_t p = 0; p < others.size(); ++p) {
+      if (!others[p]) continue;
+      double went = 0;
+      for (size_t i = 1; i < poses.size(); ++i)
+        went += near.travel_bound(load, -1, poses[i - 1][p].inverse() * poses[i - 1][m.tool_part] * X_tool_load,
+                                  poses[i][p].inverse() * poses[i][m.tool_part] * X_tool_load);
+      most = std::max(most, went);
+    }
+    return most;
+  }
+
+  /// How far a part of device `o` can come towards another it may not touch over the poses of
+  /// its parts at a glide's sub-steps: the most the two travel in each other's frames.
+  double own_travel(int o, const std::vector<std::vector<Eigen::Isometry3d>>& poses) {
+    const Device& m = *geometry_.objects[o].device;
+    CollisionWorld& near = clearances_.world();
+    const size_t parts = poses.front().size();
+    double most = 0;
+    for (size_t a = 0; a < parts; ++a)
+      for (size_t b = a + 1; b < parts; ++b) {
+        if (m.may_touch(static_cast<int>(a), static_cast<int>(b))) continue;
+        double both = 0;
+        for (size_t i = 1; i < poses.size(); ++i) {
+          both += near.travel_bound(o, static_cast<int>(a), poses[i - 1][b].inverse() * poses[i - 1][a], poses[i][b].inverse() * poses[i][a]);
+          both += near.travel_bound(o, static_cast<int>(b), poses[i - 1][a].inverse() * poses[i - 1][b], poses[i][a].inverse() * poses[i][b]);
+        }
+        most = std::max(most, both);
+      }
+    return most;
   }
 
       /// The glide itself: each sub-step placed and followed, the devices' travel and limits kept.
@@ -1235,10 +1315,16 @@ class Run {
   std::set<int> movers(const Plan& plan) {
     std::set<int> out;
     for (const Track& t : plan.tracks) out.insert(t.object);
+    std::set<int> arriving;  // a campaign's loads, all at their spots until the run sets them away
+    for (const auto& [o, at] : plan.arrivals) arriving.insert(o);
     for (const PlannedStep& ps : plan.steps)
       if (ps.kind == StepKind::Grasp) {
         out.insert(ps.object);
-        for (int k : riders(ps.object)) out.insert(k);
+        // What stands on a load that arrives arrives too (a load of its own): not the loads
+        // that will arrive after it at the same spot, each one measured against the others
+        // (eight pallets' meshes, 5 s of a campaign's 12).
+        if (!arriving.count(ps.object))
+          for (int k : riders(ps.object)) out.insert(k);
       }
     return out;
   }
@@ -1617,6 +1703,12 @@ class Run {
   std::map<int, bool> released_;  // released objects: landed yet?
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::vector<Eigen::Isometry3d> motion_;  // follow_motion's scratch
+  struct OwnMemo {
+    int load = -1;
+    std::vector<Eigen::Isometry3d> parts;  // the device's parts where own_distance last measured
+    double distance = INFINITY;
+  };
+  std::map<int, OwnMemo> own_memo_;  // per device: its load's distance to its other parts
   std::map<int, int> rode_on_;    // every object that rode on a load -> that load (also after the release)
   std::map<int, Eigen::Vector3d> released_at_;  // a released object's position when released
   std::map<int, double> released_when_;         // and when

@@ -2933,16 +2933,38 @@ def campaigns(sscs, root):
                                                                 s["campaign"]["jobs"]["not_started"], s["campaign"]["queue_max"]),
                (1, "failed", "time_limit", 600.0, 4, 0))
         # The reference store at work (scenarios/drum-store/receiving.yaml, fast mode): all 40
-        # drums stored without a collision, the closest approach a stored drum's neighbour
-        # (0.139 m, certified), and its final.yaml keeps every rule of the store.
+        # drums stored by the crane and the 8 pallets by the forklift at once, without a
+        # collision; every pallet on a place of its own of the goods rack; the closest approach
+        # the forks lowered out of a set-down pallet's pockets, their bottoms 25 mm over the beam
+        # (certified: at most 0.5 mm under it); its final.yaml keeps every rule of the store.
         out = os.path.join(tmp, "store-receiving")
         p = run(sscs, root, ["simulate", "scenarios/drum-store/receiving.yaml", "--out", out, "--no-frames", "--quiet"])
         s = json.load(open(os.path.join(out, "summary.json")))
         mc = s.get("min_clearance") or {}
-        expect("store receiving", "its verdict", (p.returncode, s["status"], s["events"].get("collision", 0), s["campaign"]["jobs"]["done"], mc.get("certified")),
-               (0, "ok", 0, 40, True))
-        if abs(mc.get("distance", 0) - 0.1392) > 5e-4:
-            fail(f"store receiving: the closest approach is {mc}, a drum beside its neighbour is 0.1392 m")
+        devices = {d: v["jobs"] for d, v in s["campaign"]["devices"].items()}
+        expect("store receiving", "its verdict", (p.returncode, s["status"], s["events"].get("collision", 0), s["campaign"]["jobs"]["done"], devices, mc.get("certified")),
+               (0, "ok", 0, 48, {"Crane": 40, "Truck": 8}, True))
+        if not 0.0245 <= mc.get("distance", 0) <= 0.025 or {mc.get("a"), mc.get("b")} != {"Truck.carriage", "GoodsRack"}:
+            fail(f"store receiving: the closest approach is {mc}; the forks lowered from a set-down pallet are 0.025 m over the beam")
+        rows = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+        places = [r["place"] for r in rows if r["device"] == "Truck"]
+        if len(set(places)) != 8 or not all(p.startswith("GoodsRack.pallet_") for p in places):
+            fail(f"store receiving: the pallets went to {places}, 8 places of the goods rack expected")
+        # Each pallet rests centred on its place: GoodsRack (2 bays of 2.743 m between 76 mm
+        # uprights, 0.7 m deep, beams at 0.15 m and every 1.524 m) turned 180 deg at (9, 2): a
+        # pallet_{level}_{bay}_{position} frame is the corner of a 1.2 x 0.8 m pallet, 0.6 m
+        # before the position's middle along the run and 0.4 m before the rack's mid-depth.
+        rest = {e["object"]: e["position"] for e in map(json.loads, open(os.path.join(out, "events.jsonl"))) if e["kind"] == "at_rest"}
+        for r in rows:
+            if r["device"] != "Truck":
+                continue
+            level, bay, position = (int(v) for v in r["place"].rsplit("_", 3)[1:])
+            along = 0.076 + (bay - 1) * (2.743 + 0.076) + (position - 0.5) * 2.743 / 2 - 0.6
+            want = (9 - along, 2.0 - (0.35 - 0.4), 0.15 + (level - 1) * 1.524)
+            if r["object"] not in rest or math.dist(rest[r["object"]], want) > 0.005:
+                fail(f"store receiving: {r['object']} rests at {rest.get(r['object'])}, its place {r['place']} is at {want}")
+        if any(float(r["start"]) - float(r["ready"]) > 1e-6 for r in rows):
+            fail("store receiving: the crane and the forklift do not share anything: no job should wait")
         p = run(sscs, root, ["check", os.path.join(out, "final.yaml")])
         expect("store receiving", "its final.yaml's check", (p.returncode, p.stdout.strip().splitlines()[-1:]), (0, ["12 passed, 0 failed, 0 warnings"]))
         # The same seed, the same bytes (random choices).

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Campaign speed (issue 37's targets), a baseline binary and this one side by side, best of N:
 
-  receiving, fast      scenarios/drum-store/receiving.yaml (40 drums, 2 h 39 min)   <= 10 s wall, >= 1000x
-  receiving, physics   the same campaign in physics mode, its first --drums drums     >= 20x
+  receiving, fast      scenarios/drum-store/receiving.yaml (40 drums by the crane, 8 pallets
+                       by the forklift, 2 h 39 min)                                 <= 10 s wall, >= 1000x
+  crane alone, fast    the same without the pallets: the 40 drums only               (the figure before the forklift)
+  receiving, physics   the crane's campaign in physics mode, its first --drums drums  >= 20x
   concept study        scenarios/drum-store/concepts.yaml, 36 variants, --jobs 2      <= 180 s wall
 
   tools/bench/campaign_speed.py --baseline OLD_SSCS [--sscs build/src/sscs] [--runs 1] [--drums 10] [--study-baseline]
@@ -28,16 +30,20 @@ RECEIVING = "scenarios/drum-store/receiving.yaml"
 STUDY = "scenarios/drum-store/concepts.yaml"
 
 
-def variant(tmp, mode, drums):
-    """receiving.yaml with its mode and drum count set, its vault named absolutely."""
+def variant(tmp, mode, drums, pallets=True):
+    """receiving.yaml with its mode and drum count set, without the forklift's pallets when not
+    `pallets`, its vault named absolutely."""
     text = open(os.path.join(ROOT, RECEIVING)).read()
     text = text.replace("vault: store.yaml", f"vault: {os.path.join(ROOT, 'scenarios/drum-store/store.yaml')}")
     text = text.replace("mode: fast", f"mode: {mode}")
+    if not pallets:
+        text = re.sub(r'  # Pallets of supplies.*?(?=jobs:)', "", text, flags=re.S)
+        text = re.sub(r'  # The forklift stores.*', "", text, flags=re.S)
     if drums < 40:
         text = text.replace("count: 40", f"count: {drums}")
         # The even rows' template takes In_20.. : with fewer drums only the odd rows' remain.
         text = re.sub(r'  - name: store_even\n(    .*\n|      .*\n)*', "", text)
-    path = os.path.join(tmp, f"receiving-{mode}-{drums}.yaml")
+    path = os.path.join(tmp, f"receiving-{mode}-{drums}{'' if pallets else '-crane'}.yaml")
     open(path, "w").write(text)
     return path
 
@@ -69,7 +75,8 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         cases = [("receiving, fast", lambda b, o: simulate(b, variant(tmp, "fast", 40), o), 1000, 10, True),
-                 (f"receiving ({args.drums}), physics", lambda b, o: simulate(b, variant(tmp, "physics", args.drums), o), 20, None, True),
+                 ("crane alone, fast", lambda b, o: simulate(b, variant(tmp, "fast", 40, False), o), None, None, True),
+                 (f"receiving ({args.drums}), physics", lambda b, o: simulate(b, variant(tmp, "physics", args.drums, False), o), 20, None, True),
                  ("concept study, 36", lambda b, o: sweep(b, o), None, 180, args.study_baseline)]
         for k, (name, run, factor, wall_limit, both) in enumerate(cases):
             best = {}
