@@ -845,7 +845,10 @@ void expand_objects(CompileState& st) {
     const Object& a = st.wc.objects[by_name[i - 1]];
     const Object& b = st.wc.objects[by_name[i]];
     if (a.name == b.name)
-      st.diag.error(b.mark, fmt::format("object name '{}' is used twice (first at line {})", b.name, a.mark.line));
+      st.diag.error(b.mark, fmt::format("object name '{}' is used twice (first at {})", b.name,
+                                        // (a campaign's load clashing with the vault's object: in the vault's file)
+                                        a.mark.valid() && a.mark.file != b.mark.file ? fmt::format("{}:{}", st.sources.path(a.mark.file), a.mark.line)
+                                                                                      : fmt::format("line {}", a.mark.line)));
   }
   // Slots: location, orientation, then attributes.
   for (Object& obj : st.wc.objects)

@@ -130,6 +130,9 @@ void check_placeholders(const JobSpec& job, const std::vector<StepSpec>& steps, 
         diag.error(s.mark, fmt::format("'{{slot}}' is not defined: job '{}' has no 'slot:'", job.name));
       else if (p == "to" && !job.to.present)
         diag.error(s.mark, fmt::format("'{{to}}' is not defined: job '{}' has no 'to:'", job.name));
+      else if ((p == "slot" || p == "to") && s.text.find(fmt::format("{{{}}}.", p)) != std::string::npos)
+        diag.error(s.mark, fmt::format("'{{{0}}}' is a frame already (OBJECT.FRAME): '{1}' names a frame of a frame; write "
+                                       "'{{{0}}}' and move from it with an offset", p, s.text));
     }
   };
   for (const StepSpec& s : steps) {

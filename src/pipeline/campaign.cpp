@@ -196,20 +196,32 @@ class CampaignCompiler {
     return *sel;
   }
 
-  /// `OBJECTS.FRAMES` (globs both) of `slot.from`, in natural order of their names.
+  /// `OBJECTS.FRAMES` (globs both; OBJECTS a selector, `[Row_1, Row_3]` too) of `slot.from`, or a
+  /// list of those (`[PlA.spot_*, PlB.spot_1]`), in natural order of their names.
   std::vector<FrameRef> slot_frames(const Scalar& from) {
     std::vector<FrameRef> out;
-    const size_t dot = from.text.rfind('.');
-    if (dot == std::string::npos) {
-      diag_.error(from.mark, fmt::format("slot from '{}' must name frames, OBJECTS.FRAMES (`Row_*.top_*`)", from.text));
-      return out;
-    }
-    const std::string objects = from.text.substr(0, dot), frames = from.text.substr(dot + 1);
-    std::optional<std::vector<int>> sel = wc_.select(objects);
-    if (sel)
-      for (int o : *sel)
+    const bool list = from.text.starts_with('[') && from.text.ends_with(']');
+    std::vector<std::string_view> items = list ? split_selector_list(from.text) : std::vector<std::string_view>{from.text};
+    std::optional<std::vector<int>> sel;
+    for (std::string_view item : items) {
+      const size_t dot = item.rfind('.');
+      if (dot == std::string::npos || item.starts_with('!')) {
+        diag_.error(from.mark, fmt::format("slot from '{}' must name frames: OBJECTS.FRAMES (`Row_*.top_*`, `[Row_1, Row_3].top_*`) "
+                                           "or a list of those (`[Row_1.top_*, Dock.top]`){}",
+                                           from.text, list ? fmt::format(", found '{}' in the list", item) : ""));
+        return {};
+      }
+      const std::string objects(item.substr(0, dot)), frames(item.substr(dot + 1));
+      std::optional<std::vector<int>> found = wc_.select(objects);
+      if (!found) continue;
+      if (!sel) sel = found;
+      for (int o : *found)
         for (const std::string& f : wc_.frame_names(o))
           if (glob_match(frames, f)) out.push_back({o, f});
+    }
+    std::sort(out.begin(), out.end(), [](const FrameRef& a, const FrameRef& b) { return std::tie(a.object, a.frame) < std::tie(b.object, b.frame); });
+    out.erase(std::unique(out.begin(), out.end(), [](const FrameRef& a, const FrameRef& b) { return a.object == b.object && a.frame == b.frame; }),
+              out.end());
     if (out.empty()) {
       diag_.error(from.mark, fmt::format("slot from '{}' matches no frame of the vault{}", from.text,
                                          sel && !sel->empty() ? fmt::format(" ({} has the frames {})", wc_.objects[sel->front()].name,
@@ -261,7 +273,7 @@ class CampaignCompiler {
     }
     for (const Diagnostic& e : first)
       diag_.error(e.mark, fmt::format("{} (job '{}' for {}{})", e.message, t.name, wc_.objects[first_object].name,
-                                      failing > 1 ? fmt::format("; it fails for {} of its {} objects", failing, objects.size()) : ""));
+                                      objects.size() > 1 ? fmt::format("; it fails for {} of its {} objects", failing, objects.size()) : ""));
   }
 
   const CampaignSpec& spec_;

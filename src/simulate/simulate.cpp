@@ -1612,8 +1612,13 @@ class Run {
       }
       campaign_ = campaign_outcome(wc_, plan_, reach);
       s.campaign = campaign_->figures;
-      // A campaign in which a job failed has failed, though it went on (on_failure: continue).
-      if (campaign_->figures.failed > 0) s.status = RunStatus::Failed;
+      // A campaign in which a job failed has failed, though it went on (on_failure: continue),
+      // and, as a run that stopped, has no cycle time: its cycle was not done (the makespan is
+      // its figure).
+      if (campaign_->figures.failed > 0) {
+        s.status = RunStatus::Failed;
+        s.cycle_time = std::numeric_limits<double>::quiet_NaN();
+      }
     }
     return s;
   }
@@ -1640,6 +1645,7 @@ class Run {
       st.action = step_kind_name(ps.kind);
       if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
       if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
+      if (ps.job >= 0) st.job = job_label(ps.job);
       // A step of a job that failed in the run: never begun, or begun and never finished.
       const bool skipped = i < skipped_.size() && skipped_[i];
       st.start = skipped && !started_[i] ? std::nullopt : when(ps.start);
@@ -1652,6 +1658,7 @@ class Run {
       st.action = step_kind_name(ps.kind);
       if (ps.device >= 0) st.device = wc_.objects[ps.device].name;
       if (ps.object >= 0) st.object = wc_.objects[ps.object].name;
+      if (ps.job >= 0) st.job = job_label(ps.job);
       f.steps.push_back(std::move(st));
     }
     for (const DeviceRun& dr : devices_) {

@@ -96,6 +96,7 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
     json e = {{"index", s.index}, {"action", s.action}};
     e["device"] = s.device ? json(*s.device) : json(nullptr);
     if (s.object) e["object"] = *s.object;
+    if (s.job) e["job"] = *s.job;
     e["start"] = or_null(s.start);
     e["end"] = or_null(s.end);
     st.push_back(std::move(e));
@@ -173,6 +174,7 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
       step.action = r.text(e, "action", "steps[]");
       step.device = r.maybe_text(e, "device", "steps[]");
       step.object = r.maybe_text(e, "object", "steps[]");
+      step.job = r.maybe_text(e, "job", "steps[]");
       step.start = r.maybe_number(e, "start", "steps[]");
       step.end = r.maybe_number(e, "end", "steps[]");
       s.steps.push_back(std::move(step));

@@ -39,6 +39,7 @@ struct RunSummaryFile {
     size_t index = 0;
     std::string action;
     std::optional<std::string> device, object;
+    std::optional<std::string> job;    ///< a campaign's: the job it belongs to ("store In_3")
     std::optional<double> start, end;  ///< null: not begun / not finished when the run stopped
   };
   std::vector<Step> steps;
