@@ -166,7 +166,16 @@ JobSpec read_job(yaml::Node node, Diagnostics& diag) {
     SlotSpec s;
     s.mark = slot.mark();
     MapReader m(slot, "slot", diag);
-    s.from = load::scalar(m.require("from"), "slot from", diag);
+    // A YAML list of frame globs is the list selector `[A.x_*, B.y]` written out.
+    if (yaml::Node from = m.require("from"); from.valid() && from.is_sequence()) {
+      std::vector<std::string> items;
+      for (const Scalar& item : load::scalar_list(from, "a frame glob of slot from", diag)) items.push_back(item.text);
+      s.from.text = fmt::format("[{}]", fmt::join(items, ", "));
+      s.from.mark = from.mark();
+      s.from.present = true;
+    } else {
+      s.from = load::scalar(from, "slot from", diag);
+    }
     s.choose = load::scalar(m.take("choose"), "slot choose", diag);
     one_of(s.choose, kChoices, "slot choice", diag);
     if (m.ok()) m.finish();

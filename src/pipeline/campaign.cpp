@@ -213,11 +213,19 @@ class CampaignCompiler {
       }
       const std::string objects(item.substr(0, dot)), frames(item.substr(dot + 1));
       std::optional<std::vector<int>> found = wc_.select(objects);
-      if (!found) continue;
-      if (!sel) sel = found;
-      for (int o : *found)
-        for (const std::string& f : wc_.frame_names(o))
-          if (glob_match(frames, f)) out.push_back({o, f});
+      const size_t before = out.size();
+      if (found)
+        for (int o : *found)
+          for (const std::string& f : wc_.frame_names(o))
+            if (glob_match(frames, f)) out.push_back({o, f});
+      if (list && out.size() == before) {  // a name of the list that is no frame: a typo, not a smaller list
+        diag_.error(from.mark, fmt::format("slot from '{}': '{}' matches no frame of the vault{}", from.text, item,
+                                           found && !found->empty() ? fmt::format(" ({} has the frames {})", wc_.objects[found->front()].name,
+                                                                                  name_list(wc_.frame_names(found->front()), 8))
+                                                                    : ""));
+        return {};
+      }
+      if (!sel && found) sel = found;
     }
     std::sort(out.begin(), out.end(), [](const FrameRef& a, const FrameRef& b) { return std::tie(a.object, a.frame) < std::tie(b.object, b.frame); });
     out.erase(std::unique(out.begin(), out.end(), [](const FrameRef& a, const FrameRef& b) { return a.object == b.object && a.frame == b.frame; }),

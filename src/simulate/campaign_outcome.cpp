@@ -43,6 +43,10 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
     JobRow& row = rows[i];
     const auto out = job.started ? reach.out_at.find(job.device) : reach.out_at.end();
     const bool device_out = out != reach.out_at.end() && job.start > out->second + 1e-9;
+    if (job.started && !std::isfinite(ready(i))) {  // planned for after the run ended (its `after` past it)
+      row.message = fmt::format("the run ended at {:g} s, before it was ready", r9(std::min(reach.stopped_at, reach.ended_at)));
+      continue;
+    }
     if (!job.started || (job.start > stop && !device_out)) {
       row.message = !job.started ? job.why_not
                     : std::isfinite(reach.stopped_at)

@@ -214,7 +214,8 @@ class Dispatcher {
       at = planner_.plan(steps[k], at, static_cast<int>(i), local);
       if (planner_.failure()) break;
       if (steps[k].kind == StepKind::Grasp && steps[k].object == j.object) grasped = true;
-      else if (grasped && !std::isfinite(lifted_at) && (steps[k].kind == StepKind::MoveTo || steps[k].kind == StepKind::MoveJoints))
+      else if (grasped && !std::isfinite(lifted_at) && (steps[k].kind == StepKind::MoveTo || steps[k].kind == StepKind::MoveJoints) &&
+               clear_of_spot(j.object))
         lifted_at = at;
     }
     for (const Diagnostic& e : local.errors())
@@ -246,7 +247,8 @@ class Dispatcher {
         out_.insert(d);  // the device takes no more jobs
       }
     }
-    // The load this job takes leaves its arrival spot with the move after its grasp: the next may come then.
+    // The load this job takes leaves its arrival spot with the first move after its grasp that
+    // takes it clear of it: the next may come then.
     for (auto& [key, spot] : spots_)
       if (spot.occupant == j.object) {
         spot.free_at = lifted_at;
@@ -258,16 +260,39 @@ class Dispatcher {
     if (place && !tmpl.slots.empty()) reserved_.emplace_back(*place, at);
   }
 
+  /// Whether load `o`, where planning has it now, is clear of the place it arrived at: its box
+  /// there and its box now (each widened by 1 cm) do not meet. A forklift's pallet lifted 10 cm
+  /// still hangs over its stand (the next pallet appeared under it: ODE gave up on the meshes).
+  bool clear_of_spot(int o) const {
+    const ObjectGeometry& g = geometry_.objects[o];
+    const Eigen::AlignedBox3d there = g.bbox_world;
+    if (there.isEmpty()) return true;
+    const Eigen::Isometry3d moved = planner_.object_pose(o) * g.X_world_object.inverse();
+    Eigen::AlignedBox3d now;
+    for (int c = 0; c < 8; ++c) now.extend(moved * there.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+    const Eigen::Vector3d widen = Eigen::Vector3d::Constant(0.01);
+    return !Eigen::AlignedBox3d(there.min() - widen, there.max() + widen).intersects(now);
+  }
+
   bool absent(int o) const {
     auto it = arriving_.find(o);
     return it != arriving_.end() && !std::isfinite(it->second);
   }
 
-  std::string why_not(size_t i) const {
+  std::string why_not(size_t i) {
     const JobTemplate& tmpl = c_.templates[c_.jobs[i].job_template];
-    if (absent(c_.jobs[i].object)) {
+    // The campaign ends with its last job (or its failure): a load due after that never arrives,
+    // though the planned time had it arrive (with no slot free for it, say).
+    double end = terminal_ ? terminal_->t : 0;
+    for (const PlannedJob& job : planner_.plan().jobs)
+      if (job.started) end = std::max(end, job.end);
+    auto arrives = [&](int o) {
+      auto it = arriving_.find(o);
+      return it == arriving_.end() || it->second <= end + 1e-9;
+    };
+    if (absent(c_.jobs[i].object) || !arrives(c_.jobs[i].object)) {
       for (const auto& [key, spot] : spots_)
-        if (spot.occupant >= 0 && std::find_if(spot.queue.begin(), spot.queue.end(), [&](size_t k) {
+        if (spot.occupant >= 0 && arrives(spot.occupant) && std::find_if(spot.queue.begin(), spot.queue.end(), [&](size_t k) {
               return c_.arrivals[k].object == c_.jobs[i].object;
             }) != spot.queue.end())
           return fmt::format("it never arrived: {} still stood at {}, where it arrives", wc_.objects[spot.occupant].name, key);

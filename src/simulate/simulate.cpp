@@ -1568,7 +1568,10 @@ class Run {
     }
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
-      const Eigen::VectorXd q = dr.track->at(t_end_);
+      // Where the run left it, not where its plan had it then (a campaign stopped by a grasp its
+      // tool missed, held back by what was in the way, had its device written at the planned
+      // grasp pose, inside the obstacle).
+      const Eigen::VectorXd q = world_.joints(dr.object);
       const Object& obj = wc_.objects[dr.object];
       const double* attributes = &wc_.values[obj.first_slot + kFirstAttributeSlot];
       for (int k = 0; k < m.dof(); ++k) {  // (within its limits: one held back stands a hair past them)

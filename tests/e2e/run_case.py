@@ -2811,6 +2811,17 @@ def campaigns(sscs, root):
             sunk = [(o["name"], o["location"][2]) for o in yaml_loader()(os.path.join(out, "final.yaml"))["objects"] if o["type"] == "drum" and float(o["location"][2]) < 0]
             if sunk:
                 fail(f"grasp missed ({mode}): final.yaml has drums under the floor: {sunk}")
+            # The same with on_failure: stop: final.yaml has G1 where the run left it, held back on
+            # the block (it had the planned grasp pose, inside the block).
+            if mode == "physics":
+                stop = os.path.join(tmp, "gm-stop.yaml")
+                open(stop, "w").write(open(path).read().replace("on_failure: continue", "on_failure: stop"))
+                run(sscs, root, ["simulate", stop, "--out", os.path.join(tmp, "gm-stop"), "--no-frames", "--quiet", "--allow-outside-root"])
+                g1 = next(o for o in yaml_loader()(os.path.join(tmp, "gm-stop", "final.yaml"))["objects"] if o["name"] == "G1")
+                last = list(csv.DictReader(open(os.path.join(tmp, "gm-stop", "trajectories", "G1.csv"))))[-1]
+                got = [float(str(g1[j]).split()[0]) for j in ("x", "y", "z")]
+                if max(abs(a - float(last[j])) for a, j in zip(got, ("x", "y", "z"))) > 1e-3:
+                    fail(f"grasp missed (stop): final.yaml has G1 at {got}, the run left it at {[last[j] for j in ('x', 'y', 'z')]}")
             late = [e for e in events if e["kind"].startswith("step_") and e.get("device") == "G1" and e["t"] > float(jobs[1]["end"])]
             if late:
                 fail(f"grasp missed ({mode}): G1 is out, yet it went on: {late[:2]}")
@@ -2847,6 +2858,11 @@ def campaigns(sscs, root):
         p = run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, "slots-list"), "--no-frames", "--quiet", "--allow-outside-root"])
         jobs = list(csv.DictReader(open(os.path.join(tmp, "slots-list", "jobs.csv")))) if p.returncode == 0 else []
         expect("slots (a list)", "the places", (p.returncode, [j["place"] for j in jobs]), (0, [f"{pad}.top" for pad in order["first"]]))
+        listed = open(path).read().replace('from: "[Pad_3.top, Pad_?.top, Pad_1.top]"', "from: [Pad_3.top, Pad_1.top, Pad_2.top]")
+        open(path, "w").write(listed)
+        p = run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, "slots-yaml-list"), "--no-frames", "--quiet", "--allow-outside-root"])
+        jobs = list(csv.DictReader(open(os.path.join(tmp, "slots-yaml-list", "jobs.csv")))) if p.returncode == 0 else []
+        expect("slots (a YAML list)", "the places", (p.returncode, [j["place"] for j in jobs]), (0, [f"{pad}.top" for pad in order["first"]]))
         final = os.path.join(slots_final, "final.yaml")
         p = run(sscs, root, ["check", final, "--allow-outside-root"])
         expect("final.yaml", "its check", (p.returncode, p.stdout.strip().splitlines()[-1:] if p.stdout else []), (0, ["1 passed, 0 failed, 0 warnings"]))
@@ -2957,6 +2973,21 @@ def campaigns(sscs, root):
         if not 0.0245 <= mc.get("distance", 0) <= 0.025 or {mc.get("a"), mc.get("b")} != {"Truck.carriage", "GoodsRack"}:
             fail(f"store receiving: the closest approach is {mc}; the forks lowered from a set-down pallet are 0.025 m over the beam")
         rows = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
+        # The next pallet comes when the last is clear of the stand, not at the end of its 10 cm
+        # lift (it appeared under the lifted pallet: ODE gave up on the meshes, exit 3): two due
+        # 5 s apart, the second arrives when the truck has backed out with the first, at
+        # 3.0828 (x 2.376 m at 1 m/s2: 2 sqrt(2.376)) + 2.7 + 0.45 + 1.2 + 2.8 = 10.2328 s.
+        text = open(os.path.join(root, "scenarios/drum-store/receiving.yaml")).read()
+        text = re.sub(r'  - name: "In_\{n\}".*?(?=  # Pallets of supplies)', "", text, flags=re.S)
+        text = re.sub(r'  - name: store_odd.*?(?=  # The forklift stores)', "", text, flags=re.S)
+        text = text.replace("count: 8", "count: 2").replace("arrive: {every: 15 min, first: 2 min}", "arrive: {times: [0 s, 5 s]}")
+        text = text.replace("vault: store.yaml", f"vault: {root}/scenarios/drum-store/store.yaml")
+        path = os.path.join(tmp, "two-pallets.yaml")
+        open(path, "w").write(text)
+        p = run(sscs, root, ["simulate", path, "--out", os.path.join(tmp, "two-pallets"), "--no-frames", "--quiet", "--allow-outside-root"])
+        arrived = {e["object"]: e["t"] for e in map(json.loads, open(os.path.join(tmp, "two-pallets", "events.jsonl"))) if e["kind"] == "arrived"} \
+            if p.returncode == 0 else {}
+        expect("two pallets 5 s apart", "the run and the arrivals", (p.returncode, round(arrived.get("Supplies_2", -1), 3)), (0, 10.233))
         places = [r["place"] for r in rows if r["device"] == "Truck"]
         if len(set(places)) != 8 or not all(p.startswith("GoodsRack.pallet_") for p in places):
             fail(f"store receiving: the pallets went to {places}, 8 places of the goods rack expected")
