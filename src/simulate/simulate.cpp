@@ -674,21 +674,27 @@ class Run {
     return memo.distance;
   }
 
+  /// How far a shape of `object` (device part `part`, or -1: an object that is none) can come
+  /// towards device part `frame` over a glide's sub-steps: the sum of its travel in that part's
+  /// frame, `pose(i)` its pose at sub-step i in the device's frame.
+  template <class Pose>
+  double travel_towards(int object, int part, int frame, const std::vector<std::vector<Eigen::Isometry3d>>& poses, Pose pose) {
+    CollisionWorld& near = clearances_.world();
+    double went = 0;
+    for (size_t i = 1; i < poses.size(); ++i)
+      went += near.travel_bound(object, part, poses[i - 1][frame].inverse() * pose(i - 1), poses[i][frame].inverse() * pose(i));
+    return went;
+  }
+
   /// How far load `load`, held at device `o`'s tool, can come towards its parts `others` over
   /// the poses of its parts at a glide's sub-steps: its travel in each one's frame.
   double load_own_travel(int o, int load, const std::vector<char>& others, const std::vector<std::vector<Eigen::Isometry3d>>& poses,
                          const Eigen::Isometry3d& X_tool_load) {
-    const Device& m = *geometry_.objects[o].device;
-    CollisionWorld& near = clearances_.world();
+    const int tool = geometry_.objects[o].device->tool_part;
     double most = 0;
-    for (size_t p = 0; p < others.size(); ++p) {
-      if (!others[p]) continue;
-      double went = 0;
-      for (size_t i = 1; i < poses.size(); ++i)
-        went += near.travel_bound(load, -1, poses[i - 1][p].inverse() * poses[i - 1][m.tool_part] * X_tool_load,
-                                  poses[i][p].inverse() * poses[i][m.tool_part] * X_tool_load);
-      most = std::max(most, went);
-    }
+    for (size_t p = 0; p < others.size(); ++p)
+      if (others[p])
+        most = std::max(most, travel_towards(load, -1, static_cast<int>(p), poses, [&](size_t i) { return poses[i][tool] * X_tool_load; }));
     return most;
   }
 
@@ -696,19 +702,13 @@ class Run {
   /// its parts at a glide's sub-steps: the most the two travel in each other's frames.
   double own_travel(int o, const std::vector<std::vector<Eigen::Isometry3d>>& poses) {
     const Device& m = *geometry_.objects[o].device;
-    CollisionWorld& near = clearances_.world();
-    const size_t parts = poses.front().size();
+    const int parts = static_cast<int>(poses.front().size());
     double most = 0;
-    for (size_t a = 0; a < parts; ++a)
-      for (size_t b = a + 1; b < parts; ++b) {
-        if (m.may_touch(static_cast<int>(a), static_cast<int>(b))) continue;
-        double both = 0;
-        for (size_t i = 1; i < poses.size(); ++i) {
-          both += near.travel_bound(o, static_cast<int>(a), poses[i - 1][b].inverse() * poses[i - 1][a], poses[i][b].inverse() * poses[i][a]);
-          both += near.travel_bound(o, static_cast<int>(b), poses[i - 1][a].inverse() * poses[i - 1][b], poses[i][a].inverse() * poses[i][b]);
-        }
-        most = std::max(most, both);
-      }
+    for (int a = 0; a < parts; ++a)
+      for (int b = a + 1; b < parts; ++b)
+        if (!m.may_touch(a, b))
+          most = std::max(most, travel_towards(o, a, b, poses, [&](size_t i) { return poses[i][a]; }) +
+                                    travel_towards(o, b, a, poses, [&](size_t i) { return poses[i][b]; }));
     return most;
   }
 

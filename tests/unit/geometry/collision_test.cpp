@@ -315,5 +315,40 @@ TEST_F(MeshSolid, ClosedMeshesCrossingWithCoincidentFacesOverlap) {
   EXPECT_LT(*w.distance(3, 4), -0.2);           // a box and a mesh cube alike
 }
 
+
+TEST_F(Collisions, LowestIsAtOrBelowTheShapeAndExactForATurnedBox) {
+  // The glides and final.yaml judge the floor by lowest(): never above the shape's lowest point
+  // (a glide would go through the floor), exact for a box however it is turned, and a turn about
+  // z changes nothing (FCL's world box of a turned shape, its bounding sphere's, put a pallet
+  // carried at 0.25 m half a metre under the floor). Random poses of a cube and a rod.
+  Built b = build(*this, "  - {type: cube, name: C}\n  - {type: rod, name: R, location: [5, 0, 0]}\n", kShapes);
+  CollisionWorld w(b.geometry);
+  std::mt19937 rng(38);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), at(-2, 2);
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitX())).toRotationMatrix();
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = R;
+    X.translation() = Eigen::Vector3d(at(rng), at(rng), at(rng));
+    // The cube (side 1, centred): its lowest corner.
+    w.move(0, X);
+    double corner = INFINITY;
+    for (int c = 0; c < 8; ++c) corner = std::min(corner, (X * Eigen::Vector3d(c & 1 ? 0.5 : -0.5, c & 2 ? 0.5 : -0.5, c & 4 ? 0.5 : -0.5)).z());
+    EXPECT_NEAR(w.lowest(0), corner, 1e-9) << "pose " << k;
+    // The rod (radius 0.5, length 2, along z): its rim's lowest point; lowest() may lie below it.
+    w.move(1, X);
+    const double c = std::abs(R(2, 2)), rim = X.translation().z() - c - 0.5 * std::sqrt(std::max(0.0, 1 - c * c));
+    EXPECT_LE(w.lowest(1), rim + 1e-9) << "pose " << k;
+    EXPECT_GE(w.lowest(1), X.translation().z() - std::sqrt(2 * 0.5 * 0.5 + 1.0) - 1e-9) << "pose " << k;  // no lower than its box's corner
+  }
+  // Turned about z only: where it was.
+  Eigen::Isometry3d yaw = Eigen::Isometry3d::Identity();
+  yaw.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  yaw.translation() = Eigen::Vector3d(0, 0, 0.25);
+  w.move(0, yaw);
+  EXPECT_NEAR(w.lowest(0), -0.25, 1e-12);
+}
+
 }  // namespace
 }  // namespace sscs::testing
