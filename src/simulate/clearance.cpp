@@ -534,8 +534,11 @@ void ClearanceTracker::excuse(int a, int b, double from, double to) {
 
 std::optional<RunSummaryFile::Clearance> ClearanceTracker::closest() const {
   const Seen* best = nullptr;
+  Key best_key;
   for (const auto& [k, pair] : pairs_)
-    if (!pair.records.empty() && (!best || pair.records.back().distance < best->distance)) best = &pair.records.back();
+    if (!pair.records.empty() &&
+        (!best || pair.records.back().distance < best->distance || (pair.records.back().distance == best->distance && k < best_key)))
+      best = &pair.records.back(), best_key = k;
   if (!best) return std::nullopt;
   return RunSummaryFile::Clearance{r9(best->distance), best->a, best->b, r9(best->t), certified_ && followed_};
 }

@@ -258,7 +258,15 @@ class ClearanceTracker {
   const Workcell& wc_;
   const GeometryModel& geometry_;
   CollisionWorld nearby_;
-  std::map<Key, Pair> pairs_;
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return std::hash<uint64_t>{}((static_cast<uint64_t>(static_cast<uint32_t>(k.first)) << 32 | static_cast<uint32_t>(k.second)) *
+                                   0x9e3779b97f4a7c15ull);
+    }
+  };
+  /// Looked up per pair a sample measures (hashed: an ordered map was 4 % of a campaign's time);
+  /// closest() breaks ties by the key, as the ordered map's first did.
+  std::unordered_map<Key, Pair, KeyHash> pairs_;
   std::unordered_map<int, std::shared_ptr<Path>> paths_;
   std::vector<Piece> deferred_;  ///< a heap: the lowest bound on top
   long deferrals_ = 0;
