@@ -393,6 +393,17 @@ void compile_expr(CompileState& st, const ExprSpec& e, Constraint& c) {
 
 namespace {
 
+/// A pose a constraint gives ({xyz, rpy}): each number may be a parameter or an expression, as
+/// anywhere a file gives a number (a reach offset of `[0, 0, Drum_1.height]`).
+Eigen::Isometry3d pose_now(CompileState& st, const PoseSpec& p, std::string_view what) {
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (p.xyz[k].present) xyz[k] = st.number_now(p.xyz[k], Dim::Length, fmt::format("{} xyz", what)).value_or(0);
+    if (p.rpy[k].present) rpy[k] = st.number_now(p.rpy[k], Dim::Angle, fmt::format("{} rpy", what)).value_or(0);
+  }
+  return make_pose(xyz, rpy);
+}
+
 /// reach's `carrying`: an object the device can hold, not one of its targets; -1 when absent
 /// or wrong (an input error).
 int carried_load(CompileState& st, const ReachSpec& r, const ReachCheck& rc) {
@@ -505,14 +516,14 @@ ReachCheck compile_reach(CompileState& st, const ReachSpec& r) {
     st.diag.error(r.targets.mark, "reach targets selects no objects (add allow_empty: true if that is intended)");
   for (const auto& [pose, mark] : r.poses) {
     ReachCheck::Target t;
-    t.pose = literal_pose(pose, "reach target", st.diag);
+    t.pose = pose_now(st, pose, "reach target");
     const Eigen::Vector3d& p = t.pose.translation();
     t.text = fmt::format("[{:g}, {:g}, {:g}]", stable(si_to_file(p.x(), Dim::Length)), stable(si_to_file(p.y(), Dim::Length)),
                          stable(si_to_file(p.z(), Dim::Length)));
     rc.targets.push_back(std::move(t));
   }
   rc.match_orientation = r.match_orientation;
-  rc.offset = literal_pose(r.offset, "reach offset", st.diag);
+  rc.offset = pose_now(st, r.offset, "reach offset");
   if (r.position_tol.present) rc.position_tol_si = st.number_now(r.position_tol, Dim::Length, "position_tol").value_or(1e-3);
   if (r.angle_tol.present) rc.angle_tol_si = st.number_now(r.angle_tol, Dim::Angle, "angle_tol").value_or(rc.angle_tol_si);
   for (auto [v, s] : {std::pair{rc.position_tol_si, &r.position_tol}, std::pair{rc.angle_tol_si, &r.angle_tol}})

@@ -21,12 +21,22 @@ namespace {
 const std::vector<std::string> kChoices = {"nearest", "first", "lowest", "random"};
 const std::vector<std::string> kOnFailure = {"continue", "stop"};
 
-/// A word of `words`, or an error at the scalar naming them (with a suggestion).
-void one_of(const Scalar& s, const std::vector<std::string>& words, std::string_view what, Diagnostics& diag) {
+/// Words users write for a slot choice, by meaning (`closest` was taken for `lowest`, the nearer
+/// spelling).
+const std::vector<std::pair<std::string, std::string>> kChoiceSynonyms = {
+    {"closest", "nearest"}, {"near", "nearest"}, {"shortest", "nearest"}, {"bottom", "lowest"}, {"low", "lowest"},
+    {"any", "random"}, {"shuffle", "random"}, {"next", "first"}, {"in_order", "first"}, {"order", "first"}};
+
+/// A word of `words`, or an error at the scalar naming them (with a suggestion: by meaning when
+/// `synonyms` has the word, else by spelling).
+void one_of(const Scalar& s, const std::vector<std::string>& words, std::string_view what, Diagnostics& diag,
+            const std::vector<std::pair<std::string, std::string>>& synonyms = {}) {
   if (!s.present || s.null) return;
-  if (std::find(words.begin(), words.end(), s.text) == words.end())
-    diag.error(s.mark, fmt::format("unknown {} '{}'; expected one of {}{}", what, s.text, fmt::join(words, ", "),
-                                   did_you_mean(s.text, words)));
+  if (std::find(words.begin(), words.end(), s.text) != words.end()) return;
+  std::string hint = did_you_mean(s.text, words);
+  for (const auto& [word, meant] : synonyms)
+    if (word == s.text) hint = fmt::format(" (did you mean '{}'?)", meant);
+  diag.error(s.mark, fmt::format("unknown {} '{}'; expected one of {}{}", what, s.text, fmt::join(words, ", "), hint));
 }
 
 /// The `{word}`s of `text`, in order.
@@ -177,7 +187,7 @@ JobSpec read_job(yaml::Node node, Diagnostics& diag) {
       s.from = load::scalar(from, "slot from", diag);
     }
     s.choose = load::scalar(m.take("choose"), "slot choose", diag);
-    one_of(s.choose, kChoices, "slot choice", diag);
+    one_of(s.choose, kChoices, "slot choice", diag, kChoiceSynonyms);
     if (m.ok()) m.finish();
     j.slot = std::move(s);
   }

@@ -202,7 +202,19 @@ class Run {
       // The step the plan failed at began and never ended (its step_end was logged at the failure).
       if (started_[i] && !ended_[i] && ps.end <= t + dt / 2 && !plan_.failed_at(ps)) {
         ended_[i] = 1;
-        step_event(t, EventKind::StepEnd, ps);
+        // A move whose end finds its tool still off its target never arrived (driven into a
+        // plate, stopped 1.55 m short): the step ends at its planned time, but the cycle was
+        // not done, and its planned time is no cycle time.
+        nlohmann::ordered_json extra;
+        if (is_move(ps.kind) && ps.device >= 0)
+          if (const double lag = lag_now(ps.device, t); lag > kTrackingTolerance) {
+            short_by_.emplace(i, lag);
+            if (unfinished_.empty())
+              unfinished_ = fmt::format("{}'s {} (step {}) ended {:g} m short of its target at {:g} s", wc_.objects[ps.device].name,
+                                        step_kind_name(ps.kind), ps.index, stable(lag), stable(t));
+            extra["short_by"] = r9(lag);
+          }
+        step_event(t, EventKind::StepEnd, ps, extra);
         if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
       }
     }
@@ -817,10 +829,11 @@ class Run {
     return 0;
   }
 
-  void step_event(double t, EventKind kind, const PlannedStep& ps) {
+  void step_event(double t, EventKind kind, const PlannedStep& ps, const nlohmann::ordered_json& extra = {}) {
     nlohmann::ordered_json f = {{"step", ps.index}, {"action", step_kind_name(ps.kind)}};
     if (ps.device >= 0) f["device"] = wc_.objects[ps.device].name;
     if (ps.job >= 0) f["job"] = job_label(ps.job);
+    for (const auto& [key, value] : extra.items()) f[key] = value;
     events_.add(t, kind, f);
   }
 
@@ -1571,13 +1584,48 @@ class Run {
       // Where the run left it, not where its plan had it then (a campaign stopped by a grasp its
       // tool missed, held back by what was in the way, had its device written at the planned
       // grasp pose, inside the obstacle).
-      const Eigen::VectorXd q = world_.joints(dr.object);
+      Eigen::VectorXd q = world_.joints(dr.object);
       const Object& obj = wc_.objects[dr.object];
       const double* attributes = &wc_.values[obj.first_slot + kFirstAttributeSlot];
-      for (int k = 0; k < m.dof(); ++k) {  // (within its limits: one held back stands a hair past them)
-        const AttributeDef& def = wc_.types[obj.type].attributes[m.joint(k).attribute];
-        end.attributes[dr.object].emplace_back(m.joint(k).attribute, std::clamp(q[k], def.lower(attributes), def.upper(attributes)));
+      auto within_limits = [&](Eigen::VectorXd& joints) {  // (one held back stands a hair past them)
+        for (int k = 0; k < m.dof(); ++k) {
+          const AttributeDef& def = wc_.types[obj.type].attributes[m.joint(k).attribute];
+          joints[k] = std::clamp(joints[k], def.lower(attributes), def.upper(attributes));
+        }
+      };
+      within_limits(q);
+      // Held back by what it pressed on (a gripper lowered onto a table), it sinks into that by
+      // the contact solver's softness as a load does (11 µm, and final.yaml failed its own
+      // vault's no_overlap): backed off against the way its motors drove it, out of a sink of
+      // up to 1 mm.
+      const Eigen::VectorXd push = dr.track->at(t_end_) - q;
+      if (push.norm() > 1e-9) {
+        const Eigen::Isometry3d& X_world_object = geometry_.objects[dr.object].X_world_object;
+        std::vector<int> skip = chain(dr.object);
+        if (world_.held(dr.object) >= 0) skip.push_back(world_.held(dr.object));
+        std::vector<Eigen::Isometry3d> X;
+        auto sink = [&](const Eigen::VectorXd& joints) {
+          X.clear();
+          for (const Eigen::Isometry3d& P : m.part_poses(joints)) X.push_back(X_world_object * P);
+          near.move_parts(dr.object, X);
+          double d = INFINITY;
+          for (const Proximity& p : near.proximity(dr.object, skip, 1e-3))
+            if (!geometry_.objects[p.other].device) d = std::min(d, p.distance);
+          return d;
+        };
+        Eigen::VectorXd backed = q;
+        double d = sink(backed);
+        for (int k = 0; k < 10 && d < 0 && d > -1e-3; ++k) {
+          backed -= push.normalized() * (-d + 1e-9);
+          within_limits(backed);
+          d = sink(backed);
+        }
+        if (d >= 0) q = backed;
+        X.clear();
+        for (int p = 0; p < static_cast<int>(m.parts.size()); ++p) X.push_back(world_.part_pose(dr.object, p));
+        near.move_parts(dr.object, X);
       }
+      for (int k = 0; k < m.dof(); ++k) end.attributes[dr.object].emplace_back(m.joint(k).attribute, q[k]);
     }
     return end;
   }
@@ -1587,7 +1635,8 @@ class Run {
     clearances_.finish();  // the pieces of motion left to halve
     RunSummary s;
     // A run that stopped has no cycle time: its cycle was not done.
-    s.cycle_time = failed_ ? std::numeric_limits<double>::quiet_NaN() : end_;
+    s.cycle_time = failed_ || !unfinished_.empty() ? std::numeric_limits<double>::quiet_NaN() : end_;
+    s.unfinished = unfinished_;
     s.stopped_by = stopped_by_;
     s.stopped_at = t_end;
     s.stop_message = stop_message_;
@@ -1653,6 +1702,7 @@ class Run {
       const bool skipped = i < skipped_.size() && skipped_[i];
       st.start = skipped && !started_[i] ? std::nullopt : when(ps.start);
       st.end = plan_.failed_at(ps) || skipped ? std::nullopt : when(ps.end);  // it began and never finished
+      if (auto sb = short_by_.find(i); sb != short_by_.end()) st.short_by = r9(sb->second);
       f.steps.push_back(std::move(st));
     }
     for (const PlannedStep& ps : plan_.not_begun) {  // after the failure
@@ -1739,6 +1789,10 @@ class Run {
   std::set<std::pair<int, int>> over_limit_;
   bool failed_ = false;
   std::string stopped_by_, stop_message_;
+  /// Moves that ended with the tool still off their target (by plan position: how far), and what
+  /// the first says: the run has no cycle time.
+  std::map<size_t, double> short_by_;
+  std::string unfinished_;
   bool interrupted_ = false;
   std::vector<RunSummaryFile::HandOver> handed_;  // fast mode: devices that went on in physics
   long glides_ = 0;                               // fast mode: glides between ticks

@@ -37,6 +37,9 @@ struct RunSummary {
   std::string stopped_by;
   double stopped_at = 0;
   std::string stop_message;
+  /// A run whose move ended with its tool still off the target (it never arrived): what the
+  /// first such move was; the run has no cycle time then.
+  std::string unfinished;
   /// A campaign's figures (summary.json's `campaign` block), for a sweep's metrics.
   std::optional<RunSummaryFile::Campaign> campaign;
 };

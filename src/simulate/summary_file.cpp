@@ -99,6 +99,7 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
     if (s.job) e["job"] = *s.job;
     e["start"] = or_null(s.start);
     e["end"] = or_null(s.end);
+    if (s.short_by) e["short_by"] = *s.short_by;
     st.push_back(std::move(e));
   }
   j["steps"] = std::move(st);
@@ -177,6 +178,7 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
       step.job = r.maybe_text(e, "job", "steps[]");
       step.start = r.maybe_number(e, "start", "steps[]");
       step.end = r.maybe_number(e, "end", "steps[]");
+      step.short_by = r.maybe_number(e, "short_by", "steps[]");
       s.steps.push_back(std::move(step));
     }
   if (const json* devices = r.object(j, "devices", "summary"))

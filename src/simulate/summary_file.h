@@ -41,6 +41,7 @@ struct RunSummaryFile {
     std::optional<std::string> device, object;
     std::optional<std::string> job;    ///< a campaign's: the job it belongs to ("store In_3")
     std::optional<double> start, end;  ///< null: not begun / not finished when the run stopped
+    std::optional<double> short_by;    ///< a move that ended with its tool this far off its target (m)
   };
   std::vector<Step> steps;
   struct DeviceFigures {

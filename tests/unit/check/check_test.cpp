@@ -385,6 +385,26 @@ TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
   EXPECT_EQ(rep.failed, 2u);
 }
 
+TEST_F(Check, AReachOffsetAndTargetTakeParametersAndExpressions) {
+  // "Wherever a file gives a number ... a parameter or an expression": a reach offset of the
+  // carried drum's height was refused ("a number with its unit is needed here").
+  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
+                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
+                                                "tool: {part: c, xyz: [0, 0, 2]}\n"}})};
+  Workcell wc = must_compile(
+      "parameters: {lift: 1149 mm, along: 3 m}\n"
+      "objects:\n  - {type: slider, name: S}\n  - {type: drum, name: A, location: [2, 0, 0]}\n"
+      "constraints:\n  - {name: expr, reach: {device: S, targets: A, offset: {xyz: [0, 0, A.height + lift]}}}\n"
+      "  - {name: param, reach: {device: S, targets: {xyz: [along, 0, 2 * 1 m]}}}\n"
+      "  - {name: short, reach: {device: S, targets: A, offset: {xyz: [0, 0, lift]}}}\n");
+  CheckReport rep = check(wc, build_geometry(wc, diag));
+  ASSERT_EQ(rep.results.size(), 3u);
+  EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;  // 0.851 + 1.149 = the tool's 2 m
+  EXPECT_EQ(rep.results[1].status, Status::Pass) << rep.results[1].message;
+  EXPECT_EQ(rep.results[2].status, Status::Fail);  // 0.851 m short of the tool
+  EXPECT_NEAR(*rep.results[2].margin, -0.851, 1e-4) << rep.results[2].message;
+}
+
 TEST_F(Check, AnUnreachableTargetsMarginIsTheClosestTheDeviceComesNotWhereASearchStopped) {
   // A bridge crane's hook travels y in [1, 9] m (span 10, hook approach 1): a target 2 m past the
   // trolley's travel is exactly 2 m from anything the hook reaches (it said 2.00015, and 27
