@@ -16,6 +16,13 @@ namespace {
 
 using Check = VaultTest;
 
+/// A slide along x, 0..4 m, its tool `tool_z` m up: it reaches the points of that segment.
+std::string slider_type(double tool_z) {
+  return fmt::format("sscs: 1\ntype: slider\nkind: device\nparts:\n  - {{name: base}}\n"
+                     "  - {{name: c, parent: base, joint: {{name: x, type: prismatic, axis: [1, 0, 0], limits: {{min: 0, max: 4}}}}}}\n"
+                     "tool: {{part: c, xyz: [0, 0, {}]}}\n", tool_z);
+}
+
 /// One bound between two drums' heights, returning the result.
 CheckResult bound_result(VaultTest& t, Workcell& keep, const std::string& lhs_h, const std::string& bound) {
   keep = t.must_compile("objects:\n  - {type: drum, name: A, height: " + lhs_h +
@@ -363,9 +370,7 @@ TEST_F(Check, PluginClassesMustBeLoaded) {
 
 TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
   // A slide along x, 0..4 m, its tool 0.5 m up: it reaches points on that segment.
-  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
-                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
-                                                "tool: {part: c, xyz: [0, 0, 0.5]}\n"}})};
+  options.library_dirs = {type_dir({{"slider", slider_type(0.5)}})};
   Workcell wc = must_compile(
       "objects:\n  - {type: slider, name: S}\n  - {type: drum, name: A, location: [2, 0, -0.351]}\n"
       "  - {type: drum, name: B, location: [3, 1, -0.351]}\n  - {type: drum, name: C, location: [6, 0, -0.351]}\n"
@@ -388,9 +393,7 @@ TEST_F(Check, ReachResultsListUnreachableTargetsWithTheirError) {
 TEST_F(Check, AReachOffsetAndTargetTakeParametersAndExpressions) {
   // "Wherever a file gives a number ... a parameter or an expression": a reach offset of the
   // carried drum's height was refused ("a number with its unit is needed here").
-  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
-                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
-                                                "tool: {part: c, xyz: [0, 0, 2]}\n"}})};
+  options.library_dirs = {type_dir({{"slider", slider_type(2)}})};
   Workcell wc = must_compile(
       "parameters: {lift: 1149 mm, along: 3 m}\n"
       "objects:\n  - {type: slider, name: S}\n  - {type: drum, name: A, location: [2, 0, 0]}\n"
@@ -449,9 +452,7 @@ TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
   // The tool may touch its target, but a point inside the target's solid is reached only by a
   // tool buried in it: that was a pass. A frame on the surface passes; a container (a type with
   // `container: true`) is a space, not a solid; a block that merely is a parent is a solid.
-  options.library_dirs = {type_dir({{"slider", "sscs: 1\ntype: slider\nkind: device\nparts:\n  - {name: base}\n"
-                                                "  - {name: c, parent: base, joint: {name: x, type: prismatic, axis: [1, 0, 0], limits: {min: 0, max: 4}}}\n"
-                                                "tool: {part: c, xyz: [0, 0, 0.5]}\n"},
+  options.library_dirs = {type_dir({{"slider", slider_type(0.5)},
                                     {"block", "sscs: 1\ntype: block\nframes:\n  side: {xyz: [-0.2, 0, 0]}\n"
                                               "geometry:\n  - box: {size: [0.4, 0.4, 0.4]}\n"},
                                     {"bin", "sscs: 1\ntype: bin\nextends: block\ncontainer: true\n"}})};
