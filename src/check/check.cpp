@@ -605,22 +605,39 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     // off read 2.00015). The search may also find the target reached after all.
     bool beyond = false, no_free_pose = false;
     std::string closest_collides;  // what the closest pose hits, when no free pose was measured
+    const Eigen::Isometry3d X_root_target = X_root_world * X_world_target;
+    // (When a part no joint moves collides, every pose does: the collision says nothing of how
+    // close the tool comes, and no pose is free to measure it at.)
+    auto free = [&](const Eigen::VectorXd& q) { return !collision_at(q, true); };
+    // A device of slides alone (gantry, crane) has a search for the closest free pose that
+    // moves one axis at a time from free starts and rays from the closest pose; a device that
+    // turns has not (that search stalls in the valleys its coupled joints make).
+    bool slides = true;
+    for (int k = 0; k < chain.size(); ++k) slides = slides && !chain.revolute(k);
+    // Reached only in collision: the margin is minus the closest a free pose comes (the spec's
+    // figure), for slides; it was the depth of the shallowest collision, which no move fixes (a
+    // drum 0.086 m into one beam of a gap 0.122 m too narrow for it).
+    std::optional<double> free_error;
+    if (ik.status == IkResult::Status::Rejected && !stuck && slides) {
+      const ClosestReach closest = closest_free(chain, X_root_target, rc.match_orientation, hit ? hit_q : ik.q, free, /*rays=*/true);
+      if (closest.found && closest.position_error <= rc.position_tol_si && closest.angle_error <= rc.angle_tol_si) {
+        ik.q = closest.q;  // free after all
+        ik.position_error = closest.position_error;
+        ik.angle_error = closest.angle_error;
+        ik.status = IkResult::Status::Reached;
+      } else if (closest.found) {
+        free_error = closest.position_error;
+      }
+    }
     if (ik.status == IkResult::Status::Unreachable) {
-      const Eigen::Isometry3d X_root_target = X_root_world * X_world_target;
       beyond = (X_root_target.translation() - chain.base_point()).norm() > chain.reach_bound() + rc.position_tol_si;
-      // (When a part no joint moves collides, every pose does: the collision says nothing of
-      // how close the tool comes, and no pose is free to measure it at.)
-      auto free = [&](const Eigen::VectorXd& q) { return !collision_at(q, true); };
       ClosestReach closest = closest_reach(chain, X_root_target, rc.match_orientation, ik.q,
                                            stuck ? std::function<bool(const Eigen::VectorXd&)>() : free);
       // The closest poses of all collide (a carried drum in its neighbour at the end of the
-      // travel). A device of slides alone (gantry, crane): the closest free pose, found by a
-      // search that moves one axis at a time (it said the unconstrained 0.2 m where the free
-      // pose is 0.254 m off, by hand). A device that turns: that search stalls in the valleys
-      // its coupled joints make (an arm read 0.27 m where 0.02 m was likely), so the message
-      // says the closest pose collides and the margin is that pose's, better than the truth.
-      bool slides = true;
-      for (int k = 0; k < chain.size(); ++k) slides = slides && !chain.revolute(k);
+      // travel). For slides: the closest free pose (it said the unconstrained 0.2 m where the
+      // free pose is 0.254 m off, by hand). A device that turns: the message says the closest
+      // pose collides and the margin is that pose's, better than the truth (an arm read 0.27 m
+      // where 0.02 m was likely).
       if (!closest.found && !stuck && slides) {
         closest = closest_free(chain, X_root_target, rc.match_orientation, ik.q, free);
         no_free_pose = !closest.found;
@@ -677,7 +694,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         break;
       case IkResult::Status::Rejected:
         r.status = Status::Fail;
-        r.margin = hit ? -hit->depth : 0.0;
+        r.margin = free_error ? -*free_error : hit ? -hit->depth : 0.0;
+        if (free_error) r.lhs = *free_error;
         if (hit && hit->other >= 0 && hit->other == t.object && hit->part >= 0 && d.tool_parts()[hit->part])
           r.message = fmt::format("{} reaches {} only with its tool inside {}: part {} enters it by {:g} m (a tool may touch its "
                                   "target, by {:g} mm at most)", o.name, t.text, wc.objects[t.object].name, d.parts[hit->part].name,
@@ -685,6 +703,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         else
           r.message = fmt::format("{} reaches {} only in collision: {}", o.name, t.text,
                                   hit ? collision_text(wc, st.geometry, rc.device, *hit) : "?");
+        if (free_error) r.message += fmt::format("; the closest a pose free of collision comes is {:g} m", stable(*free_error));
         // The subjects stay the device, the target and the load: a baseline matches results by
         // them, and what a pose hits changes with the design (it is in the message).
         break;

@@ -19,6 +19,10 @@ constexpr int kIterations = 200;
 /// closest_free: the accepted starts improved, and the smallest step of a joint (m or rad).
 constexpr int kFreeStarts = 6;
 constexpr double kFreeStep = 1e-5;
+/// closest_free's rays from the seed: how many directions, and the step they are marched in
+/// (m or rad) before the first free pose on each is halved down to kFreeStep.
+constexpr int kRays = 128;
+constexpr double kRayStep = 0.02;
 
 /// The i-th point of the Halton sequence in dimension `dim` (prime bases): evenly spread,
 /// deterministic starts over the joint box.
@@ -182,51 +186,99 @@ ClosestReach closest_reach(const Chain& chain, const Eigen::Isometry3d& target, 
 }
 
 ClosestReach closest_free(const Chain& chain, const Eigen::Isometry3d& target, bool orientation, const Eigen::VectorXd& seed,
-                         const std::function<bool(const Eigen::VectorXd&)>& accept) {
+                         const std::function<bool(const Eigen::VectorXd&)>& accept, bool rays) {
   Search search(chain, target, orientation);
   const int n = chain.size();
-  std::vector<std::pair<double, Eigen::VectorXd>> free;  // the accepted starts, by cost
-  for (const Eigen::VectorXd& q : spread_starts(chain, seed))
-    if (accept(q)) free.emplace_back(search.residual(q, false).cost, q);
-  std::stable_sort(free.begin(), free.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   ClosestReach out;
   double best = INFINITY;
-  for (size_t s = 0; s < free.size() && static_cast<int>(s) < kFreeStarts; ++s) {
-    auto [cost, q] = free[s];
-    // Pattern search: one joint at a time, a step either way taken when accepted and better;
-    // the step halves when none is, from a tenth of the joint's range down to kFreeStep.
-    std::vector<double> step(n);
-    for (int k = 0; k < n; ++k) step[k] = (range(chain, k).second - range(chain, k).first) / 10;
-    for (bool any = true; any;) {
-      any = false;
-      for (int k = 0; k < n; ++k) {
-        if (step[k] < kFreeStep) continue;
-        any = true;
-        bool moved = false;
-        for (double sign : {1.0, -1.0}) {
-          Eigen::VectorXd next = q;
-          next[k] = std::clamp(q[k] + sign * step[k], range(chain, k).first, range(chain, k).second);
-          if (next[k] == q[k]) continue;
-          const double c = search.residual(next, false).cost;
-          if (c < cost && accept(next)) {
-            q = next;
-            cost = c;
-            moved = true;
-            break;
+  // Pattern search from the best few of `starts` (accepted, by cost): one joint at a time, a step
+  // either way taken when accepted and better; the step halves when none is, from a tenth of the
+  // joint's range down to kFreeStep.
+  auto improve = [&](std::vector<std::pair<double, Eigen::VectorXd>> starts) {
+    std::stable_sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (size_t s = 0; s < starts.size() && static_cast<int>(s) < kFreeStarts; ++s) {
+      auto [cost, q] = starts[s];
+      std::vector<double> step(n);
+      for (int k = 0; k < n; ++k) step[k] = (range(chain, k).second - range(chain, k).first) / 10;
+      for (bool any = true; any;) {
+        any = false;
+        for (int k = 0; k < n; ++k) {
+          if (step[k] < kFreeStep) continue;
+          any = true;
+          bool moved = false;
+          for (double sign : {1.0, -1.0}) {
+            Eigen::VectorXd next = q;
+            next[k] = std::clamp(q[k] + sign * step[k], range(chain, k).first, range(chain, k).second);
+            if (next[k] == q[k]) continue;
+            const double c = search.residual(next, false).cost;
+            if (c < cost && accept(next)) {
+              q = next;
+              cost = c;
+              moved = true;
+              break;
+            }
           }
+          if (!moved) step[k] /= 2;
         }
-        if (!moved) step[k] /= 2;
+      }
+      if (cost < best) {
+        best = cost;
+        const Residual r = search.residual(q, false);
+        out.found = true;
+        out.q = q;
+        out.position_error = r.e.head<3>().norm();
+        out.angle_error = orientation ? r.e.tail<3>().norm() / kAngleWeight : 0.0;
       }
     }
-    if (cost < best) {
-      best = cost;
-      const Residual r = search.residual(q, false);
-      out.found = true;
-      out.q = q;
-      out.position_error = r.e.head<3>().norm();
-      out.angle_error = orientation ? r.e.tail<3>().norm() / kAngleWeight : 0.0;
+  };
+  std::vector<std::pair<double, Eigen::VectorXd>> starts;  // the accepted spread starts
+  for (const Eigen::VectorXd& q : spread_starts(chain, seed))
+    if (accept(q)) starts.emplace_back(search.residual(q, false).cost, q);
+  if (accept(seed)) starts.emplace_back(search.residual(seed, false).cost, seed);
+  improve(std::move(starts));
+  if (!rays) return out;
+  // Then rays from the seed (the closest pose, or one that reaches the target in collision): on
+  // each the first free pose, marched to in kRayStep and halved down to kFreeStep, no farther out
+  // than the best found so far; the best of those improved as above. A free pocket the pattern
+  // search cannot walk into from the spread starts is found so (a drum between two beams 0.122 m
+  // too close: from above it stalls 0.7 m off, where sideways 0.586 m is free).
+  auto inside = [&](const Eigen::VectorXd& q) {
+    for (int k = 0; k < n; ++k)
+      if (q[k] < range(chain, k).first || q[k] > range(chain, k).second) return false;
+    return true;
+  };
+  double farthest = 0;  // beyond the joint box no ray goes, nor beyond the best pose found
+  for (int k = 0; k < n; ++k) farthest += std::pow(range(chain, k).second - range(chain, k).first, 2);
+  farthest = out.found ? (out.q - seed).norm() : std::sqrt(farthest);
+  std::vector<std::pair<double, Eigen::VectorXd>> hits;
+  for (int i = 0; i < kRays + 2 * n; ++i) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+    if (i < 2 * n) {
+      u[i / 2] = i % 2 ? -1 : 1;  // each joint alone, either way
+    } else {
+      for (int k = 0; k < n; ++k) u[k] = 2 * halton(i - 2 * n, k + 3) - 1;
+      if (u.norm() < 0.2) continue;
+      u.normalize();
+    }
+    double before = 0;
+    for (double t = kRayStep; t < farthest; t += kRayStep) {
+      if (!inside(seed + t * u)) break;
+      if (!accept(seed + t * u)) {
+        before = t;
+        continue;
+      }
+      double lo = before, hi = t;  // hi free; halved while a free pose is nearer
+      while (hi - lo > kFreeStep) {
+        const double mid = (lo + hi) / 2;
+        (accept(seed + mid * u) ? hi : lo) = mid;
+      }
+      const Eigen::VectorXd q = seed + hi * u;
+      hits.emplace_back(search.residual(q, false).cost, q);
+      farthest = std::min(farthest, hi);
+      break;
     }
   }
+  improve(std::move(hits));
   return out;
 }
 

@@ -477,6 +477,37 @@ TEST_F(Check, AReachTargetInsideTheTargetsSolidFails) {
                                     "(aim at a frame on its surface, such as top)");
 }
 
+TEST_F(Check, AReachOnlyInCollisionFailsByTheClosestFreePoseOfASlideDevice) {
+  // A new user's review: a gantry setting a drum (radius 0.286 m) between two beams 0.2 m and
+  // 0.25 m from the spot (a gap 0.122 m too narrow) read -0.086, the drum's depth into the nearer
+  // beam, which no move of 0.086 m fixes. By hand: free when the drum clears the far side of the
+  // nearer beam, 0.3 + 0.286 = 0.586 m sideways (over the beams: 0.7 m up; the other way: 0.636
+  // m); less the 1 mm a contact may be. The mirror image (the beams' distances swapped) the same.
+  const char* bay = "sscs: 1\ntype: bay\nattributes:\n  near: {type: length, default: 0.2}\n  far: {type: length, default: 0.25}\n"
+                    "frames:\n  spot: {xyz: [0, 0, 0.05]}\ngeometry:\n  - box: {size: [2, 2, 0.05], xyz: [0, 0, 0.025]}\n"
+                    "  - box: {size: [2, 0.1, 0.1], xyz: [0, \"near + 0.05\", 0.7]}\n"
+                    "  - box: {size: [2, 0.1, 0.1], xyz: [0, \"-far - 0.05\", 0.7]}\n";
+  options.library_dirs = {type_dir({{"bay", bay}})};
+  for (const char* gaps : {"", ", near: 0.25 m, far: 0.2 m"}) {
+    Workcell wc = must_compile(fmt::format(
+        "objects:\n  - {{type: room, name: Cell, length: 14 m, width: 8 m, height: 5 m, location: [-7, -4, 0]}}\n"
+        "  - {{type: gantry, name: Gantry, parent: Cell, location: [7, 4, 0]}}\n"
+        "  - {{type: bay, name: Bay, parent: Cell, location: [10, 6, 0]{}}}\n"
+        "  - {{type: drum, name: Drum_1, parent: Cell, location: [8.5, 7.5, 0]}}\n"
+        "constraints:\n  - {{name: empty, reach: {{device: Gantry, targets: Bay.spot, orientation: match, "
+        "offset: {{xyz: [0, 0, 0.851], rpy: [180, 0, 0]}}}}}}\n"
+        "  - {{name: carrying, reach: {{device: Gantry, targets: Bay.spot, orientation: match, "
+        "offset: {{xyz: [0, 0, Drum_1.height], rpy: [180, 0, 0]}}, carrying: Drum_1}}}}\n", gaps));
+    CheckReport rep = check(wc, build_geometry(wc, diag));
+    ASSERT_EQ(rep.results.size(), 2u);
+    EXPECT_EQ(rep.results[0].status, Status::Pass) << rep.results[0].message;
+    EXPECT_EQ(rep.results[1].status, Status::Fail);
+    EXPECT_NEAR(*rep.results[1].margin, -0.585, 1.1e-3) << gaps << ": " << rep.results[1].message;
+    EXPECT_NE(rep.results[1].message.find("Drum_1 (carried) hits Bay by 0.086 m; the closest a pose free of collision comes is 0.58"),
+              std::string::npos) << rep.results[1].message;
+  }
+}
+
 TEST_F(Check, NoReachSolutionGoesBelowTheFloorOrIntoItsTarget) {
   // A lift: a carriage on a vertical slide. A target under the floor fails: the floor is an
   // obstacle (it passed). A carriage whose finger reaches 0.1 m below the tool point sinks 0.1 m
@@ -497,8 +528,13 @@ TEST_F(Check, NoReachSolutionGoesBelowTheFloorOrIntoItsTarget) {
   CheckReport rep = check(wc, build_geometry(wc, diag));
   ASSERT_EQ(rep.results.size(), 2u);
   EXPECT_EQ(rep.results[0].status, Status::Fail);
-  EXPECT_EQ(rep.results[0].message,
-            "L reaches K.top only with its tool inside K: part c enters it by 0.1 m (a tool may touch its target, by 1 mm at most)");
+  const std::string message = rep.results[0].message;
+  EXPECT_EQ(message.substr(0, message.find("0.099") + 5),
+            "L reaches K.top only with its tool inside K: part c enters it by 0.1 m (a tool may touch its target, by 1 mm at most); "
+            "the closest a pose free of collision comes is 0.099");
+  // The margin is the spec's: minus the closest a free pose comes (0.1 m up, less the 1 mm a tool
+  // may touch its target), not the depth (the same here, unlike a drum between two beams).
+  EXPECT_NEAR(*rep.results[0].margin, -0.099, 2e-5);
   EXPECT_EQ(rep.results[1].status, Status::Fail);
   EXPECT_NE(rep.results[1].message.find("below the floor"), std::string::npos) << rep.results[1].message;
   options.library_dirs = {type_dir({{"lift", lift("0")}, {"block", block}})};
