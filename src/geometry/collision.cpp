@@ -573,7 +573,12 @@ struct CollisionWorld::Impl {
       if (limit <= last_search.limit) return std::nullopt;
     }
     std::optional<Proximity> best = search(object, other, limit, parts, mine, theirs);
-    last_search = Searched{true, {moves_now[0], moves_now[1]}, parts, limit, best};
+    last_search.valid = true;
+    last_search.moves[0] = moves_now[0];
+    last_search.moves[1] = moves_now[1];
+    if (last_search.parts != parts) last_search.parts = parts;  // (no allocation a search)
+    last_search.limit = limit;
+    last_search.found = best;
     return best;
   }
 
@@ -641,16 +646,18 @@ struct CollisionWorld::Impl {
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
     auto& list = of(object);
     fcl::AABBd box;
+    bool moved_any = false;
     for (size_t k = 0; k < list.size(); ++k) {
       if (!(list[k]->getTransform().matrix() == X_world_shape[k].matrix())) {  // a crane's runway stays where it is
         list[k]->setTransform(fcl::Transform3d(X_world_shape[k].matrix()));
         list[k]->computeAABB();
-        ++moves[object];
+        moved_any = true;
       }
       if (k == 0) box = list[k]->getAABB();
       else box += list[k]->getAABB();
     }
     if (!list.empty()) moved_bounds[object] = box;
+    if (moved_any) ++moves[object];
   }
 
   std::shared_ptr<fcl::CollisionGeometryd> geometry_of(const Shape& s) {
