@@ -73,7 +73,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   if (!summary.stopped_by.empty())
     status += fmt::format(" ({} at {:g} s{}{}), no cycle time", summary.stopped_by, stable(summary.stopped_at),
                           summary.stop_message.empty() ? "" : ": ", printable(within_window(summary.stop_message)));
-  else if (!summary.unfinished.empty())
+  else if (!summary.unfinished.empty() && !summary.campaign)  // (a campaign's figure is its makespan)
     status += fmt::format(", no cycle time ({})", printable(within_window(summary.unfinished)));
   else if (!summary.campaign)
     status += fmt::format(", cycle time {:g} s", stable(summary.cycle_time));

@@ -63,20 +63,31 @@ Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& 
   StagedDir staging(request.out.empty() ? request.bundle : request.out);
   run.work_dir = staging.path();
   std::unique_ptr<FrameRecorder> recorder;
-  if (plan.settings.frames && request.frames) {
+  const Plan* running = &plan;  // the plan being run: a campaign's again after a failure its run found
+  auto make_recorder = [&] {
     RenderOptions ro;
     ro.width = plan.settings.width;
     ro.height = plan.settings.height;
     ro.shadows = request.shadows;
+    recorder.reset();  // (its files first: the new one writes the same names)
+    std::error_code ec;
+    std::filesystem::remove_all(run.work_dir + "/frames", ec);
     recorder = std::make_unique<FrameRecorder>(wc, ps.geometry, ps.cameras, ro, run.work_dir + "/frames");
     if (!request.video.empty()) recorder->record_video(request.video, plan.settings.fps);
+    recorder->set_focus([&](double t) { return plan_focus(wc, *running, t); });
+  };
+  if (plan.settings.frames && request.frames) {
+    make_recorder();
     run.frame_interval = 1.0 / plan.settings.fps;
-    recorder->set_focus([&](double t) { return plan_focus(wc, plan, t); });
     run.on_frame = [&](int n, double t, const ScenePose& pose) { recorder->frame(n, t, pose); };
     run.on_step_end = [&](const PlannedStep& step, double t, const ScenePose& pose) {
       std::string who = step.device >= 0 ? " " + wc.objects[step.device].name : "";
       recorder->step_end(step.index, fmt::format("{}. {}{}  t = {:.2f} s", step.index + 1, step_kind_name(step.kind), who, t), t, pose,
-                         step_focus(wc, plan, step, t));
+                         step_focus(wc, *running, step, t));
+    };
+    run.on_restart = [&](const Plan& again) {
+      running = &again;
+      make_recorder();
     };
     run.before_write = [&] {
       recorder->finish(run.work_dir + "/contact_sheet.png");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 
@@ -207,12 +208,18 @@ class Dispatcher {
     Diagnostics local;
     std::vector<StepCommand> steps = c_.steps(JobBinding{j.job_template, j.object, d, place}, local);
     double at = t, lifted_at = INFINITY;
-    bool grasped = false;
+    bool grasped = false, found = false;
     size_t k = 0;
     for (; k < steps.size() && !local.has_errors(); ++k) {
       steps[k].index = next_index_++;
       at = planner_.plan(steps[k], at, static_cast<int>(i), local);
       if (planner_.failure()) break;
+      // A failure an earlier run found here: the job ends with this step (which the run begins,
+      // and finds failing again).
+      if (std::any_of(c_.found.begin(), c_.found.end(), [&](const FoundInRun& f) { return f.job == i && f.step == k; })) {
+        found = true;
+        break;
+      }
       if (steps[k].kind == StepKind::Grasp && steps[k].object == j.object) grasped = true;
       else if (grasped && !std::isfinite(lifted_at) && (steps[k].kind == StepKind::MoveTo || steps[k].kind == StepKind::MoveJoints) &&
                clear_of_spot(j.object))
@@ -224,6 +231,15 @@ class Dispatcher {
     if (local.has_errors()) {  // reported: the campaign does not run
       stopped_ = true;
       return;
+    }
+    if (found) {
+      for (size_t rest = k + 1; rest < steps.size(); ++rest) {
+        steps[rest].index = next_index_++;
+        PlannedStep ps{steps[rest].index, steps[rest].kind, steps[rest].mark, steps[rest].device, steps[rest].object, 0, 0};
+        ps.job = static_cast<int>(i);
+        plan.not_begun.push_back(ps);
+      }
+      out_.insert(d);  // the device takes no more jobs
     }
     if (planner_.failure()) {
       for (size_t rest = k + 1; rest < steps.size(); ++rest) {
@@ -329,7 +345,18 @@ class Dispatcher {
 
 std::optional<Plan> plan_campaign(const CampaignCommands& campaign, const Workcell& wc, const GeometryModel& geometry,
                                   Diagnostics& diag) {
-  return Dispatcher(campaign, wc, geometry, diag).run();
+  std::optional<Plan> plan = Dispatcher(campaign, wc, geometry, diag).run();
+  if (plan && plan->jobs_fail_alone) {
+    plan->found = campaign.found;
+    // The same campaign knowing one more failure (its inputs were read without error once).
+    plan->replan = [commands = std::make_shared<const CampaignCommands>(campaign), &wc, &geometry](const std::vector<FoundInRun>& found) {
+      CampaignCommands again = *commands;
+      again.found = found;
+      Diagnostics quiet;
+      return plan_campaign(again, wc, geometry, quiet);
+    };
+  }
+  return plan;
 }
 
 }  // namespace sscs

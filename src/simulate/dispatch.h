@@ -67,6 +67,9 @@ struct CampaignCommands {
     FrameRef spot;
   };
   std::vector<Arrival> arrivals;  ///< in the order of `loads:`, then of {n}
+  /// Failures an earlier run found (on_failure: continue): each job ends at its step, its device
+  /// out from then on.
+  std::vector<FoundInRun> found;
   /// A job's steps compiled for its binding, their input errors into `diag` (named with the job).
   std::function<std::vector<StepCommand>(const JobBinding&, Diagnostics& diag)> steps;
 };

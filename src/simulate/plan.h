@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <iterator>
 #include <memory>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -131,6 +132,17 @@ struct PlanFailure {
   int job = -1;               ///< a campaign's job the step belongs to, or -1
 };
 
+/// A failure the run found that its plan did not (a grasp missed: the tool held back on what
+/// was in the way): job `job` ends at its `step`-th step (0-based, in the template's order), at
+/// `t`. A campaign going on after it (on_failure: continue) is planned again knowing it, so
+/// that the device's queued jobs go to other devices (campaign-format.md, "Failure").
+struct FoundInRun {
+  size_t job = 0;
+  size_t step = 0;
+  double t = 0;
+  std::string message;
+};
+
 /// One job of a campaign as dispatched: a template applied to an object, on a device, to a
 /// place (a slot chosen, or the template's `to`), with its times as planned.
 struct PlannedJob {
@@ -164,6 +176,16 @@ struct Plan {
   /// A campaign with `on_failure: continue`: a job the run itself fails (a grasp missed) fails
   /// alone, its device out, and the run goes on. Otherwise such a failure stops the run.
   bool jobs_fail_alone = false;
+  /// Such a campaign's failures found in earlier runs, which this plan knows (each job ends at
+  /// its step, its device takes no more jobs), and how to plan it again knowing one more: the
+  /// run stops at a failure it finds that is not here, and starts again on the new plan.
+  std::vector<FoundInRun> found;
+  std::function<std::optional<Plan>(const std::vector<FoundInRun>&)> replan;
+  const FoundInRun* found_at(size_t job, size_t step) const {
+    for (const FoundInRun& f : found)
+      if (f.job == job && f.step == step) return &f;
+    return nullptr;
+  }
   /// A campaign with something due past `sim.limit` (a load, a job's `after`): it runs to the
   /// limit and fails there (campaign-format.md, "Time"), though nothing moves before.
   bool runs_to_limit = false;

@@ -104,6 +104,10 @@ class Run {
   /// The run: each tick, the steps due start and end (grasps and releases with them), the state
   /// is recorded and watched, a frame drawn, the stops looked for, the devices driven along their
   /// tracks and the physics stepped.
+  /// A failure the run found that its plan did not know: the run stopped there, to be planned
+  /// again (on_failure: continue); nothing of it is to be written.
+  const std::optional<FoundInRun>& replan() const { return replan_; }
+
   RunSummary run() {
     const double dt = plan_.settings.timestep;
     for (const Track& t : plan_.tracks) {
@@ -161,7 +165,7 @@ class Run {
     if (options_.progress == RunOptions::Progress::Live && options_.progress_to) *options_.progress_to << "\r\x1b[K" << std::flush;
     // A row at the run's last instant, off the log rate or not: the logs, the glTF animation and
     // the page's player end where the run does (they stopped at 2.78 s of a 2.796 s run).
-    if (observed_at < k * dt - dt / 2 && !interrupted_) {
+    if (observed_at < k * dt - dt / 2 && !interrupted_ && !replan_) {
       recorder_.record(k * dt);
       observe(k * dt);
     }
@@ -224,18 +228,29 @@ class Run {
   /// A grasp step: the tool takes its object, and what stands on the object rides with it.
   /// False (a grasp_missed event, the run stopped) when the tool is not at the object.
   bool grasp(double t, const PlannedStep& ps) {
+    // A failure an earlier run found here, which this run's plan knows (the campaign was planned
+    // again with it): it fails here again, found or not (the runs agree up to it).
+    const FoundInRun* known = ps.job >= 0 ? plan_.found_at(static_cast<size_t>(ps.job), step_in_job(ps)) : nullptr;
     // The plan found the tool at the object where planning had it; the physics may have
     // moved it since (fallen, rolled, carried on a pallet): a grasp from afar held a drum
     // 0.4 m below the gripper and the run said ok.
-    if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach) {
+    if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach || known) {
       const double lag = lag_now(ps.device, t);
       const std::string why =
           lag > kGraspReach ? fmt::format("its tool is {:g} m from where the plan put it (something held it back)", stable(lag))
                             : fmt::format("{} is not where the plan expected it (it fell, rolled, was carried or pushed)",
                                           wc_.objects[ps.object].name);
-      const std::string message = fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
-                                              wc_.objects[ps.device].name, wc_.objects[ps.object].name, stable(gap),
-                                              kGraspReach, why);
+      const std::string message = gap <= kGraspReach ? known->message
+                                                     : fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
+                                                                   wc_.objects[ps.device].name, wc_.objects[ps.object].name,
+                                                                   stable(gap), kGraspReach, why);
+      // Found now and not planned for: the campaign is planned again knowing it, so that the
+      // device's queued jobs go to other devices, and run again from the start (the physics is
+      // deterministic: the same run up to here); nothing of this run is written.
+      if (plan_.jobs_fail_alone && plan_.replan && ps.job >= 0 && !known) {
+        replan_ = FoundInRun{static_cast<size_t>(ps.job), step_in_job(ps), t, message};
+        return false;
+      }
       nlohmann::ordered_json fields = {{"step", ps.index}, {"device", wc_.objects[ps.device].name}};
       if (ps.job >= 0) fields["job"] = job_label(ps.job);
       fields["object"] = wc_.objects[ps.object].name;
@@ -827,6 +842,15 @@ class Run {
     for (const DeviceRun& dr : devices_)
       if (dr.object == d) return (tool_now(d) - planned_tool(dr, t)).norm();
     return 0;
+  }
+
+  /// Which of its job's steps `ps` is (0-based, in the template's order: the plan's steps of
+  /// a job have increasing indices).
+  size_t step_in_job(const PlannedStep& ps) const {
+    size_t k = 0;
+    for (const PlannedStep& s : plan_.steps)
+      if (s.job == ps.job && s.index < ps.index) ++k;
+    return k;
   }
 
   void step_event(double t, EventKind kind, const PlannedStep& ps, const nlohmann::ordered_json& extra = {}) {
@@ -1789,6 +1813,9 @@ class Run {
   std::set<std::pair<int, int>> over_limit_;
   bool failed_ = false;
   std::string stopped_by_, stop_message_;
+  /// A failure this run found that its plan did not know (on_failure: continue): the run stopped
+  /// there, to be planned again and run anew.
+  std::optional<FoundInRun> replan_;
   /// Moves that ended with the tool still off their target (by plan position: how far), and what
   /// the first says: the run has no cycle time.
   std::map<size_t, double> short_by_;
@@ -1833,22 +1860,38 @@ std::string run_work_dir(const RunOptions& options) {
 }
 
 Expected<RunSummary> run_simulation(const Workcell& wc, const GeometryModel& geometry, const Plan& plan, const RunOptions& options) {
-  Run run(wc, geometry, plan, options);
-  RunSummary summary;
-  try {
-    summary = run.run();
-  } catch (const PhysicsFailure& e) {
+  // A campaign going on after a failure its run finds (a grasp missed) is planned again knowing
+  // it and run anew, once for each such failure: the device's queued jobs go to other devices.
+  const Plan* current = &plan;
+  std::optional<Plan> again;
+  for (;;) {
+    Run run(wc, geometry, *current, options);
+    RunSummary summary;
+    try {
+      summary = run.run();
+    } catch (const PhysicsFailure& e) {
+      std::error_code ec;
+      fs::remove_all(work_dir(options), ec);
+      return Unexpected{std::string(e.what())};
+    }
+    if (const std::optional<FoundInRun>& found = run.replan()) {
+      std::vector<FoundInRun> known = current->found;
+      known.push_back(*found);
+      std::optional<Plan> next = current->replan(known);
+      if (!next) return Unexpected{"the campaign could not be planned again after a failure its run found"};
+      again = std::move(next);
+      current = &*again;
+      if (options.on_restart) options.on_restart(*current);
+      continue;
+    }
+    std::string error;
+    if (!summary.interrupted && options.before_write) error = options.before_write();
+    if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) error = run.write(summary);
     std::error_code ec;
-    fs::remove_all(work_dir(options), ec);
-    return Unexpected{std::string(e.what())};
+    if (summary.interrupted || !error.empty()) fs::remove_all(work_dir(options), ec);
+    if (!error.empty()) return Unexpected{error};
+    return summary;
   }
-  std::string error;
-  if (!summary.interrupted && options.before_write) error = options.before_write();
-  if (!summary.interrupted && error.empty() && (!options.out_dir.empty() || !options.bundle.empty())) error = run.write(summary);
-  std::error_code ec;
-  if (summary.interrupted || !error.empty()) fs::remove_all(work_dir(options), ec);
-  if (!error.empty()) return Unexpected{error};
-  return summary;
 }
 
 }  // namespace sscs

@@ -78,6 +78,9 @@ struct RunOptions {
   /// Called when the simulation is over, before the outputs are written (frames flushed);
   /// returns an error message or "".
   std::function<std::string()> before_write;
+  /// A campaign's run stopped at a failure it found and starts again on `plan` (planned again
+  /// knowing it): what the callbacks above recorded of the stopped run is to be dropped.
+  std::function<void(const Plan& plan)> on_restart;
   /// A campaign's final.yaml from how the run leaves the vault (none when unset).
   std::function<std::string(const FinalState& end)> final_vault;
   /// The folder the outputs are assembled in before they are moved into place; "" for
