@@ -2,7 +2,7 @@
 # Installs what is missing, builds incrementally, and runs every test (unit and end-to-end) with
 # ctest; then builds again with clang's sanitizers (build-sanitize/) and runs a subset of the
 # suite under AddressSanitizer, UndefinedBehaviorSanitizer and LeakSanitizer, and every libFuzzer
-# target for SSCS_FUZZ_SECONDS (default 6) each. Any sanitizer report fails the run.
+# target for SSCS_FUZZ_SECONDS (default 4) each. Any sanitizer report fails the run.
 #   tools/test.sh             both stages (what CI runs)
 #   tools/test.sh --fast      the first stage only (gcc build, every test)
 #   tools/test.sh --sanitize  the second stage only, with the whole suite under the sanitizers
@@ -45,7 +45,7 @@ if [[ ! -f $san/CMakeCache.txt ]]; then
   # unity build (tools/build.sh) compiles in 5 minutes instead of 6.5.
   cmake -G Ninja -S "$root" -B "$san" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_UNITY_BUILD=ON \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DSSCS_SANITIZE=ON -DSSCS_FUZZ=ON \
-    -DSSCS_WERROR=ON -DSSCS_FUZZ_SECONDS="${SSCS_FUZZ_SECONDS:-6}" >/dev/null
+    -DSSCS_WERROR=ON -DSSCS_FUZZ_SECONDS="${SSCS_FUZZ_SECONDS:-4}" >/dev/null
 elif [[ -n ${SSCS_FUZZ_SECONDS:-} ]]; then
   cmake "$san" -DSSCS_FUZZ_SECONDS="$SSCS_FUZZ_SECONDS" >/dev/null
 fi
