@@ -135,11 +135,14 @@ CampaignOutcome campaign_outcome(const Workcell& wc, const Plan& plan, const Run
   for (const auto& [t, change] : queue) c.queue_max = std::max<size_t>(c.queue_max, static_cast<size_t>(std::max(0L, waiting += change)));
   for (size_t i = 0; i < rows.size(); ++i)
     if (rows[i].status == JobStatus::Done)
-      for (const auto& [name, p] : plan.slot_frames)
-        if (plan.jobs[i].place == name) ++c.slots_used;
-  for (const auto& [name, p] : plan.slot_frames) {
+      for (const Plan::SlotFrame& f : plan.slot_frames)
+        if (plan.jobs[i].place == f.name) ++c.slots_used;
+  // A frame is free when no object stands at it (campaign-format.md, "Slots"), the object it is
+  // a frame of aside: a 2 cm pad's origin, 2 cm under its top, had every empty pad taken.
+  for (const Plan::SlotFrame& f : plan.slot_frames) {
     bool taken = false;
-    for (const auto& at : reach.positions) taken = taken || (at && (*at - p).norm() <= kSlotOccupied);
+    for (size_t o = 0; o < reach.positions.size(); ++o)
+      taken = taken || (static_cast<int>(o) != f.owner && reach.positions[o] && (*reach.positions[o] - f.position).norm() <= kSlotOccupied);
     c.slots_free_at_end += !taken;
   }
 

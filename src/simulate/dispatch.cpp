@@ -42,7 +42,7 @@ class Dispatcher {
     for (const JobTemplate& tmpl : c_.templates)
       for (const FrameRef& f : tmpl.slots)
         if (seen.insert(frame_text(wc_, f)).second)
-          plan.slot_frames.emplace_back(frame_text(wc_, f), planner_.frame_pose(f.object, f.frame).translation());
+          plan.slot_frames.push_back({frame_text(wc_, f), planner_.frame_pose(f.object, f.frame).translation(), f.object});
     for (size_t k = 0; k < c_.arrivals.size(); ++k) {
       const CampaignCommands::Arrival& a = c_.arrivals[k];
       spots_[frame_text(wc_, a.spot)].queue.push_back(k);

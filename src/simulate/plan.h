@@ -168,8 +168,14 @@ struct Plan {
   std::vector<PlannedJob> jobs;
   /// Failures that ended a job, not the run (a campaign going on after one: on_failure continue).
   std::vector<PlanFailure> job_failures;
-  /// The frames a campaign's jobs choose slots from (every template's, once), where they are.
-  std::vector<std::pair<std::string, Eigen::Vector3d>> slot_frames;
+  /// The frames a campaign's jobs choose slots from (every template's, once), where they are,
+  /// and the object each is a frame of (which stands there: no load).
+  struct SlotFrame {
+    std::string name;
+    Eigen::Vector3d position;
+    int owner = -1;
+  };
+  std::vector<SlotFrame> slot_frames;
   std::vector<int> campaign_devices;  ///< every device a campaign's jobs may go to, in order
   /// A campaign's arriving loads: when each arrives (infinity: never, its spot stayed taken).
   std::vector<std::pair<int, double>> arrivals;

@@ -210,16 +210,26 @@ class Run {
         // plate, stopped 1.55 m short): the step ends at its planned time, but the cycle was
         // not done, and its planned time is no cycle time.
         nlohmann::ordered_json extra;
+        std::string short_of;
         if (is_move(ps.kind) && ps.device >= 0)
           if (const double lag = lag_now(ps.device, t); lag > kTrackingTolerance) {
             short_by_.emplace(i, lag);
-            if (unfinished_.empty())
-              unfinished_ = fmt::format("{}'s {} (step {}) ended {:g} m short of its target at {:g} s", wc_.objects[ps.device].name,
-                                        step_kind_name(ps.kind), ps.index, stable(lag), stable(t));
+            short_of = fmt::format("{}'s {} (step {}) ended {:g} m short of its target at {:g} s", wc_.objects[ps.device].name,
+                                   step_kind_name(ps.kind), ps.index, stable(lag), stable(t));
+            if (unfinished_.empty()) unfinished_ = short_of;
             extra["short_by"] = r9(lag);
           }
         step_event(t, EventKind::StepEnd, ps, extra);
         if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
+        // In a campaign the move's step failed, and its job with it (a job whose last move never
+        // arrived was "done" at its planned end, and the campaign's figures counted it).
+        if (ps.job >= 0 && is_move(ps.kind)) {
+          const FoundInRun* known = plan_.found_at(static_cast<size_t>(ps.job), step_in_job(ps));
+          if (!short_of.empty() || known) {
+            if (!fail_in_run(t, ps, short_of.empty() ? known->message : short_of, EventKind::TrackingError)) return false;
+            continue;
+          }
+        }
       }
     }
     return true;
@@ -244,25 +254,14 @@ class Run {
                                                      : fmt::format("{} cannot grasp {}: its tool is {:g} m from it (at most {:g} m); {}",
                                                                    wc_.objects[ps.device].name, wc_.objects[ps.object].name,
                                                                    stable(gap), kGraspReach, why);
-      // Found now and not planned for: the campaign is planned again knowing it, so that the
-      // device's queued jobs go to other devices, and run again from the start (the physics is
-      // deterministic: the same run up to here); nothing of this run is written.
-      if (plan_.jobs_fail_alone && plan_.replan && ps.job >= 0 && !known) {
-        replan_ = FoundInRun{static_cast<size_t>(ps.job), step_in_job(ps), t, message};
-        return false;
-      }
+      if (plan_.jobs_fail_alone && plan_.replan && ps.job >= 0 && !known) return fail_in_run(t, ps, message, EventKind::GraspMissed);
       nlohmann::ordered_json fields = {{"step", ps.index}, {"device", wc_.objects[ps.device].name}};
       if (ps.job >= 0) fields["job"] = job_label(ps.job);
       fields["object"] = wc_.objects[ps.object].name;
       fields["distance"] = r9(gap);
       fields["message"] = message;
       events_.add(t, EventKind::GraspMissed, fields);
-      if (plan_.jobs_fail_alone && ps.job >= 0) {  // a campaign going on after it (on_failure: continue)
-        fail_job(t, ps, message);
-        return true;
-      }
-      stop(EventKind::GraspMissed, message);
-      return false;
+      return fail_in_run(t, ps, message, EventKind::GraspMissed);
     }
     world_.grasp(ps.device, ps.object);
     // Taken again after a release: held, not watched for rest (the run waited 5 s after
@@ -314,6 +313,26 @@ class Run {
                                                wc_.objects[ps.object].name, r9(mass))});
     }
     return true;
+  }
+
+  /// Step `ps` failed in the run (a grasp missed, a move that never arrived; its event logged,
+  /// `kind` the event's). In a campaign going on after it (on_failure: continue), found now and
+  /// not planned for: the campaign is planned again knowing it, so that the device's queued jobs
+  /// go to other devices, and run again from the start (the physics is deterministic: the same
+  /// run up to here; nothing of this run is written): false, the run stops here. Known to the
+  /// plan: the job fails alone and the run goes on (true). Otherwise the run stops (false).
+  bool fail_in_run(double t, const PlannedStep& ps, const std::string& message, EventKind kind) {
+    if (plan_.jobs_fail_alone && ps.job >= 0) {
+      const size_t step = step_in_job(ps);
+      if (plan_.replan && !plan_.found_at(static_cast<size_t>(ps.job), step)) {
+        replan_ = FoundInRun{static_cast<size_t>(ps.job), step, t, message};
+        return false;
+      }
+      fail_job(t, ps, message);
+      return true;
+    }
+    stop(kind, message);
+    return false;
   }
 
   /// A campaign's job failed in the run at step `ps` (on_failure: continue): the job ends there,
