@@ -2868,6 +2868,12 @@ def campaigns(sscs, root):
             short = [e["job"] for e in (json.loads(line) for line in open(os.path.join(out, "events.jsonl")))
                      if e["kind"] == "step_end" and e.get("short_by")]
             expect(f"re-dispatch after a failure in the run ({mode})", "the step that ended short", short, ["lift D_2"])
+            # Slots free at the end: a 2 cm pad's own origin, 2 cm under its top frame, is no load
+            # standing there (tests/data/campaigns/thin-pads-run.yaml: the drum on Pad_1, Pad_2 free;
+            # a new user's review read 0 free).
+            _, _, out = campaign_in("thin-pads-run", mode, tmp)
+            expect(f"thin pads ({mode})", "the slots used and free at the end",
+                   json.load(open(os.path.join(out, "summary.json")))["campaign"]["slots"], {"used": 1, "free_at_end": 1})
             # A device held back by what it pressed on sinks into it by the contact solver's
             # softness (11 µm, a new user's review): final.yaml has it backed out of that and keeps
             # its vault's no_overlap rule (tests/data/campaigns/hood-stop.yaml, the gantry pressed
