@@ -606,7 +606,11 @@ struct CollisionWorld::Impl {
       if (best && bound >= best->distance) break;
       double d = signed_distance(mine[i].get(), theirs[k].get());
       measured[{object, other, static_cast<uint32_t>(i), static_cast<uint32_t>(k)}] = {d, mine[i]->getTransform(), theirs[k]->getTransform()};
-      if (!best || d < best->distance) best = Proximity{other, objects[object].shapes[i].part, objects[other].shapes[k].part, d};
+      if (!best || d < best->distance) {
+        best = Proximity{other, objects[object].shapes[i].part, objects[other].shapes[k].part, d};
+        best->shape = static_cast<int>(i);
+        best->other_shape = static_cast<int>(k);
+      }
     }
     return best;
   }
@@ -1092,6 +1096,55 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
 std::optional<Proximity> CollisionWorld::pair_distance(int object, int other, const std::vector<char>& parts, double below) {
   if (impl_->of(object).empty() || impl_->of(other).empty()) return std::nullopt;
   return impl_->nearest(object, other, below, parts);
+}
+
+namespace {
+/// The most n·x over a placed shape's points (n a unit vector): exact for the primitives, the
+/// world box's for a mesh (a box around it reaches at least as far).
+double support(const fcl::CollisionObjectd& o, const Eigen::Vector3d& n) {
+  const Shape& s = shape_of(&o);
+  const fcl::Transform3d& X = o.getTransform();
+  const Eigen::Vector3d u = X.linear().transpose() * n;  // n in the shape's frame
+  const double at = n.dot(X.translation());
+  switch (s.kind) {
+    case Shape::Kind::Box: return at + 0.5 * (std::abs(u.x()) * s.box_size.x() + std::abs(u.y()) * s.box_size.y() + std::abs(u.z()) * s.box_size.z());
+    case Shape::Kind::Cylinder: return at + s.radius * std::hypot(u.x(), u.y()) + 0.5 * s.length * std::abs(u.z());
+    case Shape::Kind::Sphere: return at + s.radius;
+    case Shape::Kind::Mesh: break;
+  }
+  const fcl::AABBd& box = o.getAABB();
+  double most = 0;
+  for (int k = 0; k < 3; ++k) most += std::max(n[k] * box.min_[k], n[k] * box.max_[k]);
+  return most;
+}
+}  // namespace
+
+std::optional<double> CollisionWorld::slab_bound(int object, int other, const std::vector<char>& parts,
+                                                 const std::vector<std::vector<Eigen::Vector3d>>& shifts) {
+  const std::optional<Proximity> near = pair_distance(object, other, parts);
+  if (!near || near->distance <= 0 || near->shape < 0 || near->other_shape < 0) return std::nullopt;
+  const auto& mine = impl_->of(object);
+  const auto& theirs = impl_->of(other);
+  // Their nearest points, from the nearest shapes.
+  fcl::DistanceRequestd req(true, false, 1e-9, 1e-9, 1e-9, fcl::GST_INDEP);
+  fcl::DistanceResultd res;
+  fcl::distance(mine[near->shape].get(), theirs[near->other_shape].get(), req, res);
+  const Eigen::Vector3d gap = res.nearest_points[1] - res.nearest_points[0];
+  if (!(gap.norm() > 1e-9)) return std::nullopt;
+  const Eigen::Vector3d n = gap.normalized();
+  double least = INFINITY;
+  for (const auto& o : theirs) least = std::min(least, -support(*o, -n));
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  double most = -INFINITY;
+  for (size_t i = 0; i < mine.size(); ++i) {
+    const int part = g.shapes[i].part;
+    if (!parts.empty() && (part < 0 || !parts[part])) continue;
+    const std::vector<Eigen::Vector3d>& mine_shifts = shifts.at(g.device && part >= 0 ? static_cast<size_t>(part) : 0);
+    double ahead = 0;  // (no shift at all is where it is now)
+    for (const Eigen::Vector3d& d : mine_shifts) ahead = std::max(ahead, n.dot(d));
+    most = std::max(most, support(*mine[i], n) + ahead);
+  }
+  return least - most;
 }
 
 double CollisionWorld::travel_bound(int object, int part, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {

@@ -43,6 +43,7 @@ struct Proximity {
   int part = -1;        ///< the moving object's part (devices), else -1
   int other_part = -1;  ///< the other object's part (devices), else -1
   double distance = 0;  ///< m; minus the penetration depth when they interpenetrate
+  int shape = -1, other_shape = -1;  ///< the nearest shapes (indices into each object's shapes)
 };
 
 /// Answers of the costly pair queries (a closed mesh in contact or containing: the exact depth
@@ -150,6 +151,17 @@ class CollisionWorld {
   /// With `below`: only shapes whose boxes are nearer than it are measured (none: nullopt or a
   /// distance of at least `below`).
   std::optional<Proximity> pair_distance(int object, int other, const std::vector<char>& parts = {}, double below = INFINITY);
+
+  /// A lower bound of the distance from `object` (its `parts` only, when given) to `other` over
+  /// a motion in which the object's parts only translate, each part p by a shift in the convex
+  /// hull of `shifts[p]` (one list for an object that is no device) from where it is placed
+  /// now, the other standing: along the direction n from their nearest points now, the least
+  /// n·y over the other's solids less the most n·x over the object's, shifted (for any unit n
+  /// that bounds the distance of any two sets; a lowered drum beside another keeps its gap
+  /// whole, where the travel bound takes its whole descent off). nullopt when they are not
+  /// apart now or either has no solid.
+  std::optional<double> slab_bound(int object, int other, const std::vector<char>& parts,
+                                   const std::vector<std::vector<Eigen::Vector3d>>& shifts);
 
   /// How far any point of `object`'s shapes (those of device part `part`; -1 for an object
   /// that is no device) can have moved when its frame (the part's) went from `from` to `to`: the

@@ -195,10 +195,10 @@ void ClearanceTracker::next_interval(double t) {
 
 void ClearanceTracker::provisional(int object, double from, double to) { provisional_[object].emplace_back(from, to); }
 
-void ClearanceTracker::glide(int object, double from, double to, double step, PoseSource source) {
+void ClearanceTracker::glide(int object, double from, double to, double step, PoseSource source, HullSource hull) {
   std::shared_ptr<Path>& held = paths_[object];
   if (!held) held = std::make_shared<Path>();
-  held->spans.push_back({from, to, step, std::move(source)});
+  held->spans.push_back({from, to, step, std::move(source), std::move(hull)});
 }
 
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
@@ -213,9 +213,13 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
   // Only closer approaches than seen so far are news: the search skips pairs that cannot be.
   // Between the samples a pair came no nearer than its distance now less how far both went.
   // A watched pair is news until it cannot come nearer than its gap.
+  // Nor can a pair farther than the nearest distance measured where a pair counts (nearest_,
+  // which the run's closest approach is no farther than): the crane passing a store's racks
+  // measured each of them within 2 m at every sample, for a closest approach it never was.
   auto could_be_news = [&](int other) {
     auto it = pairs_.find(key(moving, other));
-    return (it == pairs_.end() ? INFINITY : std::max(it->second.closest(), it->second.watch())) + my_travel + travel_of(other);
+    const double closest = std::min(nearest_, it == pairs_.end() ? INFINITY : it->second.closest());
+    return (it == pairs_.end() ? closest : std::max(closest, it->second.watch())) + my_travel + travel_of(other);
   };
   const std::vector<Proximity> near = nearby_.proximity(moving, skip, kClearanceReach + my_travel, could_be_news, parts);
   // Between the samples, for a pair measured at the last one too: a load grasped since (or
@@ -278,8 +282,8 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
 }
 
 void ClearanceTracker::keep_bound(Pair& pair, int moving, const Other& other, const Proximity& at_i, double t_i,
-                                  const Proximity& at_j, double t_j, double D) {
-  const double lower = interval_bound(at_i.distance - other.shift(), at_j.distance - other.shift(), D);
+                                  const Proximity& at_j, double t_j, double D, double floor) {
+  const double lower = std::max(floor, interval_bound(at_i.distance - other.shift(), at_j.distance - other.shift(), D));
   const bool first = at_i.distance <= at_j.distance;
   const Proximity& nearer = first ? at_i : at_j;
   keep(pair, {lower, first ? t_i : t_j, run_part_name(wc_, geometry_, moving, nearer.part),
@@ -351,15 +355,18 @@ void ClearanceTracker::refine_span(const std::shared_ptr<const Motion>& motion, 
   };
   const double D = went(m.moving, X_a, X_b) + (theirs ? went(m.other, Y_a, Y_b) : 0.0);
   const double d_a = at_a.distance, d_b = at_b.distance;
-  const double lower = interval_bound(d_a - other.shift(), d_b - other.shift(), D);
+  double lower = interval_bound(d_a - other.shift(), d_b - other.shift(), D);
+  // Where that bound would be news, the way it goes instead of how far, when it only translates.
+  if (lower < pair.closest() && !theirs && span.hull && std::min(d_a, d_b) - lower > certify_tolerance(std::min(d_a, d_b)))
+    lower = std::max(lower, std::min({slab_over(m, span, t_a, t_b, X_a, X_b), d_a - other.shift(), d_b - other.shift()}));
   if (lower >= pair.closest()) return;
   if (lower >= -kContact && pair.excused_over(t_a, t_b)) return;
   if (moot(lower)) {
-    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D);
+    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D, lower);
     return;
   }
   if (t_b - t_a <= span.step * 1.5 || std::min(d_a, d_b) - lower <= certify_tolerance(std::min(d_a, d_b))) {
-    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D);
+    keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D, lower);
     return;
   }
   Piece piece;
@@ -376,6 +383,22 @@ void ClearanceTracker::refine_span(const std::shared_ptr<const Motion>& motion, 
   piece.at_a = at_a;
   piece.at_b = at_b;
   defer(std::move(piece));
+}
+
+double ClearanceTracker::slab_over(const Motion& m, const Path::Span& span, double t_a, double t_b,
+                                   const std::vector<Eigen::Isometry3d>& X_a, const std::vector<Eigen::Isometry3d>& X_b) {
+  std::vector<std::vector<Eigen::Isometry3d>>& corners = corners_;
+  if (!span.hull(t_a, t_b, corners)) return -INFINITY;
+  double best = -INFINITY;
+  std::vector<std::vector<Eigen::Vector3d>> shifts;
+  for (const std::vector<Eigen::Isometry3d>* X : {&X_a, &X_b}) {
+    shifts.assign(X->size(), {});
+    for (const std::vector<Eigen::Isometry3d>& corner : corners)
+      for (size_t p = 0; p < X->size() && p < corner.size(); ++p) shifts[p].push_back(corner[p].translation() - (*X)[p].translation());
+    place(m.moving, *X);
+    if (const std::optional<double> b = nearby_.slab_bound(m.moving, m.other, m.parts, shifts)) best = std::max(best, *b - m.as_other().shift());
+  }
+  return best;
 }
 
 bool ClearanceTracker::later(const Piece& a, const Piece& b) {

@@ -105,7 +105,13 @@ class ClearanceTracker {
   /// Fast mode's glide: between its followed sub-steps from `from` to `to`, `object`'s poses come
   /// from `source` (its plan), so a bound between two sub-steps is halved in time, as between
   /// the kept poses of physics steps, down to `step` (s, the physics step: as fine as they are).
-  void glide(int object, double from, double to, double step, PoseSource source);
+  /// `hull`, when given: where `object` can be at any time of [a, b] within the glide when it
+  /// only translates then (its joints that move are slides): its poses at the corners of the
+  /// box its joint values stay in; false when it turns. A bound between two sub-steps then
+  /// needs only how far it goes towards the other (a drum lowered beside another is as far
+  /// from it all the way down), not how far it goes.
+  using HullSource = std::function<bool(double a, double b, std::vector<std::vector<Eigen::Isometry3d>>& corners)>;
+  void glide(int object, double from, double to, double step, PoseSource source, HullSource hull = {});
   /// Closer than this to the measured distance (m), or than kCertifyFraction of it, a lower
   /// bound is not refined further: 0.1 mm near, 2 mm at 2 m, where no closest approach is.
   static constexpr double kCertifyTolerance = 1e-4, kCertifyFraction = 1e-3;
@@ -152,6 +158,7 @@ class ClearanceTracker {
     struct Span {
       double from = 0, to = 0, step = 0;
       PoseSource source;
+      HullSource hull;
     };
     std::vector<Span> spans;  ///< glides since the sample (fast mode)
     /// The glide that [from, to] lies in. The times compared come apart by more than 1e-12:
@@ -180,9 +187,9 @@ class ClearanceTracker {
   };
   /// Keeps the pair's lower bound over an interval whose ends are `at_i` (at t_i) and `at_j`
   /// (at t_j) apart and over which the two went `D` at most: min(d_i, d_j, (d_i + d_j − D) / 2),
-  /// each distance less other.shift().
+  /// each distance less other.shift(); or `floor`, a better bound found otherwise (slab_over).
   void keep_bound(Pair& pair, int moving, const Other& other, const Proximity& at_i, double t_i, const Proximity& at_j, double t_j,
-                  double D);
+                  double D, double floor = -INFINITY);
   /// How near a lower bound must come to a distance measured to need no halving.
   static double certify_tolerance(double d) { return std::max(kCertifyTolerance, kCertifyFraction * d); }
   /// A bound that cannot be the run's closest approach, or only by less than the tolerance: not
@@ -229,6 +236,10 @@ class ClearanceTracker {
                    double t_b, const std::vector<Eigen::Isometry3d>& X_a, const std::vector<Eigen::Isometry3d>& X_b,
                    const std::vector<Eigen::Isometry3d>& Y_a, const std::vector<Eigen::Isometry3d>& Y_b, const Proximity& at_a,
                    const Proximity& at_b);
+  /// The bound slab_bound() gives the moving object's glide from t_a to t_b (poses X_a, X_b at
+  /// its ends) against the other standing, from either end; -inf when not known (it turns).
+  double slab_over(const Motion& m, const Path::Span& span, double t_a, double t_b, const std::vector<Eigen::Isometry3d>& X_a,
+                   const std::vector<Eigen::Isometry3d>& X_b);
   void defer(Piece piece);
   /// The heap's order: the lowest bound on top, the oldest first among equals.
   static bool later(const Piece& a, const Piece& b);
@@ -269,6 +280,7 @@ class ClearanceTracker {
   std::unordered_map<Key, Pair, KeyHash> pairs_;
   std::unordered_map<int, std::shared_ptr<Path>> paths_;
   std::vector<Piece> deferred_;  ///< a heap: the lowest bound on top
+  std::vector<std::vector<Eigen::Isometry3d>> corners_;  ///< slab_over()'s scratch
   long deferrals_ = 0;
   bool certified_ = true;  ///< every step followed (a tracker without paths measures samples only)
   bool followed_ = false;

@@ -532,6 +532,35 @@ Eigen::VectorXd Segment::at(double t) const {
   return prev->second + u * (it->second - prev->second);
 }
 
+void Segment::widen(double a, double b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) const {
+  a = std::max(a, t0);
+  b = std::min(b, t1);
+  if (a > b) return;
+  auto take = [&](const Eigen::VectorXd& q) {
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  };
+  take(at(a));
+  take(at(b));
+  if (joint || waypoints.empty()) return;
+  const double s_a = std::clamp(timing.position(a - t0), 0.0, 1.0), s_b = std::clamp(timing.position(b - t0), 0.0, 1.0);
+  for (const auto& [s, q] : waypoints)
+    if (s > std::min(s_a, s_b) && s < std::max(s_a, s_b)) take(q);
+}
+
+void Track::range(double a, double b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) const {
+  lo = hi = at(a);
+  const Eigen::VectorXd q_b = at(b);
+  lo = lo.cwiseMin(q_b);
+  hi = hi.cwiseMax(q_b);
+  // Between segments it holds where the last one ended: at(a) or a segment's end covers it.
+  for (const Segment& s : segments) {
+    if (s.t1 < a) continue;
+    if (s.t0 > b) break;
+    s.widen(a, b, lo, hi);
+  }
+}
+
 Eigen::VectorXd Track::at(double t) const {
   Eigen::VectorXd q = q_start;
   for (const Segment& s : segments) {

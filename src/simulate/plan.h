@@ -57,6 +57,10 @@ struct Segment {
   Trapezoid timing;
   Eigen::VectorXd q_end;
   Eigen::VectorXd at(double t) const;
+  /// Widens [lo, hi] to every joint value of the segment over [a, b] (within it): each joint's
+  /// trapezoid, and a path's time-to-s, are monotone, so the values at a and b and at the
+  /// path's waypoints between them bound it.
+  void widen(double a, double b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) const;
 };
 
 /// A device's commanded joint values over time: holds between segments.
@@ -65,6 +69,8 @@ struct Track {
   Eigen::VectorXd q_start;
   std::vector<Segment> segments;  ///< in time order, not overlapping
   Eigen::VectorXd at(double t) const;
+  /// The box every joint value of [a, b] lies in (per joint, the least and the most).
+  void range(double a, double b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) const;
 };
 
 /// What a step does, in the order of kStepActionNames (and of a scenario step's alternatives).

@@ -68,6 +68,30 @@ std::string work_dir(const RunOptions& options) {
 
 /// Rounded for logs: 9 decimals (nanometres, nanoradians) keep files stable and readable.
 
+/// Where device `m`'s parts (in its frame) can be at any time of [a, b] on `track`, when only
+/// slides move then: its part poses at the corners of the box its joint values stay in (an
+/// affine image of the box, as slides translate; its hull is where each part can be). False
+/// when a turning joint moves, or more than 4 joints do.
+bool slide_corners(const Device& m, const Track& track, double a, double b, std::vector<std::vector<Eigen::Isometry3d>>& corners) {
+  Eigen::VectorXd lo, hi;
+  track.range(a, b, lo, hi);
+  std::vector<int> moving;
+  for (int j = 0; j < m.dof(); ++j) {
+    if (hi[j] == lo[j]) continue;
+    if (m.joint(j).type != JointType::Prismatic) return false;
+    moving.push_back(j);
+  }
+  if (moving.size() > 4) return false;
+  corners.clear();
+  for (unsigned mask = 0; mask < (1u << moving.size()); ++mask) {
+    Eigen::VectorXd q = lo;
+    for (size_t k = 0; k < moving.size(); ++k)
+      if (mask & (1u << k)) q[moving[k]] = hi[moving[k]];
+    corners.push_back(m.part_poses(q));
+  }
+  return true;
+}
+
 /// A collision from its first contact to its last, as the run keeps it.
 struct CollisionEpisode {
   int a = -1, b = -1;  ///< the objects
@@ -766,15 +790,30 @@ class Run {
       const Device& m = *geometry_.objects[o].device;
       const Eigen::Isometry3d X_wo = geometry_.objects[o].X_world_object;
       const Track* track = dr.track;
-      clearances_.glide(o, at.front(), at.back(), plan_.settings.timestep, [&m, X_wo, track](double t, std::vector<Eigen::Isometry3d>& X) {
-        X = m.part_poses(track->at(t));
-        for (auto& x : X) x = X_wo * x;
-      });
+      clearances_.glide(
+          o, at.front(), at.back(), plan_.settings.timestep,
+          [&m, X_wo, track](double t, std::vector<Eigen::Isometry3d>& X) {
+            X = m.part_poses(track->at(t));
+            for (auto& x : X) x = X_wo * x;
+          },
+          [&m, X_wo, track](double a, double b, std::vector<std::vector<Eigen::Isometry3d>>& corners) {
+            if (!slide_corners(m, *track, a, b, corners)) return false;
+            for (auto& X : corners)
+              for (auto& x : X) x = X_wo * x;
+            return true;
+          });
       if (const int load = world_.held(o); load >= 0) {
         const Eigen::Isometry3d X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(load);
-        clearances_.glide(load, at.front(), at.back(), plan_.settings.timestep, [&m, X_wo, track, X_tool_load](double t, std::vector<Eigen::Isometry3d>& X) {
-          X.assign(1, X_wo * m.part_poses(track->at(t))[m.tool_part] * X_tool_load);
-        });
+        clearances_.glide(
+            load, at.front(), at.back(), plan_.settings.timestep,
+            [&m, X_wo, track, X_tool_load](double t, std::vector<Eigen::Isometry3d>& X) {
+              X.assign(1, X_wo * m.part_poses(track->at(t))[m.tool_part] * X_tool_load);
+            },
+            [&m, X_wo, track, X_tool_load](double a, double b, std::vector<std::vector<Eigen::Isometry3d>>& corners) {
+              if (!slide_corners(m, *track, a, b, corners)) return false;
+              for (auto& X : corners) X.assign(1, X_wo * X[m.tool_part] * X_tool_load);
+              return true;
+            });
       }
     }
     for (size_t i = 1; i < at.size(); ++i) {
@@ -1394,15 +1433,18 @@ class Run {
   /// Places the run's state now in the live model (device parts, moved objects, their joint and
   /// pose values) and, with `clearance`, in the clearance tracker; returns the loads held.
   std::vector<int> pose_live(bool clearance) {
-    const ScenePose now = scene_pose();
     std::vector<int> loads;
     for (const DeviceRun& dr : devices_) {
       const Device& m = *geometry_.objects[dr.object].device;
       const Eigen::Isometry3d& X_world_object = geometry_.objects[dr.object].X_world_object;
-      const std::vector<Eigen::Isometry3d>& X_object_part = now.X_object_part[dr.object];
+      const Eigen::Isometry3d X_object_world = X_world_object.inverse();
+      std::vector<Eigen::Isometry3d>& X_object_part = live_parts_;
+      X_object_part.resize(geometry_.objects[dr.object].X_object_part.size());
+      for (size_t k = 0; k < X_object_part.size(); ++k) X_object_part[k] = X_object_world * world_.part_pose(dr.object, static_cast<int>(k));
       if (clearance) {
-        std::vector<Eigen::Isometry3d> X_world_part;
-        for (const Eigen::Isometry3d& X : X_object_part) X_world_part.push_back(X_world_object * X);
+        std::vector<Eigen::Isometry3d>& X_world_part = live_world_parts_;
+        X_world_part.resize(X_object_part.size());
+        for (size_t k = 0; k < X_object_part.size(); ++k) X_world_part[k] = X_world_object * X_object_part[k];
         clearances_.move_parts(dr.object, X_world_part);
       }
       repose(live_.objects[dr.object], X_world_object, &X_object_part);
@@ -1411,14 +1453,20 @@ class Run {
       for (int j = 0; j < m.dof(); ++j) live_values_[obj.first_slot + kFirstAttributeSlot + m.joint(j).attribute] = q[j];
       if (world_.held(dr.object) >= 0) loads.push_back(world_.held(dr.object));
     }
+    live_posed_.resize(wc_.objects.size());
     for (size_t o = 0; o < wc_.objects.size(); ++o) {
       if (!world_.dynamic(static_cast<int>(o))) continue;
-      const Eigen::Isometry3d& X = now.X_world_object[o];
+      const Eigen::Isometry3d& X = world_.pose(static_cast<int>(o));
       if (clearance) clearances_.move(static_cast<int>(o), X);
-      repose(live_.objects[o], X);
       const Object& obj = wc_.objects[o];
       const Eigen::Isometry3d X_world_parent =
           obj.parent >= 0 ? live_.objects[obj.parent].X_world_object * live_.objects[o].X_parent_at : Eigen::Isometry3d::Identity();
+      // Where it was posed last, under the parent where it was: nothing to redo (a store's 143
+      // drums at rest, posed again at each sample, were a tenth of a fast run's time).
+      LivePosed& last = live_posed_[o];
+      if (last.valid && last.X.matrix() == X.matrix() && last.parent.matrix() == X_world_parent.matrix()) continue;
+      last = {true, X, X_world_parent};
+      repose(live_.objects[o], X);
       Eigen::Isometry3d local = X_world_parent.inverse() * X;
       Eigen::Vector3d rpy = rotation_to_rpy(local.linear());
       for (int k = 0; k < 3; ++k) {
@@ -1806,6 +1854,13 @@ class Run {
   std::map<int, bool> released_;  // released objects: landed yet?
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::vector<Eigen::Isometry3d> motion_;  // follow_motion's scratch
+  std::vector<Eigen::Isometry3d> live_parts_, live_world_parts_;  // pose_live's scratch
+  /// Per object: where pose_live() last posed it in the live model, and its parent's frame then.
+  struct LivePosed {
+    bool valid = false;
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity(), parent = Eigen::Isometry3d::Identity();
+  };
+  std::vector<LivePosed> live_posed_;
   struct OwnMemo {
     int load = -1;
     std::vector<Eigen::Isometry3d> parts;  // the device's parts where own_distance last measured

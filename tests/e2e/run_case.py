@@ -3176,7 +3176,10 @@ def fast(sscs, root):
         open(os.path.join(tmp, "s.yaml"), "w").write(json.dumps(doc))
         run(sscs, root, ["simulate", os.path.join(tmp, "s.yaml"), "--out", os.path.join(tmp, "run"), "--quiet", "--no-frames", "--allow-outside-root"])
         low = json.load(open(os.path.join(tmp, "run", "summary.json")))["min_clearance"]
-    if abs(low["distance"] - ref["distance"]) > 0.001 or {low["a"], low["b"]} != {ref["a"], ref["b"]}:
+    # (Inbound is lowered between Drum_2_4_3 and Drum_2_6_3, each 0.139333 m from it: a tie,
+    # which either names.)
+    flanks = ({"Inbound", "Drum_2_4_3"}, {"Inbound", "Drum_2_6_3"})
+    if abs(low["distance"] - ref["distance"]) > 0.001 or {low["a"], low["b"]} not in flanks or {ref["a"], ref["b"]} not in flanks:
         fail(f"the store's crane run: min_clearance {low} at 1 Hz in fast mode, {ref} at 20 Hz in physics")
     # And the cases of tests/data/fast logged at 1 Hz have the figure of 50 Hz (a drum woken
     # mid-interval by a forklift's grasp read -0.175 m at 1 Hz for a 43 mm gap).

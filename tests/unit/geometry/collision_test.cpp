@@ -316,6 +316,101 @@ TEST_F(MeshSolid, ClosedMeshesCrossingWithCoincidentFacesOverlap) {
 }
 
 
+// slab_bound: over random pairs of shapes of every kind (a box with a rod, a ball, a mesh),
+// turned and placed at random, each shifted within the hull of random shifts, the bound is never
+// above the distance where the shift puts it (at the shifts, and between them); and for two
+// upright rods with a vertical shift, it is their distance whole (the lowered drum beside another).
+TEST_F(Collisions, SlabBoundIsNeverAboveTheDistanceAlongAnyShiftOfItsHull) {
+  auto types = kShapes;
+  types.push_back({"post", "sscs: 1\ntype: post\ngeometry:\n  - box: {size: [0.2, 0.4, 1]}\n"
+                           "  - cylinder: {radius: 0.15, length: 0.6, xyz: [0, 0, 0.8]}\n"});
+  types.push_back({"tri", "sscs: 1\ntype: tri\ngeometry:\n  - mesh: {file: tri.obj}\n"});
+  options.library_dirs = {type_dir(types)};
+  std::ofstream(std::filesystem::path(options.library_dirs[0]) / "tri.obj")
+      << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+  Built b{must_compile("objects:\n  - {type: post, name: P}\n  - {type: ball, name: S}\n  - {type: rod, name: R}\n"
+                       "  - {type: cube, name: C}\n  - {type: tri, name: M}\n"),
+          {}};
+  b.geometry = build_geometry(b.wc, diag);
+  ASSERT_FALSE(diag.has_errors()) << diag.format(sources);
+  CollisionWorld w(b.geometry);
+  std::mt19937 rng(20261129);
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  auto random_pose = [&](double spread) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    X.translation() = spread * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    return X;
+  };
+  int bounded = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int a = trial % 5, other = (trial / 5 + 1 + a) % 5;
+    if (a == other) continue;
+    Eigen::Isometry3d drawn_a = random_pose(0.3), drawn_b = random_pose(0.3);
+    drawn_b.translation().x() += 2.5;
+    std::vector<Eigen::Vector3d> drawn_shifts;
+    const int n = 1 + trial % 3;
+    for (int k = 0; k < n; ++k) drawn_shifts.push_back(0.8 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    std::optional<double> unmirrored;
+    for (int mirror = 0; mirror < 2; ++mirror) {
+      Eigen::Isometry3d X_a = drawn_a, X_b = drawn_b;
+      std::vector<Eigen::Vector3d> shifts = drawn_shifts;
+      if (mirror) {  // the same pair seen in a mirror (x -> -x): turns stay proper, shifts mirror too
+        const Eigen::Matrix3d F = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+        for (Eigen::Isometry3d* X : {&X_a, &X_b}) {
+          X->translation() = F * X->translation();
+          X->linear() = F * X->linear() * F;
+        }
+        for (Eigen::Vector3d& d : shifts) d = F * d;
+      }
+      w.move(a, X_a);
+      w.move(other, X_b);
+      const std::optional<double> bound = w.slab_bound(a, other, {}, {shifts});
+      if (mirror) {
+        EXPECT_EQ(bound.has_value(), unmirrored.has_value()) << "trial " << trial;
+        if (bound && unmirrored) {
+          // (the direction is from GJK's nearest points: on a curved shape, to about 1e-5)
+          EXPECT_NEAR(*bound, *unmirrored, 2e-4) << "trial " << trial;
+        }
+      }
+      unmirrored = bound;
+      if (!bound) continue;
+      ++bounded;
+      // At no shift, at each shift, and at random points of their hull (with no shift: the
+      // hull of the shifts and where it is now).
+      for (int k = 0; k < 30; ++k) {
+        Eigen::Vector3d d = Eigen::Vector3d::Zero();
+        if (k > 0 && k <= n) d = shifts[k - 1];
+        if (k > n) {
+          double left = 1;
+          for (const Eigen::Vector3d& s : shifts) {
+            const double share = left * unit(rng);
+            d += share * s;
+            left -= share;
+          }
+        }
+        Eigen::Isometry3d X = X_a;
+        X.translation() += d;
+        w.move(a, X);
+        const double truth = *w.distance(a, other);
+        EXPECT_LE(*bound, truth + 1e-9) << "trial " << trial << " mirror " << mirror << " at shift " << d.transpose();
+      }
+    }
+  }
+  EXPECT_GT(bounded, 300);
+  // Two upright rods 0.3 m apart, one lowered by 0.5 m beside the other: the bound is their gap.
+  Eigen::Isometry3d X_r = Eigen::Isometry3d::Identity(), X_s = Eigen::Isometry3d::Identity();
+  X_s.translation() = Eigen::Vector3d(1.3, 0, 0);
+  w.move(2, X_r);
+  w.move(3, X_s);
+  // (the cube, side 1, stands beside the rod, radius 0.5: 0.3 m apart)
+  const std::optional<double> lowered = w.slab_bound(2, 3, {}, {{Eigen::Vector3d(0, 0, -0.5)}});
+  ASSERT_TRUE(lowered);
+  EXPECT_NEAR(*lowered, 0.3, 1e-9);
+  // Sideways towards it by 0.1 m: 0.1 less.
+  EXPECT_NEAR(*w.slab_bound(2, 3, {}, {{Eigen::Vector3d(0.1, 0, -0.5)}}), 0.2, 1e-9);
+}
+
 TEST_F(Collisions, LowestIsAtOrBelowTheShapeAndExactForATurnedBox) {
   // The glides and final.yaml judge the floor by lowest(): never above the shape's lowest point
   // (a glide would go through the floor), exact for a box however it is turned, and a turn about

@@ -44,6 +44,27 @@ class Planning : public VaultTest {
     int o = wc_.find_object(device);
     return geometry_.objects[o].X_world_object * geometry_.objects[o].device->tool_pose(p.track(o)->at(t));
   }
+  /// A vault of one standard device `kind` named D (diagnostics cleared): the device.
+  const Device& only_device(const std::string& kind) {
+    diag = Diagnostics{};
+    wc_ = must_compile(fmt::format("objects:\n  - {{type: {}, name: D}}\n", kind));
+    geometry_ = build_geometry(wc_, diag);
+    return *geometry_.objects[0].device;
+  }
+  /// A move_to step of D to the world pose X (`extra`: more of its keys).
+  static std::string move_to_step(const Eigen::Isometry3d& X, const std::string& extra = "") {
+    const Eigen::Vector3d rpy = X.linear().eulerAngles(2, 1, 0).reverse() / kRadPerDeg;
+    return fmt::format("  - {{device: D, move_to: {{target: {{xyz: [{:.17g}, {:.17g}, {:.17g}], rpy: [{:.17g}, {:.17g}, {:.17g}]}}}}{}}}\n",
+                       X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z(), extra);
+  }
+  /// The plan of `steps` in the vault compiled last.
+  std::optional<Plan> plan_steps(const std::string& steps) {
+    uint32_t f = sources.add("s.yaml", "sscs: 1\nscenario: s\nvault: v.yaml\nsteps:\n" + steps);
+    auto spec = load_scenario(f, sources, diag);
+    EXPECT_TRUE(spec) << diag.format(sources);
+    if (!spec) return std::nullopt;
+    return plan_scenario(*spec, wc_, geometry_, diag);
+  }
   Workcell wc_;
   GeometryModel geometry_;
 };
@@ -162,10 +183,7 @@ TEST_F(Planning, MoveToEndsAtItsTargetForEveryDeviceKind) {
   std::mt19937_64 rng(5);
   for (const char* kind : kinds) {
     SCOPED_TRACE(kind);
-    diag = Diagnostics{};
-    wc_ = must_compile(fmt::format("objects:\n  - {{type: {}, name: D}}\n", kind));
-    geometry_ = build_geometry(wc_, diag);
-    const Device& d = *geometry_.objects[0].device;
+    const Device& d = only_device(kind);
     Chain chain(d);
     std::string steps;
     std::vector<Eigen::Isometry3d> targets;
@@ -177,14 +195,9 @@ TEST_F(Planning, MoveToEndsAtItsTargetForEveryDeviceKind) {
       }
       Eigen::Isometry3d X = geometry_.objects[0].X_world_object * d.tool_pose(q);
       targets.push_back(X);
-      Eigen::Vector3d rpy = X.linear().eulerAngles(2, 1, 0).reverse() / kRadPerDeg;
-      steps += fmt::format("  - {{device: D, move_to: {{target: {{xyz: [{:.17g}, {:.17g}, {:.17g}], rpy: [{:.17g}, {:.17g}, {:.17g}]}}}}}}\n",
-                           X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
+      steps += move_to_step(X);
     }
-    uint32_t f = sources.add("s.yaml", "sscs: 1\nscenario: s\nvault: v.yaml\nsteps:\n" + steps);
-    auto spec = load_scenario(f, sources, diag);
-    ASSERT_TRUE(spec) << diag.format(sources);
-    auto p = plan_scenario(*spec, wc_, geometry_, diag);
+    auto p = plan_steps(steps);
     ASSERT_TRUE(p) << diag.format(sources);
     ASSERT_FALSE(p->failure) << p->failure->message;
     ASSERT_EQ(p->steps.size(), targets.size());
@@ -192,6 +205,57 @@ TEST_F(Planning, MoveToEndsAtItsTargetForEveryDeviceKind) {
       Eigen::Isometry3d reached = tool(*p, "D", p->steps[i].end);
       EXPECT_LE((reached.translation() - targets[i].translation()).norm(), 1e-3) << "step " << i;
       EXPECT_LE(Eigen::AngleAxisd(reached.linear().transpose() * targets[i].linear()).angle(), 1e-3) << "step " << i;
+    }
+  }
+}
+
+TEST_F(Planning, ATracksRangeHoldsEveryJointValueBetweenTwoTimes) {
+  // Property: for every standard device kind, random moves (joint-space and linear paths), and
+  // random spans of time across them (within a move, across moves and the holds between), every
+  // joint value the track takes in the span, sampled finely, lies in Track::range's box, and the
+  // box is no larger than the values taken (its bounds are reached, within the sampling).
+  const char* kinds[] = {"arm6", "ur5", "gantry", "bridge_crane", "forklift", "agv"};
+  std::mt19937_64 rng(29);
+  for (const char* kind : kinds) {
+    SCOPED_TRACE(kind);
+    const Device& d = only_device(kind);
+    Chain chain(d);
+    Eigen::VectorXd q = d.joint_values(&wc_.values[wc_.objects[0].first_slot + kFirstAttributeSlot]);
+    std::string steps;
+    for (int i = 0; i < 6; ++i) {
+      for (int k = 0; k < chain.size(); ++k) {
+        // Small moves from the last pose: a linear path between them exists.
+        double lo = std::max(chain.lower(k), q[chain.device_index(k)] - 0.4), hi = std::min(chain.upper(k), q[chain.device_index(k)] + 0.4);
+        q[chain.device_index(k)] = std::uniform_real_distribution<double>(lo, hi)(rng);
+      }
+      steps += move_to_step(geometry_.objects[0].X_world_object * d.tool_pose(q), i % 2 ? ", path: linear" : "");
+      if (i == 2) steps += "  - {wait: 0.5 s}\n";
+    }
+    auto p = plan_steps(steps);
+    ASSERT_TRUE(p) << diag.format(sources);
+    ASSERT_FALSE(p->failure) << p->failure->message;
+    const Track& track = *p->track(wc_.find_object("D"));
+    ASSERT_GE(track.segments.size(), 6u);
+    EXPECT_TRUE(std::any_of(track.segments.begin(), track.segments.end(), [](const Segment& s) { return !s.waypoints.empty(); }));
+    std::uniform_real_distribution<double> when(0, p->end);
+    for (int trial = 0; trial < 60; ++trial) {
+      double a = when(rng), b = trial % 3 ? a + std::uniform_real_distribution<double>(0, 0.3)(rng) : when(rng);
+      if (a > b) std::swap(a, b);
+      Eigen::VectorXd lo, hi;
+      track.range(a, b, lo, hi);
+      Eigen::VectorXd seen_lo = track.at(a), seen_hi = seen_lo;
+      for (int k = 0; k <= 2000; ++k) {
+        const Eigen::VectorXd q_t = track.at(a + (b - a) * k / 2000);
+        seen_lo = seen_lo.cwiseMin(q_t);
+        seen_hi = seen_hi.cwiseMax(q_t);
+      }
+      for (int j = 0; j < d.dof(); ++j) {
+        EXPECT_LE(lo[j], seen_lo[j] + 1e-12) << "joint " << j << " over [" << a << ", " << b << "]";
+        EXPECT_GE(hi[j], seen_hi[j] - 1e-12) << "joint " << j << " over [" << a << ", " << b << "]";
+        // Tight: what the fine samples miss is at most a sample's worth of motion.
+        EXPECT_GE(lo[j], seen_lo[j] - 0.01 * (seen_hi[j] - seen_lo[j]) - 1e-9) << "joint " << j;
+        EXPECT_LE(hi[j], seen_hi[j] + 0.01 * (seen_hi[j] - seen_lo[j]) + 1e-9) << "joint " << j;
+      }
     }
   }
 }
