@@ -1,5 +1,6 @@
 #include "geometry/mesh_io.h"
 
+#include "core/data_dirs.h"
 #include "core/diagnostics.h"
 #include "core/files.h"
 #include "core/limits.h"
@@ -417,6 +418,23 @@ RawMesh read_isolated(const std::string& path) {
   return mesh;
 }
 
+/// Whether `path` is a mesh of the standard library, shipped with sscs: read in this process, as
+/// trusted as the program (a child process for a 7 kB pallet cost a fast run 10 % of its time:
+/// the fork, and the copies of every page either process writes afterwards).
+bool standard(const std::string& path) {
+  static const std::filesystem::path library = [] {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(standard_library_dir(), ec);
+    return ec ? std::filesystem::path() : p;
+  }();
+  if (library.empty()) return false;
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::weakly_canonical(path, ec);
+  if (ec) return false;
+  const auto [end, rest] = std::mismatch(library.begin(), library.end(), real.begin(), real.end());
+  return end == library.end();
+}
+
 }  // namespace
 
 std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, SourceMark where, Diagnostics& diag) {
@@ -427,7 +445,7 @@ std::shared_ptr<const TriangleMesh> MeshCache::load(const std::string& path, Sou
     diag.error(where, fmt::format("mesh file '{}' {}", path, why));
   } else if (std::string why = unfit_mesh_file(path); !why.empty()) {
     diag.error(where, fmt::format("cannot read mesh '{}': {}", path, why));
-  } else if (RawMesh raw = read_isolated(path); !raw.error.empty()) {
+  } else if (RawMesh raw = standard(path) ? read_with_assimp(path) : read_isolated(path); !raw.error.empty()) {
     diag.error(where, fmt::format("cannot read mesh '{}': {}", path, printable(raw.error)));
   } else {
     auto mesh = std::make_shared<TriangleMesh>();

@@ -75,6 +75,11 @@ ConstraintRechecks::ConstraintRechecks(const Workcell& wc, const std::set<int>& 
     any_step = any_step || step[i];
   }
   step_options_ = options_;
+  motion_options_ = options_;
+  std::vector<char> motion(wc.constraints.size(), 0);
+  for (size_t i = 0; any && i < wc.constraints.size(); ++i)
+    motion[i] = only[i] && (std::holds_alternative<SpatialCheck>(wc.constraints[i].body) || step[i]);
+  if (any) motion_options_.only = std::move(motion);
   if (any_step) step_options_.only = std::move(step);
   for (size_t i = 0; any && i < wc.constraints.size(); ++i) {
     const auto* spatial = std::get_if<SpatialCheck>(&wc.constraints[i].body);
@@ -115,7 +120,8 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
       dipped.insert(ci);
     }
   }
-  const CheckReport report = sscs::check(wc_, live, values, options_);
+  const CheckReport report = sscs::check(wc_, live, values, whole_due_ ? options_ : motion_options_);
+  whole_due_ = false;
   judge(t, report, dipped, false, events);
   note_inside(report, live);
 }

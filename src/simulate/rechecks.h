@@ -67,6 +67,7 @@ class ConstraintRechecks {
   void set_absent(int object, bool absent) {
     if (absent) absent_.insert(object);
     else absent_.erase(object);
+    whole_due_ = true;
   }
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
@@ -75,6 +76,12 @@ class ConstraintRechecks {
   const Workcell& wc_;
   CheckOptions options_;
   CheckOptions step_options_;  ///< the bounds and expressions that read the motion
+  /// At a sample: the rules the motion can change (the spatial ones, and the bounds and
+  /// expressions that read it). The others (a store's floor load, summed over its 143 drums,
+  /// one of them carried) say at every sample what they said at the first: checked then, and
+  /// again when a load arrives or leaves (what is absent is not judged).
+  CheckOptions motion_options_;
+  bool whole_due_ = true;
   /// Records each result's state; one that starts failing is an event at t.
   void judge(double t, const CheckReport& report, const std::set<int>& already, bool between_samples, EventLog& events);
   /// A rule that starts failing at t: its `constraint` event, counted when an error.

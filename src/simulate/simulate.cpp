@@ -1399,11 +1399,15 @@ class Run {
   /// The object and the containers (rooms): spaces, as the physics has them, not clearances.
   /// Other parents (an arm's pedestal, a drum's pallet) are solids like any other.
   std::vector<int> chain(int o) const {
+    if (containers_.empty())  // (found once: asked of each device and load at every sample and glide)
+      for (size_t k = 0; k < wc_.objects.size(); ++k)
+        if (wc_.types[wc_.objects[k].type].container) containers_.push_back(static_cast<int>(k));
     std::vector<int> out = {o};
-    for (size_t k = 0; k < wc_.objects.size(); ++k)
-      if (wc_.types[wc_.objects[k].type].container && static_cast<int>(k) != o) out.push_back(static_cast<int>(k));
+    for (int k : containers_)
+      if (k != o) out.push_back(k);
     return out;
   }
+  mutable std::vector<int> containers_;  ///< chain()'s: the vault's containers (none: not found yet, or none)
 
   /// The objects the plan moves: its devices, what they grasp and what stands on that (riders
   /// were not re-checked: a drum lifted on a pallet to 2.6 m passed a 1.2 m lift rule).
