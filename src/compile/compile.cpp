@@ -10,6 +10,8 @@
 #include <numbers>
 #include <filesystem>
 #include <limits>
+#include <set>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -714,6 +716,10 @@ void expand_objects(CompileState& st) {
       if (o.name.present) st.unbuilt.insert(o.name.text);
       continue;
     }
+    // A library reused from another vault's compile holds the templates it needed only (its
+    // caller asks for the whole library: CompileOptions::whole_library).
+    if (!st.wc.types[type].shaped)
+      throw std::logic_error(fmt::format("type '{}' is in a reused library without its templates (compile it with whole_library)", o.type));
     auto add = [&](std::string name, SourceMark mark, std::array<int, 3> index, std::array<double, 3> offset) {
       Object obj;
       obj.name = std::move(name);
@@ -1194,7 +1200,12 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
     if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
     for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
     for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-    st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types());
+    // The templates of the types the vault's objects use (and those they extend), unless the
+    // library is to be reused.
+    std::set<std::string> used;
+    for (const ObjectSpec& o : spec.objects) used.insert(o.type);
+    st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types(),
+                               options.whole_library ? nullptr : &used);
   }
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);

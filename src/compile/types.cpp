@@ -413,7 +413,7 @@ std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const 
 
 std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
                                      Diagnostics& diag, const std::vector<std::string>& package_paths,
-                                     const std::vector<PluginType>& plugin_types) {
+                                     const std::vector<PluginType>& plugin_types, const std::set<std::string>* wanted) {
   std::vector<std::shared_ptr<const TypeSpec>> specs;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
   std::vector<fs::path> loaded;  // a folder named twice (a vault's library and --library) loads once
@@ -495,6 +495,16 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
   std::vector<int> state(specs.size(), 0);  // 0 new, 1 resolving, 2 done
   std::vector<std::string> names;
   for (const auto& [n, i] : index) names.push_back(n);
+  // The types whose templates are compiled: those wanted and every type they extend.
+  // A plugin's types too, used or not: one that does not resolve is the plugin's fault (below).
+  std::vector<char> shape(specs.size(), wanted == nullptr);
+  std::vector<std::string> shaped;
+  if (wanted) shaped.assign(wanted->begin(), wanted->end());
+  for (const auto& spec : specs)
+    if (!spec->plugin.empty()) shaped.push_back(spec->name);
+  for (const std::string& w : shaped)
+    for (auto it = index.find(w); it != index.end() && !shape[it->second]; it = index.find(specs[it->second]->extends))
+      shape[it->second] = 1;
   std::function<bool(size_t)> resolve = [&](size_t i) -> bool {
     if (state[i] == 2) return true;
     const TypeSpec& spec = *specs[i];
@@ -573,6 +583,8 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     const bool imported = !spec.device || std::none_of(spec.device->import_problems.begin(), spec.device->import_problems.end(),
                                                        [](const Diagnostic& x) { return !x.warning; });
     if (spec.device && imported) add_joint_attributes(spec, t, d);
+    if (!shape[i]) return done();  // (no object of it, nor of a type extending it)
+    t.shaped = true;
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
     TypeTemplates& tt = t.templates;

@@ -80,6 +80,9 @@ struct ObjectType {
   std::vector<Diagnostic> problems;
   /// Its type file (or a type it extends) has errors: it is listed, but no object is built of it.
   bool broken = false;
+  /// Its templates (and own_meshes, and their problems) are compiled: a vault's compile does so
+  /// only for the types its objects use and those they extend (load_library's `wanted`).
+  bool shaped = false;
   int find_attribute(std::string_view name) const;
 };
 

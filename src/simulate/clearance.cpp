@@ -54,9 +54,10 @@ bool ClearanceTracker::provisional_at(double t) const {
   return false;
 }
 
-void ClearanceTracker::keep(Pair& pair, Seen seen) {
-  if (seen.distance >= pair.closest()) return;
-  if (seen.distance >= -kContact && pair.is_excused(seen.t)) return;
+void ClearanceTracker::keep(Pair& pair, double distance, double t, int a, int part_a, int b, int part_b) {
+  if (distance >= pair.closest()) return;
+  if (distance >= -kContact && pair.is_excused(t)) return;
+  Seen seen{distance, t, run_part_name(wc_, geometry_, a, part_a), run_part_name(wc_, geometry_, b, part_b)};
   // A record that may yet be excused (a load's set-down, until it lands) does not decide where
   // halving pays: a stretch left coarse beside it would be the run's closest once it is excused.
   if (seen.distance < -kContact || !provisional_at(seen.t)) best_ = std::min(best_, seen.distance);
@@ -246,7 +247,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
         if (theirs) place(p.other, theirs->now);
       }
       // The sample itself first: it bounds what halving can find.
-      keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+      keep(pair, p.distance, t, moving, p.part, p.other, p.other_part);
       // The other, when it moved too: kept at the same steps (two devices, a device and another's
       // load), it is placed with the moving one at each halving; else it stands where it is now,
       // and each distance measured so is less how far it went (two arms swinging past each other
@@ -274,7 +275,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
       place(moving, mine->now);
       if (other.path) place(p.other, theirs->now);
     }
-    keep(pair, {p.distance, t, run_part_name(wc_, geometry_, moving, p.part), run_part_name(wc_, geometry_, p.other, p.other_part)});
+    keep(pair, p.distance, t, moving, p.part, p.other, p.other_part);
     saw(pair, p.distance, t);
     pair.sampled_at = t;
     pair.sampled = p;
@@ -286,8 +287,7 @@ void ClearanceTracker::keep_bound(Pair& pair, int moving, const Other& other, co
   const double lower = std::max(floor, interval_bound(at_i.distance - other.shift(), at_j.distance - other.shift(), D));
   const bool first = at_i.distance <= at_j.distance;
   const Proximity& nearer = first ? at_i : at_j;
-  keep(pair, {lower, first ? t_i : t_j, run_part_name(wc_, geometry_, moving, nearer.part),
-              run_part_name(wc_, geometry_, other.object, nearer.other_part)});
+  keep(pair, lower, first ? t_i : t_j, moving, nearer.part, other.object, nearer.other_part);
 }
 
 void ClearanceTracker::refine(const std::shared_ptr<const Motion>& motion, size_t i, size_t j, const Proximity& at_i,
@@ -546,7 +546,7 @@ void ClearanceTracker::measure_penetration(double t, int a, int b) {
   const std::optional<Proximity> p = nearby_.pair_distance(a, b, {}, -kContact);
   if (!p || p->distance >= -kContact) return;
   keeping_ = {a, b};
-  keep(pairs_[key(a, b)], {p->distance, t, run_part_name(wc_, geometry_, a, p->part), run_part_name(wc_, geometry_, b, p->other_part)});
+  keep(pairs_[key(a, b)], p->distance, t, a, p->part, b, p->other_part);
 }
 
 void ClearanceTracker::excuse(int a, int b, double from, double to) {

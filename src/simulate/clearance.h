@@ -140,7 +140,9 @@ class ClearanceTracker {
   };
   using Key = std::pair<int, int>;  ///< (lower object, higher object)
   static Key key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
-  void keep(Pair& pair, Seen seen);
+  /// Keeps a distance of the pair at `t` (a's part part_a to b's part_b, named as the run names
+  /// them) when it is a new closest not excused.
+  void keep(Pair& pair, double distance, double t, int a, int part_a, int b, int part_b);
   /// A distance measured at time `t` (a sample, or a pose halving found) where the pair counts:
   /// the run's closest approach is no farther (nearest_).
   void saw(const Pair& pair, double distance, double t);

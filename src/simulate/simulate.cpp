@@ -59,6 +59,7 @@ constexpr double kSupportGap = 0.005;         // m: a load this close to somethi
 constexpr double kSetDownDrop = 0.05;         // m: released higher above what it lands on, it fell
 constexpr double kRestTurnLimit = 0.02;       // rad: an object at rest turned by more moves again
 constexpr double kGlideMargin = 0.001;        // m: fast mode glides only where nothing comes nearer than this
+constexpr double kRoomAhead = 0.2;            // m: a glide looks this much farther, for the glides after it
 constexpr double kProppedShare = 0.01;        // of its weight: a device pushing harder at the end holds it up
 
 /// Where a run's outputs are assembled: the given work folder, else the default one.
@@ -182,6 +183,7 @@ class Run {
       }
       drive(t);
       world_.step();
+      ++changes_;
       ++steps_;
       follow_motion(world_.time());
       after_step(world_.time());
@@ -205,6 +207,7 @@ class Run {
     // A campaign's loads due now arrive (before the steps that may take them).
     for (; next_arrival_ < arrivals_.size() && arrivals_[next_arrival_].first <= t + dt / 2; ++next_arrival_) {
       const int o = arrivals_[next_arrival_].second;
+      ++changes_;
       world_.set_present(o, true);
       clearances_.move(o, geometry_.objects[o].X_world_object);
       rechecks_.set_absent(o, false);
@@ -218,6 +221,7 @@ class Run {
       if (skipped_[i]) continue;
       if (!started_[i] && ps.start <= t + dt / 2) {
         started_[i] = 1;
+        ++changes_;
         current_step_ = i;
         current_action_ = ps.device >= 0 ? fmt::format("{} {}", step_kind_name(ps.kind), wc_.objects[ps.device].name) : step_kind_name(ps.kind);
         if (options_.progress == RunOptions::Progress::Lines && options_.progress_to)
@@ -230,6 +234,7 @@ class Run {
       // The step the plan failed at began and never ended (its step_end was logged at the failure).
       if (started_[i] && !ended_[i] && ps.end <= t + dt / 2 && !plan_.failed_at(ps)) {
         ended_[i] = 1;
+        ++changes_;
         // A move whose end finds its tool still off its target never arrived (driven into a
         // plate, stopped 1.55 m short): the step ends at its planned time, but the cycle was
         // not done, and its planned time is no cycle time.
@@ -669,7 +674,9 @@ class Run {
       if (load >= 0) went[d] = std::max(went[d], ahead[load][0]);
       all += went[d];
     }
+    glide_all_ = all;
     if (all == 0) return true;  // nothing moves: nothing new can touch
+    room_.resize(devices_.size());
     // Nothing within reach of what moves, where everything is now.
     for (size_t d = 0; d < devices_.size(); ++d) {
       if (went[d] == 0) continue;
@@ -678,6 +685,12 @@ class Run {
       // It, and the others towards it; beyond the clearance rules' gaps too (no dip below one
       // is looked for inside a glide).
       const double keep = kGlideMargin + rechecks_.widest_watch(), gap = all + keep;
+      // The room found at an earlier glide, less what every glide since may have taken of it,
+      // while nothing else happened: nothing is within `gap`, no need to look (the crane
+      // travelling over the racks looked at each of 3,300 samples).
+      Room& r = room_[d];
+      const bool roomy = r.changes == changes_ && r.clear - r.spent > gap;
+      double clear_all = gap + kRoomAhead;  // (nothing nearer than the reach looked at)
       // The nearest shape within `gap` (proximity lists what its bounds bring that near).
       auto nearest = [](const std::vector<Proximity>& found) {
         double d = INFINITY;
@@ -697,8 +710,11 @@ class Run {
         load_skip.push_back(o);
         // The floor is no object of the collision world: a drum lowered into it glided through.
         // Only what goes down comes nearer to it (a pallet carried level at 0.1 m glides).
-        const double clear = nearest(near.proximity(load, load_skip, gap));
-        if (clear <= gap) return refuse((clear - keep) / all);
+        if (!roomy) {
+          const double clear = nearest(near.proximity(load, load_skip, gap + kRoomAhead));
+          if (clear <= gap) return refuse((clear - keep) / all);
+          clear_all = std::min(clear_all, clear);
+        }
         if (const double above = near.lowest(load) - world_.floor_z(); above <= load_sank[d] + keep)
           return refuse(load_sank[d] > 0 ? (above - keep) / load_sank[d] : 0);
         // The load against the device's parts but the tool's (which hold it): it moves with the
@@ -712,8 +728,11 @@ class Run {
         const double own_gap = load_own_travel(o, load, others, poses[d], X_tool_load) + keep;
         if (own <= own_gap) return refuse(own_gap > keep ? (own - keep) / (own_gap - keep) : 0);
       }
-      const double clear = nearest(near.proximity(o, skip, gap, nullptr, devices_[d].moving_parts));
-      if (clear <= gap) return refuse((clear - keep) / all);
+      if (!roomy) {
+        const double clear = nearest(near.proximity(o, skip, gap + kRoomAhead, nullptr, devices_[d].moving_parts));
+        if (clear <= gap) return refuse((clear - keep) / all);
+        r = {changes_, std::min(clear_all, clear), 0.0};
+      }
       if (const double above = near.lowest(o, devices_[d].moving_parts) - world_.floor_z(); above <= sank[d] + keep)
         return refuse(sank[d] > 0 ? (above - keep) / sank[d] : 0);
       // Its own parts: how far one can come towards another it may not touch is its travel in
@@ -784,6 +803,7 @@ class Run {
 
       /// The glide itself: each sub-step placed and followed, the devices' travel and limits kept.
   long glide_to(long n, const std::vector<double>& at) {
+    for (Room& r : room_) r.spent += glide_all_;
     // Between its sub-steps the tracker halves in time, with poses from the plan.
     for (const DeviceRun& dr : devices_) {
       const int o = dr.object;
@@ -1859,6 +1879,17 @@ class Run {
   std::map<int, int> rider_of_;   // an object riding on a held load -> that load
   std::vector<Eigen::Isometry3d> motion_;  // follow_motion's scratch
   std::vector<Eigen::Isometry3d> live_parts_, live_world_parts_;  // pose_live's scratch
+  /// Fast mode: per device, how near the nearest thing stood to what it moves when last looked
+  /// (glide_clear), and how much of that the glides since may have taken (each glide's travel of
+  /// all the devices, glide_all_); valid while `changes` is changes_: no physics step, step
+  /// start or end, or arrival since.
+  struct Room {
+    long changes = -1;
+    double clear = 0, spent = 0;
+  };
+  std::vector<Room> room_;
+  long changes_ = 0;
+  double glide_all_ = 0;
   /// Per object: where pose_live() last posed it in the live model, and its parent's frame then.
   struct LivePosed {
     bool valid = false;

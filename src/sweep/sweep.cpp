@@ -251,6 +251,7 @@ bool Study::prepare_case(Case& c) {
   }
   options.plugins = c.plugins;
   options.library = c.library;
+  options.whole_library = true;  // kept for the vault's other variants (c.library below)
   const uint32_t read_before = sources_.size();
   auto wc = compile(*c.vault, options, sources_, diag_);
   if (!wc) return false;

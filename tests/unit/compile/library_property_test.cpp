@@ -107,7 +107,9 @@ class LibraryProperty : public VaultTest {
 };
 
 TEST_F(LibraryProperty, EveryTypeIsSoundAtItsDefaultsAndWithEachAttributeAtItsLimits) {
+  options.whole_library = true;  // (the templates of every type, not only those it uses: none)
   Workcell lib = must_compile("objects: []\n");
+  options.whole_library = false;
   options.library = std::make_shared<const std::vector<ObjectType>>(lib.types);  // loaded once
   size_t configurations = 0;
   for (const ObjectType* type : standard_types(lib)) {
@@ -141,7 +143,9 @@ TEST_F(LibraryProperty, EveryTypeIsSoundInRandomConfigurationsWithinItsLimits) {
   // default or the min); joints stay at their defaults (the kinematics tests move them). A draw
   // the type's own rules refuse (a wall's openings past its end) is drawn again: 24 sound
   // configurations of every type, each checked in full.
+  options.whole_library = true;  // (the templates of every type, not only those it uses: none)
   Workcell lib = must_compile("objects: []\n");
+  options.whole_library = false;
   options.library = std::make_shared<const std::vector<ObjectType>>(lib.types);  // loaded once
   std::mt19937 rng(20261126);
   for (const ObjectType* type : standard_types(lib)) {

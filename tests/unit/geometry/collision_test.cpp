@@ -368,8 +368,11 @@ TEST_F(Collisions, SlabBoundIsNeverAboveTheDistanceAlongAnyShiftOfItsHull) {
       const std::optional<double> bound = w.slab_bound(a, other, {}, {shifts});
       if (mirror) {
         EXPECT_EQ(bound.has_value(), unmirrored.has_value()) << "trial " << trial;
-        if (bound && unmirrored) {
-          // (the direction is from GJK's nearest points: on a curved shape, to about 1e-5)
+        // Where it bounds anything (>= 0): the direction is from GJK's nearest points, to about
+        // 1e-5 on a curved shape; where they are apart little beside a deep overlap of their
+        // projections, the bound is negative and its direction unsettled (clang's build and
+        // gcc's chose two, 0.025 apart at -4 m).
+        if (bound && unmirrored && *bound >= 0 && *unmirrored >= 0) {
           EXPECT_NEAR(*bound, *unmirrored, 2e-4) << "trial " << trial;
         }
       }
