@@ -466,20 +466,23 @@ Eigen::Isometry3d absent_pose(int object) {
 
 void repose(ObjectGeometry& g, const Eigen::Isometry3d& X_world_object, const std::vector<Eigen::Isometry3d>* X_object_part) {
   const Eigen::Isometry3d move = X_world_object * g.X_world_object.inverse();
-  std::vector<std::pair<std::string, Eigen::Isometry3d>> part_frames;
-  if (g.device && X_object_part) {
-    const Device& d = *g.device;
-    for (Shape& s : g.shapes)
-      s.X_object_shape = (*X_object_part)[s.part] * g.X_object_part[s.part].inverse() * s.X_object_shape;
+  const Device* d = g.device && X_object_part ? g.device.get() : nullptr;
+  if (d) {
+    // Each part's move, once (a device posed at every sample of a run).
+    std::vector<Eigen::Isometry3d> part_move(X_object_part->size());
+    for (size_t p = 0; p < part_move.size(); ++p) part_move[p] = (*X_object_part)[p] * g.X_object_part[p].inverse();
+    for (Shape& s : g.shapes) s.X_object_shape = part_move[s.part] * s.X_object_shape;
     g.X_object_part = *X_object_part;
-    for (size_t p = 0; p < d.parts.size(); ++p) part_frames.emplace_back(d.parts[p].name, X_world_object * g.X_object_part[p]);
-    part_frames.emplace_back("tool", X_world_object * g.X_object_part[d.tool_part] * d.X_part_tool);
   }
-  // A device's part and tool frames follow its parts; the type's own frames follow the object.
-  for (auto& frame : g.frames_world) {
-    const std::string& name = frame.first;  // a structured binding cannot be captured before C++20 (clang)
-    auto part = std::find_if(part_frames.begin(), part_frames.end(), [&](const auto& f) { return f.first == name; });
-    frame.second = part != part_frames.end() ? part->second : move * frame.second;
+  // A device's part and tool frames follow its parts (a part named like the tool first); the
+  // type's own frames follow the object.
+  for (auto& [name, X] : g.frames_world) {
+    int part = -1;
+    for (size_t p = 0; d && part < 0 && p < d->parts.size(); ++p)
+      if (d->parts[p].name == name) part = static_cast<int>(p);
+    if (part >= 0) X = X_world_object * g.X_object_part[part];
+    else if (d && name == "tool") X = X_world_object * g.X_object_part[d->tool_part] * d->X_part_tool;
+    else X = move * X;
   }
   g.X_world_object = X_world_object;
   g.bbox_world.setEmpty();

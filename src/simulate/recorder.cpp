@@ -1,5 +1,6 @@
 #include "simulate/recorder.h"
 
+#include <iterator>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -29,20 +30,20 @@ void TrajectoryRecorder::record(double t) {
       device_csv_[k] = fmt::format("{}\n", fmt::join(columns, ","));
     }
     Eigen::VectorXd q = world_.joints(d);
-    std::string row = fmt::format("{:.4f}", t);
-    for (int j = 0; j < m.dof(); ++j) row += fmt::format(",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kDegPerRad : q[j]);
+    auto row = std::back_inserter(device_csv_[k]);  // (formatted in place: a run's rows are most of its log)
+    fmt::format_to(row, "{:.4f}", t);
+    for (int j = 0; j < m.dof(); ++j) fmt::format_to(row, ",{:.6f}", m.joint(j).type == JointType::Revolute ? q[j] * kDegPerRad : q[j]);
     Eigen::Isometry3d X = world_.part_pose(d, m.tool_part) * m.X_part_tool;
     Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDegPerRad;
-    row += fmt::format(",{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", X.translation().x(), X.translation().y(),
-                       X.translation().z(), rpy.x(), rpy.y(), rpy.z());
-    device_csv_[k] += row;
+    fmt::format_to(row, ",{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", X.translation().x(), X.translation().y(), X.translation().z(),
+                   rpy.x(), rpy.y(), rpy.z());
   }
   for (size_t o = 0; o < wc_.objects.size(); ++o) {
     if (!world_.dynamic(static_cast<int>(o))) continue;
     Eigen::Isometry3d X = world_.pose(static_cast<int>(o));
     Eigen::Vector3d rpy = rotation_to_rpy(X.linear()) * kDegPerRad;
-    objects_csv_ += fmt::format("{:.4f},{},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", t, wc_.objects[o].name,
-                                X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
+    fmt::format_to(std::back_inserter(objects_csv_), "{:.4f},{},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", t, wc_.objects[o].name,
+                   X.translation().x(), X.translation().y(), X.translation().z(), rpy.x(), rpy.y(), rpy.z());
   }
 }
 
