@@ -85,6 +85,10 @@ int run_cli(int argc, char** argv) {
     render_cmd->add_option("--fov", render_args.fov, "vertical field of view, degrees (default 45, or the named camera's)");
     render_cmd->add_option("--camera", render_args.camera, "a named camera of the vault (its cameras: mapping)");
     render_cmd->add_flag("--shadows", render_args.shadows, "shadows of the key light");
+    render_cmd->add_option("--walls", render_args.walls,
+                           "walls between the eye and the vault: see-through or solid; auto (default): see-through for the "
+                           "default view and a camera named overview")
+        ->check(CLI::IsMember({"auto", "solid", "see-through"}));
     render_cmd->add_option("--size", render_args.size, "WIDTHxHEIGHT in pixels (default 1280x720)");
     common.add_to(render_cmd);
 

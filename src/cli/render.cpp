@@ -141,6 +141,9 @@ int run_render(const Common& common, const RenderArgs& args) {
   ro.width = width;
   ro.height = height;
   ro.shadows = args.shadows;
+  // The overview (the default three-quarter view, or the vault's `overview` camera) looks into
+  // the vault through the walls on its side: with 5-8 m walls it showed mostly walls.
+  ro.see_through = args.walls == "see-through" || (args.walls == "auto" && ((args.eye.empty() && args.camera.empty()) || args.camera == "overview"));
   Renderer renderer(*wc, geometry, ro);
   Camera camera = named ? named->at(0, ScenePose::of(geometry), renderer.bounds(), double(width) / height)
                         : framing_camera(renderer.bounds(), args.fov > 0 ? args.fov : 45, double(width) / height);
@@ -155,10 +158,13 @@ int run_render(const Common& common, const RenderArgs& args) {
     std::cerr << "sscs: error: " << err << "\n";
     return kInputError;
   }
-  if (!common.quiet)
-    std::cout << fmt::format("wrote {} ({}x{}, eye [{:.2f}, {:.2f}, {:.2f}], target [{:.2f}, {:.2f}, {:.2f}], fov {:g})\n",
+  if (!common.quiet) {
+    const size_t through = ro.see_through ? see_through_walls(*wc, geometry, camera.eye, renderer.bounds().center()).size() : 0;
+    std::cout << fmt::format("wrote {} ({}x{}, eye [{:.2f}, {:.2f}, {:.2f}], target [{:.2f}, {:.2f}, {:.2f}], fov {:g}{})\n",
                              args.out, width, height, camera.eye.x(), camera.eye.y(), camera.eye.z(), camera.target.x(),
-                             camera.target.y(), camera.target.z(), camera.fov);
+                             camera.target.y(), camera.target.z(), camera.fov,
+                             through ? fmt::format(", {} wall{} see-through", through, through == 1 ? "" : "s") : "");
+  }
   return kOk;
 }
 

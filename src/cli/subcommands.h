@@ -112,6 +112,7 @@ struct CheckArgs {
 
 struct RenderArgs {
   std::string vault, out, eye, target, camera, size = "1280x720";
+  std::string walls = "auto";  ///< auto | solid | see-through
   bool shadows = false;
   double fov = 0;  ///< 0: not given (45, or the named camera's)
 };

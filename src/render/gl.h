@@ -75,6 +75,8 @@ struct RenderUnavailable : std::runtime_error {
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                                   \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                                 \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                         \
+  X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                         \
+  X(PFNGLDEPTHMASKPROC, DepthMask)                                                                         \
   X(PFNGLDRAWBUFFERPROC, DrawBuffer)                                                                       \
   X(PFNGLREADBUFFERPROC, ReadBuffer)
 

@@ -57,6 +57,7 @@ constexpr const char* kSolidFragment = R"(#version 330 core
 in vec3 world_normal;
 in vec4 light_position;
 uniform vec3 albedo;      // linear light
+uniform float alpha;      // 1 but for a see-through wall
 uniform bool shadows;
 uniform sampler2DShadow shadow_map;
 out vec4 color;
@@ -79,7 +80,7 @@ void main() {
   }
   vec3 ambient = mix(ground, sky, 0.5 + 0.5 * n.z);
   vec3 lit = albedo * (0.55 * ambient + 0.75 * key);
-  color = vec4(pow(clamp(lit, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);   // back to sRGB
+  color = vec4(pow(clamp(lit, 0.0, 1.0), vec3(1.0 / 2.2)), alpha);   // back to sRGB
 }
 )";
 
@@ -103,7 +104,44 @@ void main() { color = vec4(vertex_color, 1.0); }
 
 Eigen::Matrix4f to_float(const Eigen::Matrix4d& M) { return M.cast<float>(); }
 
+constexpr float kSeeThroughAlpha = 0.22f;  // a see-through wall's opacity: there, and what it hides seen
+
+/// A wall's plane: through the middle of its bounds, square to its thinnest horizontal side in
+/// its own frame (a wall type's y, through it).
+struct WallPlane {
+  int object = -1;
+  Eigen::Vector3d middle, normal;
+};
+
+std::vector<WallPlane> wall_planes(const Workcell& wc, const GeometryModel& geometry) {
+  std::vector<WallPlane> out;
+  for (size_t o = 0; o < wc.objects.size() && o < geometry.objects.size(); ++o) {
+    const std::vector<int> lineage = wc.lineage(wc.objects[o].type);
+    if (std::none_of(lineage.begin(), lineage.end(), [&](int t) { return wc.types[t].name == "wall"; })) continue;
+    const ObjectGeometry& g = geometry.objects[o];
+    if (g.shapes.empty() || g.bbox_world.isEmpty()) continue;
+    Eigen::AlignedBox3d own;
+    for (const Shape& sh : g.shapes) own.extend(shape_bounds(sh, sh.X_object_shape));
+    const int thin = own.sizes().x() <= own.sizes().y() ? 0 : 1;
+    out.push_back({static_cast<int>(o), g.bbox_world.center(), g.X_world_object.linear().col(thin).normalized()});
+  }
+  return out;
+}
+
+/// The planes of `walls` that separate `eye` from `middle`.
+std::vector<int> separating(const std::vector<WallPlane>& walls, const Eigen::Vector3d& eye, const Eigen::Vector3d& middle) {
+  std::vector<int> out;
+  for (const WallPlane& w : walls)
+    if (w.normal.dot(eye - w.middle) * w.normal.dot(middle - w.middle) < 0) out.push_back(w.object);
+  return out;
+}
+
 }  // namespace
+
+std::vector<int> see_through_walls(const Workcell& wc, const GeometryModel& geometry, const Eigen::Vector3d& eye,
+                                   const Eigen::Vector3d& middle) {
+  return separating(wall_planes(wc, geometry), eye, middle);
+}
 
 Eigen::Vector3f color_of(const std::string& hex) {
   const float grey = 0xC0 / 255.0f;  // #C0C0C0 for objects without a colour
@@ -130,6 +168,7 @@ struct Renderer::Impl {
     bool inside = false;               ///< a container: drawn from the inside
   };
   std::vector<Item> items;
+  std::vector<WallPlane> walls;  ///< see-through candidates (options.see_through)
   Mesh lines;
   GLuint solid = 0, line = 0, depth = 0;
   GLuint shadow_fbo = 0, shadow_map = 0;
@@ -147,6 +186,7 @@ struct Renderer::Impl {
     framebuffers();
     if (options.shadows) shadow_buffers();
     upload(wc);
+    if (options.see_through) walls = wall_planes(wc, geometry);
     grid();
   }
 
@@ -444,21 +484,30 @@ struct Renderer::Impl {
 
     gl.UseProgram(solid);
     const GLint u_model = gl.GetUniformLocation(solid, "model"), u_vp = gl.GetUniformLocation(solid, "view_projection"),
-                u_normal = gl.GetUniformLocation(solid, "normal_matrix"), u_albedo = gl.GetUniformLocation(solid, "albedo");
+                u_normal = gl.GetUniformLocation(solid, "normal_matrix"), u_albedo = gl.GetUniformLocation(solid, "albedo"),
+                u_alpha = gl.GetUniformLocation(solid, "alpha");
     gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp.data());
+    gl.Uniform1f(u_alpha, 1.0f);
+    // The walls between the eye and the scene's middle: drawn last, see-through.
+    std::vector<char> through(geometry.objects.size(), 0);
+    bool any_through = false;
+    for (int o : separating(walls, camera.eye, bounds.center())) through[o] = 1, any_through = true;
     gl.UniformMatrix4fv(gl.GetUniformLocation(solid, "light_projection"), 1, GL_FALSE, light_vp.data());
     gl.Uniform1i(gl.GetUniformLocation(solid, "shadows"), options.shadows ? 1 : 0);
     gl.Uniform1i(gl.GetUniformLocation(solid, "shadow_map"), 0);
     gl.ActiveTexture(GL_TEXTURE0);
     gl.BindTexture(GL_TEXTURE_2D, shadow_map);
-    for (const Item& it : items) {
-      if (pose.hides(it.object)) continue;
+    auto place = [&](const Item& it) {
       const Eigen::Isometry3d X = world_pose(it, pose);
       const Eigen::Matrix4f model = to_float(X.matrix());
       const Eigen::Matrix3f normal = X.linear().inverse().transpose().cast<float>();
       gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
       gl.UniformMatrix3fv(u_normal, 1, GL_FALSE, normal.data());
       gl.Uniform3f(u_albedo, it.albedo.x(), it.albedo.y(), it.albedo.z());
+    };
+    for (const Item& it : items) {
+      if (pose.hides(it.object) || through[it.object]) continue;
+      place(it);
       // A container is seen from the inside: its faces towards the eye are not drawn, and its
       // far faces lie a little behind a solid's face in the same plane (a wall built against
       // the room's inside flickered in stripes with it).
@@ -475,11 +524,28 @@ struct Renderer::Impl {
       gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);
     }
     gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
     if (options.grid) {
       gl.UseProgram(line);
       gl.UniformMatrix4fv(gl.GetUniformLocation(line, "view_projection"), 1, GL_FALSE, vp.data());
       gl.BindVertexArray(lines.vao);
       gl.DrawArrays(GL_LINES, 0, lines.count);
+    }
+    if (any_through) {  // blended over everything, hiding nothing (no depth written)
+      gl.UseProgram(solid);
+      gl.Enable(GL_BLEND);
+      gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+      gl.DepthMask(GL_FALSE);
+      gl.Uniform1f(u_alpha, kSeeThroughAlpha);
+      for (const Item& it : items) {
+        if (pose.hides(it.object) || !through[it.object]) continue;
+        place(it);
+        gl.BindVertexArray(meshes[it.mesh].vao);
+        gl.DrawArrays(GL_TRIANGLES, 0, meshes[it.mesh].count);
+      }
+      gl.Uniform1f(u_alpha, 1.0f);
+      gl.DepthMask(GL_TRUE);
+      gl.Disable(GL_BLEND);
     }
 
     gl.Finish();  // llvmpipe draws lazily: finish here, so the times split honestly

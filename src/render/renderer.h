@@ -19,7 +19,16 @@ struct RenderOptions {
   bool grid = true;  ///< ground grid and world axes
   int samples = 4;   ///< MSAA samples (1: none)
   bool shadows = false;  ///< shadows of the key light (a 2048x2048 shadow map, 3x3 PCF)
+  /// Walls towards the camera drawn see-through (a quarter opaque): those whose plane lies
+  /// between the eye and the middle of the scene (see_through_walls()).
+  bool see_through = false;
 };
+
+/// The walls (objects of type `wall`, or a type extending it) whose plane separates `eye` from
+/// `middle`: the walls a camera at `eye` looks through at the scene. A wall's plane passes through
+/// the middle of its bounds, square to its thinnest horizontal side.
+std::vector<int> see_through_walls(const Workcell& wc, const GeometryModel& geometry, const Eigen::Vector3d& eye,
+                                   const Eigen::Vector3d& middle);
 
 class Renderer {
  public:

@@ -145,6 +145,43 @@ TEST_F(Render, SameSceneSamePixelsAndPosesMoveObjects) {
   EXPECT_EQ(back.rgb, a.rgb);
 }
 
+// See-through walls: a wall between the eye and the scene's middle hides a red cube when solid and
+// shows it see-through; seen from the other side the wall stands behind the cube, is no
+// see-through wall, and hides nothing. The same with the wall turned 90 degrees, seen along x.
+TEST_F(Render, AWallBetweenTheEyeAndTheVaultIsSeeThrough) {
+  for (int turned = 0; turned < 2; ++turned) {
+    SCOPED_TRACE(turned ? "wall along y" : "wall along x");
+    diag = Diagnostics{};
+    // The wall: 4 m long, 0.2 m thick, 3 m high, 1 m from the cube (standing at the origin).
+    Scene s = scene(*this, turned ? "  - {type: cube, name: A}\n  - {type: wall, name: W, location: [-1, -2, 0], orientation: [0, 0, 90], "
+                                    "length: 4 m, thickness: 0.2 m, height: 3 m}\n"
+                                  : "  - {type: cube, name: A}\n  - {type: wall, name: W, location: [-2, -1.2, 0], length: 4 m, "
+                                    "thickness: 0.2 m, height: 3 m}\n");
+    ASSERT_FALSE(diag.has_errors());
+    const Eigen::Vector3d near = turned ? Eigen::Vector3d(-8, 0, 1.5) : Eigen::Vector3d(0, -8, 1.5);
+    const Eigen::Vector3d middle(0, 0, 0.5);
+    EXPECT_EQ(see_through_walls(s.wc, s.geometry, near, middle), std::vector<int>{1});
+    EXPECT_TRUE(see_through_walls(s.wc, s.geometry, -near + Eigen::Vector3d(0, 0, 3), middle).empty());  // beyond the cube
+    for (int see : {0, 1}) {
+      RenderOptions o;
+      o.width = 240;
+      o.height = 180;
+      o.grid = false;
+      o.see_through = see;
+      Renderer r(s.wc, s.geometry, o);
+      const Eigen::Vector4d hidden = red_bounds(r.render(Camera{near, middle, 40}));
+      if (see) {
+        EXPECT_LT(hidden[0], hidden[2]) << "the cube is seen through the wall";
+      } else {
+        EXPECT_GT(hidden[0], hidden[2]) << "the solid wall hides the cube";
+      }
+      // From the far side the cube stands in front of the wall, see-through or not.
+      const Eigen::Vector4d front = red_bounds(r.render(Camera{Eigen::Vector3d(-near.x(), -near.y(), near.z()), middle, 40}));
+      EXPECT_LT(front[0], front[2]);
+    }
+  }
+}
+
 TEST(ContactSheet, DownscaleAveragesAndLabelsAreInked) {
   Image img{4, 2, std::vector<uint8_t>(4 * 2 * 3, 0)};
   for (int x = 0; x < 2; ++x)
