@@ -70,6 +70,8 @@ int run_cli(int argc, char** argv) {
     sim_cmd->add_flag("--no-frames", sim_args.no_frames, "do not render the scenario's frames");
     sim_cmd->add_option("--video", sim_args.video, "also encode the frames as an H.264 .mp4 through ffmpeg (when installed)");
     sim_cmd->add_flag("--shadows", sim_args.shadows, "frames with shadows of the key light");
+    sim_cmd->add_option("--walls", sim_args.walls, "frames with the walls between the eye and the vault solid (default) or see-through")
+        ->check(CLI::IsMember({"solid", "see-through"}));
     sim_cmd->add_flag("--force", sim_args.force, "replace an existing run folder or bundle (never replaced without it)");
     sim_cmd->add_option("--wall-limit", sim_args.wall_limit, "seconds of wall-clock time the run may take; past it the run "
                         "stops as failed with a wall_limit event (default: no limit; sim.limit bounds simulated time)");
@@ -99,6 +101,8 @@ int run_cli(int argc, char** argv) {
     replay_cmd->add_option("--camera", replay_args.camera, "camera file (sscs: 1, cameras: [...]); default: the run's cameras");
     replay_cmd->add_option("--size", replay_args.size, "WIDTHxHEIGHT (default: the run's frame size)");
     replay_cmd->add_flag("--shadows", replay_args.shadows, "frames with shadows of the key light");
+    replay_cmd->add_option("--walls", replay_args.walls, "frames with the walls between the eye and the vault solid (default) or see-through")
+        ->check(CLI::IsMember({"solid", "see-through"}));
     replay_cmd->add_flag("--force", replay_args.force, "replace an earlier replay in --out (nothing else is ever replaced)");
     common.add_to(replay_cmd);
 

@@ -194,6 +194,7 @@ int run_replay(const Common& common, const ReplayArgs& args) {
   ro.height = plan.settings.height;
   if (!args.size.empty() && !parse_size(args.size, ro.width, ro.height)) return kInputError;
   ro.shadows = args.shadows;
+  ro.see_through = args.walls == "see-through";
   std::vector<int> driven;
   for (const Track& track : plan.tracks) driven.push_back(track.object);
   auto recorded = RecordedRun::read(args.run, wc, ps.geometry, driven);

@@ -17,6 +17,7 @@ int run_simulate(const Common& common, const SimulateArgs& args) {
   request.frames = !args.no_frames;
   request.video = args.video;
   request.shadows = args.shadows;
+  request.see_through = args.walls == "see-through";
   CompileOptions options;
   if (!common.apply(options, {args.scenario})) return kInputError;
   std::string why = !args.video.empty() && args.no_frames ? "--video needs frames; it cannot go with --no-frames"

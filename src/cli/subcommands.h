@@ -119,6 +119,7 @@ struct RenderArgs {
 
 struct ReplayArgs {
   std::string run, out, camera, size;
+  std::string walls = "solid";  ///< solid | see-through
   bool shadows = false;
   bool force = false;  // replace an earlier replay in --out
 };
@@ -129,6 +130,7 @@ struct SimulateArgs {
   std::string bundle;
   bool no_frames = false;
   std::string video;
+  std::string walls = "solid";  ///< solid | see-through
   bool shadows = false;
   bool force = false;  // replace an existing run folder or bundle
   std::optional<std::string> wall_limit;  // s of wall-clock time (none when not given)

@@ -69,6 +69,7 @@ Expected<RunSummary> run_scenario(const PreparedScenario& ps, const RunRequest& 
     ro.width = plan.settings.width;
     ro.height = plan.settings.height;
     ro.shadows = request.shadows;
+    ro.see_through = request.see_through;
     recorder.reset();  // (its files first: the new one writes the same names)
     std::error_code ec;
     std::filesystem::remove_all(run.work_dir + "/frames", ec);

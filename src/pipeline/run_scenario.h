@@ -19,6 +19,7 @@ struct RunRequest {
   bool frames = true;  ///< render the frames the scenario records (none when it records none)
   std::string video;   ///< also an H.264 .mp4 of the frames through ffmpeg, or ""
   bool shadows = false;
+  bool see_through = false;  ///< frames with the walls between the eye and the vault see-through
   double wall_limit = 0;  ///< seconds of wall-clock time, 0: none
   RunOptions::Progress progress = RunOptions::Progress::None;
   std::ostream* progress_to = nullptr;

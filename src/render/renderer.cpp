@@ -437,8 +437,11 @@ struct Renderer::Impl {
       gl.UseProgram(ids);
       gl.UniformMatrix4fv(gl.GetUniformLocation(ids, "light_projection"), 1, GL_FALSE, vp.data());
       const GLint u_model = gl.GetUniformLocation(ids, "model"), u_id = gl.GetUniformLocation(ids, "id_color");
+      // A see-through wall hides nothing from the camera.
+      std::vector<char> through(geometry.objects.size(), 0);
+      for (int o : separating(walls, camera.eye, bounds.center())) through[o] = 1;
       for (const Item& it : items) {
-        if ((!everything && slot[it.object] < 0) || pose.hides(it.object)) continue;
+        if ((!everything && slot[it.object] < 0) || pose.hides(it.object) || (everything && through[it.object])) continue;
         const Eigen::Matrix4f model = to_float(world_pose(it, pose).matrix());
         gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
         const int id = it.object + 1;  // 0: nothing

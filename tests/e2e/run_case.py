@@ -1144,6 +1144,26 @@ def render(sscs, root):
         if p.returncode != 0 or "eye [10.02, -1.92, 3.44], target [11.70, 2.70, 0.00], fov 45" not in p.stdout or \
                 read_png(named)[2] == read_png(out)[2]:
             fail("render --camera robot", p)
+        # See-through walls: the store's default view looks through its front and end walls at
+        # the racks of drums (green) its solid front wall hides; --walls solid keeps them.
+        store = "scenarios/drum-store/store.yaml"
+        see, solid = os.path.join(tmp, "see.png"), os.path.join(tmp, "solid.png")
+        p = run(sscs, root, ["render", store, "--out", see, "--size", "480x270"], env=env)
+        if p.returncode != 0 or not p.stdout.rstrip().endswith("fov 45, 2 walls see-through)"):
+            fail("render of the store: its two near walls see-through by default", p)
+        p = run(sscs, root, ["render", store, "--out", solid, "--size", "480x270", "--walls", "solid"], env=env)
+        if p.returncode != 0 or "see-through" in p.stdout:
+            fail("render --walls solid", p)
+        def greenish(path):  # the stored drums (dark green), also seen through a wall's grey
+            return sum(1 for row in read_png(path)[2] for k in range(0, len(row), 3)
+                       if row[k + 1] > row[k] + 8 and row[k + 1] > row[k + 2] + 8)
+        changed = sum(1 for a, b in zip(read_png(see)[2], read_png(solid)[2]) for k in range(len(a)) if abs(a[k] - b[k]) > 30)
+        if not greenish(see) > 2 * greenish(solid) or changed < 0.05 * 480 * 270 * 3:
+            fail(f"the drums behind the store's front wall: {greenish(see)} green pixels see-through, {greenish(solid)} "
+                 f"solid; {changed} channels changed")
+        p = run(sscs, root, ["render", store, "--out", solid, "--walls", "glass"], env=env)
+        if p.returncode != 2 or "--walls" not in p.stderr:
+            fail("render --walls glass: an input error naming the option", p)
         missing = os.path.join(tmp, "missing.png")
         p = run(sscs, root, ["render", "scenarios/demo/demo.yaml", "--out", missing],
                 env=dict(env, SSCS_OSMESA="/nonexistent/libOSMesa.so"))
