@@ -9,6 +9,7 @@ packages=(
   libyaml-cpp-dev libeigen3-dev libode-dev libfcl-dev libassimp-dev libzip-dev libssl-dev libfmt-dev
   libgtest-dev libgmock-dev libosmesa6-dev libgl-dev libpng-dev libjpeg-dev libfreetype-dev fonts-dejavu-core libcli11-dev nlohmann-json3-dev libmuparser-dev
   libbenchmark-dev liburdfdom-dev libtinyxml-dev  # tinyxml: SRDF files (urdfdom uses it too)
+  libcpp-httplib-dev  # sscs serve's HTTP server
   liborocos-kdl-dev  # the IK benchmark's peer solver only; sscs does not link it
   clang libclang-rt-14-dev  # the sanitizer and libFuzzer build of tools/test.sh (stage 2)
   libjs-three  # three.js r111, built into the HTML reports

@@ -48,6 +48,14 @@ int run_cli(int argc, char** argv) {
     check_cmd->add_option("--html", check_args.html, "also write the self-contained HTML report (table and 3D view) to this file");
     common.add_to(check_cmd);
 
+    ServeArgs serve_args;
+    CLI::App* serve_cmd = command("serve", "the live design view: a vault's check report on a local port, checked again and "
+                                           "pushed into the open page at every save", [&] { return run_serve(common, serve_args); });
+    serve_cmd->add_option("VAULT", serve_args.file, "vault file")->required();
+    serve_cmd->add_option("--port", serve_args.port, "port (default 8765; 0: any free one, printed)");
+    serve_cmd->add_option("--host", serve_args.host, "address to listen on (default 127.0.0.1: this machine only)");
+    common.add_to(serve_cmd);
+
     std::string types_format = "text", types_out;
     CLI::App* types_cmd = command("types", "list the object types, devices and constraint kinds", [&] { return run_types(common, types_format, types_out); });
     types_cmd->add_option("--format", types_format, "text, json, or md: the catalogue (with thumbnails; needs --out)")

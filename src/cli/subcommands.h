@@ -101,6 +101,12 @@ struct Common {
   }
 };
 
+struct ServeArgs {
+  std::string file;
+  std::string host = "127.0.0.1";  ///< loopback unless asked
+  int port = 8765;                 ///< 0: any free port (printed)
+};
+
 struct CheckArgs {
   std::vector<std::string> vaults;
   std::string format;
@@ -180,6 +186,8 @@ class InterruptGuard {
 
 // The subcommands (check.cpp, render.cpp, simulate.cpp, sweep.cpp): each returns its exit status.
 int run_check(const Common& common, const CheckArgs& args);
+/// `sscs serve VAULT`: the live design view (serve.cpp); returns when stopped (Ctrl-C).
+int run_serve(const Common& common, const ServeArgs& args);
 int run_types(const Common& common, const std::string& format, const std::string& out);
 int run_export(const Common& common, const std::string& vault, const std::string& out);
 int run_render(const Common& common, const RenderArgs& args);

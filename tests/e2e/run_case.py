@@ -3241,7 +3241,14 @@ def run_truth(sscs, root):
     truth.run_truth(sscs, root, run, fail)
 
 
-MODES = {"campaigns": campaigns, "fast": fast, "carrying": carrying, "riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
+def live_serve(sscs, root):
+    """sscs serve over HTTP: tests/e2e/live_serve.py."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import live_serve as live
+    live.serve(sscs, root, fail)
+
+
+MODES = {"serve": live_serve, "campaigns": campaigns, "fast": fast, "carrying": carrying, "riders": riders, "certified": certified, "run_truth": run_truth, "catalogue": catalogue, "zones": zones, "drum_store": drum_store, "simulate": simulate, "agreement": agreement, "loads": loads, "render": render, "plugins": plugins, "ci": ci, "ci_recipes": ci_recipes,
          "schemas": schemas, "sweep": sweep, "sweep_reuse": sweep_reuse, "cli": cli, "tutorials": tutorials}
 
 

@@ -1,0 +1,295 @@
+// `sscs serve VAULT [--port N] [--host ADDRESS]`: the live design view (cli.md). The vault's check
+// report is served on a local port; every file the check read is watched (inotify), and a save
+// checks again and pushes the new page into the open browser (Server-Sent Events), which keeps
+// its camera and its table's filters. Input errors are shown over the last good view, greyed.
+#include <poll.h>
+#include <pthread.h>
+#include <sys/inotify.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <set>
+#include <thread>
+
+#include "cli/subcommands.h"
+#include "pipeline/live_check.h"
+#include "report/html.h"
+
+#include <httplib.h>  // after Eigen: the macros of the system headers it pulls in confuse Eigen's templates
+
+namespace sscs::cli {
+
+namespace {
+
+/// What the page adds to a check's report when served: it listens for a new check and reloads,
+/// keeping its camera, the table's filters and its scroll position (sessionStorage).
+constexpr const char* kLiveScript = R"(
+(function () {
+  var key = 'sscs-serve-view';
+  function save() {
+    var state = { scroll: [window.scrollX, window.scrollY], inputs: {} };
+    var report = window.sscsReport, view = report && report.view;
+    if (view && view.orbitCamera && view.controls) {
+      state.eye = view.orbitCamera.position.toArray();
+      state.target = view.controls.target.toArray();
+    }
+    document.querySelectorAll('input[data-testid], select[data-testid]').forEach(function (e) {
+      state.inputs[e.getAttribute('data-testid')] = e.type === 'checkbox' ? e.checked : e.value;
+    });
+    try { sessionStorage.setItem(key, JSON.stringify(state)); } catch (e) {}
+  }
+  function restore() {
+    var state;
+    try { state = JSON.parse(sessionStorage.getItem(key) || 'null'); } catch (e) { state = null; }
+    if (!state) return;
+    Object.keys(state.inputs || {}).forEach(function (id) {
+      var e = document.querySelector('[data-testid="' + id + '"]');
+      if (!e) return;
+      if (e.type === 'checkbox') { if (e.checked !== state.inputs[id]) { e.checked = state.inputs[id]; e.dispatchEvent(new Event('change')); } }
+      else if (e.value !== state.inputs[id]) { e.value = state.inputs[id]; e.dispatchEvent(new Event('input')); e.dispatchEvent(new Event('change')); }
+    });
+    var report = window.sscsReport, view = report && report.view;
+    if (view && state.eye && view.orbitCamera && view.controls) {
+      view.orbitCamera.position.fromArray(state.eye);
+      view.controls.target.fromArray(state.target);
+      view.controls.update();
+      if (view.render) view.render();
+    }
+    if (state.scroll) window.scrollTo(state.scroll[0], state.scroll[1]);
+  }
+  var report = window.sscsReport;
+  if (report && report.ready) report.ready.then(restore); else restore();
+  var events = new EventSource('/events');
+  events.addEventListener('update', function () { save(); location.reload(); });
+})();
+)";
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+/// Text with the terminal's colour codes left out (the diagnostics are formatted without them).
+std::string errors_banner(const std::string& errors, bool greyed) {
+  return fmt::format(
+      "<div id=\"sscs-serve-errors\" data-testid=\"serve-errors\" style=\"position:fixed;left:0;right:0;top:0;z-index:1000;"
+      "max-height:45vh;overflow:auto;background:#fff3f3;border-bottom:2px solid #c62828;padding:8px 12px;font:13px monospace\">"
+      "<b>sscs serve: the vault does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
+      greyed ? " (the last good view below, greyed)" : "", html_escape(errors),
+      greyed ? "<style>canvas{filter:grayscale(1) opacity(0.55)}</style>" : "");
+}
+
+
+/// The live state: the page served now, and its generation (bumped by each check published).
+struct Live {
+  std::mutex m;
+  std::condition_variable published, changed;
+  std::string page;
+  std::string last_good;  ///< the last report that compiled, as checked
+  long generation = 0;
+  bool dirty = true;      ///< a watched file changed since the last check began
+  bool stopping = false;
+  std::vector<std::string> files;  ///< watched
+  long watch_generation = 0;       ///< bumped when `files` changes
+  std::atomic<bool> checking{false};  ///< a check under way (one that never ends does not hold up Ctrl-C)
+};
+
+/// Checks again on every change: the last save wins (a check begun before it is not published).
+void checker(Live& live, const std::string& vault, const CompileOptions& options, bool quiet) {
+  for (;;) {
+    {
+      std::unique_lock lock(live.m);
+      live.changed.wait(lock, [&] { return live.dirty || live.stopping; });
+      if (live.stopping) return;
+    }
+    // A burst of writes (an editor's save, a formatter after it) is one change.
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+    {
+      std::lock_guard lock(live.m);
+      live.dirty = false;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    live.checking = true;
+    LiveCheck result = live_check(vault, options);
+    live.checking = false;
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::lock_guard lock(live.m);
+    if (live.stopping) return;
+    if (live.dirty) continue;  // saved again meanwhile: that save's check is the one shown
+    if (result.compiled) {
+      live.last_good = result.page;
+      live.page = with_live_script(result.page, kLiveScript);
+    } else if (!live.last_good.empty()) {
+      live.page = with_live_script(live.last_good, kLiveScript, errors_banner(result.errors, true));
+    } else {
+      live.page = fmt::format("<!doctype html><html><head><meta charset=\"utf-8\"><title>sscs serve</title></head><body>{}<script>{}</script></body></html>",
+                              errors_banner(result.errors, false), kLiveScript);
+    }
+    if (result.files != live.files) {
+      live.files = result.files;
+      ++live.watch_generation;
+    }
+    ++live.generation;
+    live.published.notify_all();
+    if (!quiet) std::cout << fmt::format("sscs serve: checked in {:.0f} ms: {}\n", ms, result.summary) << std::flush;
+  }
+}
+
+/// Watches the folders of the files the last check read; a change to one of them (written,
+/// replaced by a rename as editors save, created, removed) marks the state dirty.
+void watcher(Live& live) {
+  const int fd = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (fd < 0) return;
+  std::map<int, std::string> folders;  // watch descriptor -> folder
+  std::set<std::string> names;         // the files watched
+  long seen = -1;
+  std::vector<char> buffer(64 * 1024);
+  for (;;) {
+    {
+      std::lock_guard lock(live.m);
+      if (live.stopping) break;
+      if (seen != live.watch_generation) {
+        seen = live.watch_generation;
+        for (const auto& [wd, folder] : folders) inotify_rm_watch(fd, wd);
+        folders.clear();
+        names = std::set<std::string>(live.files.begin(), live.files.end());
+        std::set<std::string> dirs;
+        for (const std::string& f : live.files) dirs.insert(std::filesystem::path(f).parent_path().string());
+        for (const std::string& d : dirs) {
+          const int wd = inotify_add_watch(fd, d.c_str(), IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_DELETE | IN_MODIFY);
+          if (wd >= 0) folders[wd] = d;
+        }
+      }
+    }
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 200) <= 0) continue;
+    const ssize_t n = read(fd, buffer.data(), buffer.size());
+    bool hit = false;
+    for (ssize_t at = 0; at < n;) {
+      const auto* e = reinterpret_cast<const inotify_event*>(buffer.data() + at);
+      if (e->len > 0 && folders.count(e->wd) && names.count((std::filesystem::path(folders[e->wd]) / e->name).string())) hit = true;
+      at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+    }
+    if (hit) {
+      std::lock_guard lock(live.m);
+      live.dirty = true;
+      live.changed.notify_all();
+    }
+  }
+  close(fd);
+}
+
+}  // namespace
+
+int run_serve(const Common& common, const ServeArgs& args) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_regular_file(args.file, ec)) {
+    std::cerr << fmt::format("sscs: error: {}: no such file\n", args.file);
+    return kInputError;
+  }
+  {  // A scenario or a campaign names its vault: not served yet.
+    std::ifstream in(args.file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    static const std::regex kind(R"((^|\n)(scenario|campaign)\s*:)");
+    std::smatch m;
+    if (std::regex_search(text, m, kind)) {
+      std::cerr << fmt::format("sscs: error: {}: a {} file; sscs serve shows a vault for now (serve the vault it names)\n", args.file,
+                               m[2].str());
+      return kInputError;
+    }
+  }
+  if (args.port < 0 || args.port > 65535) {
+    std::cerr << fmt::format("sscs: error: --port expects 0 to 65535, found {}\n", args.port);
+    return kInputError;
+  }
+  CompileOptions options;
+  if (!common.apply(options, {args.file})) return kInputError;
+
+  // Ctrl-C and SIGTERM stop the server: waited for by a thread of its own (blocked in all others).
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  Live live;
+  httplib::Server server;
+  server.Get("/", [&](const httplib::Request&, httplib::Response& res) {
+    std::unique_lock lock(live.m);
+    // The first check: wait for it (a page that is not there yet would say nothing).
+    live.published.wait_for(lock, std::chrono::seconds(30), [&] { return live.generation > 0 || live.stopping; });
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(live.page.empty() ? std::string("sscs serve: still checking; reload in a moment") : live.page, "text/html; charset=utf-8");
+  });
+  server.Get("/events", [&](const httplib::Request&, httplib::Response& res) {
+    long sent = -1;
+    res.set_header("Cache-Control", "no-store");
+    res.set_chunked_content_provider("text/event-stream", [&live, sent](size_t, httplib::DataSink& sink) mutable {
+      std::unique_lock lock(live.m);
+      if (sent < 0) sent = live.generation;  // what the page shows now
+      live.published.wait_for(lock, std::chrono::seconds(15), [&] { return live.generation != sent || live.stopping; });
+      if (live.stopping) {
+        sink.done();
+        return false;
+      }
+      std::string message = live.generation != sent ? fmt::format("event: update\ndata: {}\n\n", live.generation) : ": alive\n\n";
+      sent = live.generation;
+      lock.unlock();
+      return sink.write(message.data(), message.size());
+    });
+  });
+  server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.status == 404) res.set_content("sscs serve: only the page (/) and its updates (/events) are served\n", "text/plain");
+  });
+
+  const int port = args.port == 0 ? server.bind_to_any_port(args.host) : (server.bind_to_port(args.host, args.port) ? args.port : -1);
+  if (port < 0) {
+    std::cerr << fmt::format("sscs: error: cannot listen on {}:{} (in use, or not an address of this machine)\n", args.host, args.port);
+    return kInputError;
+  }
+  std::thread check_thread(checker, std::ref(live), fs::absolute(args.file).string(), options, common.quiet);
+  std::thread watch_thread(watcher, std::ref(live));
+  std::thread http_thread([&] { server.listen_after_bind(); });
+  std::cout << fmt::format("sscs serve: http://{}:{}/ shows {}; every file its check reads is watched (Ctrl-C stops)\n",
+                           args.host.find(':') != std::string::npos ? "[" + args.host + "]" : args.host, port, args.file)
+            << std::flush;
+  int signal = 0;
+  sigwait(&stop_signals, &signal);
+  {
+    std::lock_guard lock(live.m);
+    live.stopping = true;
+    live.changed.notify_all();
+    live.published.notify_all();
+  }
+  server.stop();
+  http_thread.join();
+  watch_thread.join();
+  // A check under way ends by itself; one that hangs (a vault that never finishes compiling) is
+  // left behind: the process ends without it.
+  for (int k = 0; k < 100 && live.checking; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (live.checking) {
+    std::cout << std::flush;
+    std::_Exit(kOk);
+  }
+  check_thread.join();
+  return kOk;
+}
+
+}  // namespace sscs::cli

@@ -1,0 +1,106 @@
+"""`sscs serve`, as a browser sees it over HTTP (e2e.serve): the page of a copy of the reference
+store; a save pushes an update (Server-Sent Events) and the page then shows the new verdict; a
+syntax error shows its file:line:col over the last good view; the fix recovers; nothing but the
+page and its updates is served; a scenario is refused; Ctrl-C stops it."""
+import os
+import re
+import shutil
+import signal
+import subprocess
+import tempfile
+import threading
+import time
+import urllib.error
+import urllib.request
+
+
+def get(url, timeout=30):
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as r:
+            return r.status, r.read().decode("utf-8", "replace")
+    except urllib.error.HTTPError as e:
+        return e.code, e.read().decode("utf-8", "replace")
+
+
+def failed_count(page):
+    found = re.findall(r'"failed":\s*(\d+)', page)
+    return int(found[0]) if found else None
+
+
+def serve(sscs, root, fail):
+    with tempfile.TemporaryDirectory() as tmp:
+        vault = os.path.join(tmp, "store.yaml")
+        shutil.copy(os.path.join(root, "scenarios/drum-store/store.yaml"), vault)
+        text = open(vault).read()
+        p = subprocess.Popen([sscs, "serve", "store.yaml", "--port", "0"], cwd=tmp, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+        try:
+            first = p.stdout.readline()
+            m = re.search(r"http://127\.0\.0\.1:(\d+)/", first)
+            if not m:
+                fail(f"sscs serve: no URL on its first line: {first!r}")
+            base = f"http://127.0.0.1:{m.group(1)}"
+            status, page = get(base + "/")
+            if status != 200 or failed_count(page) != 0 or "racks keep 0.5 m from the walls" not in page or \
+                    "connect-src 'self'" not in page or "EventSource" not in page:
+                fail(f"sscs serve: the first page (status {status}, failed {failed_count(page)})")
+            # Updates, as the page's EventSource gets them.
+            updates = []
+            def listen():
+                with urllib.request.urlopen(base + "/events", timeout=120) as r:
+                    for line in r:
+                        if line.startswith(b"event: update"):
+                            updates.append(time.monotonic())
+            threading.Thread(target=listen, daemon=True).start()
+            time.sleep(0.5)
+
+            def save(new_text, what):
+                n = len(updates)
+                t0 = time.monotonic()
+                with open(vault, "w") as f:
+                    f.write(new_text)
+                while len(updates) == n and time.monotonic() - t0 < 20:
+                    time.sleep(0.01)
+                if len(updates) == n:
+                    fail(f"sscs serve: no update within 20 s of saving {what}")
+                status, page = get(base + "/")
+                if status != 200:
+                    fail(f"sscs serve: status {status} after saving {what}")
+                return page, updates[-1] - t0
+
+            # The aisle 1 m narrower: the forklift cannot turn in it.
+            page, took = save(text.replace("aisle: {value: 3.2 m", "aisle: {value: 2.2 m"), "a narrower aisle")
+            if failed_count(page) != 1 or "aisles let the forklift turn" not in page or "sscs-serve-errors" in page:
+                fail(f"sscs serve: after narrowing the aisle, failed {failed_count(page)}")
+            print(f"serve: a save of the store to its update: {took * 1000:.0f} ms")
+            # A typo: the error at its line and column, over the last good view (greyed).
+            page, _ = save(text.replace("aisle: {value: 3.2 m", "aisle: {valu: 3.2 m"), "a typo")
+            if "sscs-serve-errors" not in page or "store.yaml:9:11: error: unknown key 'valu'" not in page or \
+                    "did you mean 'value'" not in page or failed_count(page) != 1 or "grayscale" not in page:
+                fail("sscs serve: a typo's error at store.yaml:9:11 over the last good view")
+            # Fixed: the page recovers.
+            page, _ = save(text, "the fix")
+            if "sscs-serve-errors" in page or failed_count(page) != 0:
+                fail("sscs serve: the page after the fix")
+            # Only the page and its updates: no file, inside the project or out.
+            for path in ("/store.yaml", "/../../etc/passwd", "/%2e%2e/%2e%2e/etc/passwd", "/library/types/drum.yaml"):
+                status, body = get(base + path)
+                if status != 404 or "root:" in body or "type:" in body:
+                    fail(f"sscs serve: GET {path} answered {status}")
+            # Ctrl-C stops it.
+            p.send_signal(signal.SIGINT)
+            try:
+                code = p.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                fail("sscs serve: still running 10 s after Ctrl-C")
+            if code != 0:
+                fail(f"sscs serve: exit {code} after Ctrl-C")
+        finally:
+            if p.poll() is None:
+                p.kill()
+        # A scenario is not served yet: an input error saying what to serve.
+        scenario = os.path.join(root, "scenarios/drum-store/store-drum.yaml")
+        q = subprocess.run([sscs, "serve", scenario, "--port", "0"], capture_output=True, text=True, timeout=30)
+        if q.returncode != 2 or "a scenario file" not in q.stderr:
+            fail(f"sscs serve of a scenario: exit {q.returncode}, {q.stderr!r}")
+    print("ok serve")
