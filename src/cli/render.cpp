@@ -159,11 +159,14 @@ int run_render(const Common& common, const RenderArgs& args) {
     return kInputError;
   }
   if (!common.quiet) {
-    const size_t through = ro.see_through ? see_through_walls(*wc, geometry, camera.eye, renderer.bounds().center()).size() : 0;
+    // The walls drawn see-through, by name (the first six).
+    std::string through;
+    const std::vector<int> walls = ro.see_through ? see_through_walls(*wc, geometry, camera.eye, renderer.bounds().center()) : std::vector<int>();
+    for (size_t k = 0; k < walls.size() && k < 6; ++k) through += (k ? ", " : ", see-through: ") + wc->objects[walls[k]].name;
+    if (walls.size() > 6) through += fmt::format(" and {} more", walls.size() - 6);
     std::cout << fmt::format("wrote {} ({}x{}, eye [{:.2f}, {:.2f}, {:.2f}], target [{:.2f}, {:.2f}, {:.2f}], fov {:g}{})\n",
                              args.out, width, height, camera.eye.x(), camera.eye.y(), camera.eye.z(), camera.target.x(),
-                             camera.target.y(), camera.target.z(), camera.fov,
-                             through ? fmt::format(", {} wall{} see-through", through, through == 1 ? "" : "s") : "");
+                             camera.target.y(), camera.target.z(), camera.fov, through);
   }
   return kOk;
 }

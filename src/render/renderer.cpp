@@ -106,6 +106,10 @@ Eigen::Matrix4f to_float(const Eigen::Matrix4d& M) { return M.cast<float>(); }
 
 constexpr float kSeeThroughAlpha = 0.22f;  // a see-through wall's opacity: there, and what it hides seen
 
+/// What may be drawn see-through: walls, and the doors and fences in the same planes (a rollup
+/// door left solid in a see-through end wall hid the racks behind it), as the pages' switch does.
+bool see_through_kind(const std::string& type) { return type == "wall" || type == "door" || type == "rollup_door" || type == "fence"; }
+
 /// A wall's plane: through the middle of its bounds, square to its thinnest horizontal side in
 /// its own frame (a wall type's y, through it).
 struct WallPlane {
@@ -117,7 +121,7 @@ std::vector<WallPlane> wall_planes(const Workcell& wc, const GeometryModel& geom
   std::vector<WallPlane> out;
   for (size_t o = 0; o < wc.objects.size() && o < geometry.objects.size(); ++o) {
     const std::vector<int> lineage = wc.lineage(wc.objects[o].type);
-    if (std::none_of(lineage.begin(), lineage.end(), [&](int t) { return wc.types[t].name == "wall"; })) continue;
+    if (std::none_of(lineage.begin(), lineage.end(), [&](int t) { return see_through_kind(wc.types[t].name); })) continue;
     const ObjectGeometry& g = geometry.objects[o];
     if (g.shapes.empty() || g.bbox_world.isEmpty()) continue;
     Eigen::AlignedBox3d own;

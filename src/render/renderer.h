@@ -24,9 +24,10 @@ struct RenderOptions {
   bool see_through = false;
 };
 
-/// The walls (objects of type `wall`, or a type extending it) whose plane separates `eye` from
-/// `middle`: the walls a camera at `eye` looks through at the scene. A wall's plane passes through
-/// the middle of its bounds, square to its thinnest horizontal side.
+/// The walls (objects of type `wall`, `door`, `rollup_door` or `fence`, or a type extending one)
+/// whose plane separates `eye` from `middle`: the walls a camera at `eye` looks through at the
+/// scene. A wall's plane passes through the middle of its bounds, square to its thinnest
+/// horizontal side.
 std::vector<int> see_through_walls(const Workcell& wc, const GeometryModel& geometry, const Eigen::Vector3d& eye,
                                    const Eigen::Vector3d& middle);
 

@@ -1144,13 +1144,14 @@ def render(sscs, root):
         if p.returncode != 0 or "eye [10.02, -1.92, 3.44], target [11.70, 2.70, 0.00], fov 45" not in p.stdout or \
                 read_png(named)[2] == read_png(out)[2]:
             fail("render --camera robot", p)
-        # See-through walls: the store's default view looks through its front and end walls at
-        # the racks of drums (green) its solid front wall hides; --walls solid keeps them.
+        # See-through walls: the store's default view looks through its front and end walls (and
+        # the doors in them) at the racks of drums (green) its solid front wall hides; --walls
+        # solid keeps them.
         store = "scenarios/drum-store/store.yaml"
         see, solid = os.path.join(tmp, "see.png"), os.path.join(tmp, "solid.png")
         p = run(sscs, root, ["render", store, "--out", see, "--size", "480x270"], env=env)
-        if p.returncode != 0 or not p.stdout.rstrip().endswith("fov 45, 2 walls see-through)"):
-            fail("render of the store: its two near walls see-through by default", p)
+        if p.returncode != 0 or not p.stdout.rstrip().endswith("fov 45, see-through: EndWall, TruckDoor, FrontWall, ManDoor)"):
+            fail("render of the store: its two near walls and their doors see-through by default", p)
         p = run(sscs, root, ["render", store, "--out", solid, "--size", "480x270", "--walls", "solid"], env=env)
         if p.returncode != 0 or "see-through" in p.stdout:
             fail("render --walls solid", p)
