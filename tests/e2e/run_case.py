@@ -3051,7 +3051,10 @@ def campaigns(sscs, root):
         devices = {d: v["jobs"] for d, v in s["campaign"]["devices"].items()}
         expect("store receiving", "its verdict", (p.returncode, s["status"], s["events"].get("collision", 0), s["campaign"]["jobs"]["done"], devices, mc.get("certified")),
                (0, "ok", 0, 48, {"Crane": 40, "Truck": 8}, True))
-        if not 0.0245 <= mc.get("distance", 0) <= 0.025 or {mc.get("a"), mc.get("b")} != {"Truck.carriage", "GoodsRack"}:
+        # (The forks in a pallet's pockets stand 25 mm over the beam both where they take it, the
+        # in-stand, and where they set it down, the goods rack: a tie either bound may name.)
+        if not 0.0245 <= mc.get("distance", 0) <= 0.025 or {mc.get("a"), mc.get("b")} not in ({"Truck.carriage", "GoodsRack"},
+                                                                                             {"Truck.carriage", "InStand"}):
             fail(f"store receiving: the closest approach is {mc}; the forks lowered from a set-down pallet are 0.025 m over the beam")
         rows = list(csv.DictReader(open(os.path.join(out, "jobs.csv"))))
         # The next pallet comes when the last is clear of the stand, not at the end of its 10 cm
