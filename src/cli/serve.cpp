@@ -33,6 +33,9 @@ namespace {
 constexpr const char* kLiveScript = R"(
 (function () {
   var key = 'sscs-serve-view';
+  // The page's controls: its switches (data-testid) and its table's filters (data-filter).
+  var controls = 'input[data-testid], select[data-testid], input[data-filter], select[data-filter]';
+  function name(e) { return e.hasAttribute('data-testid') ? 'id:' + e.getAttribute('data-testid') : 'filter:' + e.getAttribute('data-filter'); }
   function save() {
     var state = { scroll: [window.scrollX, window.scrollY], inputs: {} };
     var report = window.sscsReport, view = report && report.view;
@@ -40,8 +43,8 @@ constexpr const char* kLiveScript = R"(
       state.eye = view.orbitCamera.position.toArray();
       state.target = view.controls.target.toArray();
     }
-    document.querySelectorAll('input[data-testid], select[data-testid]').forEach(function (e) {
-      state.inputs[e.getAttribute('data-testid')] = e.type === 'checkbox' ? e.checked : e.value;
+    document.querySelectorAll(controls).forEach(function (e) {
+      state.inputs[name(e)] = e.type === 'checkbox' ? e.checked : e.value;
     });
     try { sessionStorage.setItem(key, JSON.stringify(state)); } catch (e) {}
   }
@@ -49,9 +52,9 @@ constexpr const char* kLiveScript = R"(
     var state;
     try { state = JSON.parse(sessionStorage.getItem(key) || 'null'); } catch (e) { state = null; }
     if (!state) return;
-    Object.keys(state.inputs || {}).forEach(function (id) {
-      var e = document.querySelector('[data-testid="' + id + '"]');
-      if (!e) return;
+    document.querySelectorAll(controls).forEach(function (e) {
+      var id = name(e);
+      if (!(id in (state.inputs || {}))) return;
       if (e.type === 'checkbox') { if (e.checked !== state.inputs[id]) { e.checked = state.inputs[id]; e.dispatchEvent(new Event('change')); } }
       else if (e.value !== state.inputs[id]) { e.value = state.inputs[id]; e.dispatchEvent(new Event('input')); e.dispatchEvent(new Event('change')); }
     });
@@ -64,8 +67,12 @@ constexpr const char* kLiveScript = R"(
     }
     if (state.scroll) window.scrollTo(state.scroll[0], state.scroll[1]);
   }
-  var report = window.sscsReport;
-  if (report && report.ready) report.ready.then(restore); else restore();
+  // After the page's own start (on DOMContentLoaded, registered before this) and its view's load.
+  function when_ready() {
+    var report = window.sscsReport;
+    if (report && report.ready) report.ready.then(function () { setTimeout(restore, 0); }); else restore();
+  }
+  if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', when_ready); else when_ready();
   var events = new EventSource('/events');
   events.addEventListener('update', function () { save(); location.reload(); });
 })();

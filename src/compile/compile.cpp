@@ -706,11 +706,15 @@ void expand_objects(CompileState& st) {
     int type = static_cast<int>(t - st.wc.types.begin());
     // A type whose files are broken is an error where it is used (once), its base's problems too;
     // no object is built of it.
+    // A base's problems say which type used here extends it (an error in a file the vault never
+    // names read as if out of nowhere).
     for (int k : st.wc.lineage(type))
       if (st.reported_types.insert(k).second)
         for (const Diagnostic& d : st.wc.types[k].problems) {
-          if (d.warning) st.diag.warning(d.mark, d.message);
-          else st.diag.error(d.mark, d.message);
+          const std::string message =
+              k == type ? d.message : fmt::format("{} (in type '{}', which '{}' extends)", d.message, st.wc.types[k].name, st.wc.types[type].name);
+          if (d.warning) st.diag.warning(d.mark, message);
+          else st.diag.error(d.mark, message);
         }
     if (st.wc.types[type].broken) {
       if (o.name.present) st.unbuilt.insert(o.name.text);

@@ -121,7 +121,8 @@ TEST_F(Compile, ABrokenTypeFileBreaksOnlyTheVaultsThatUseIt) {
       {"garbled", "sscs: 1\ntype: garbled\nattributes: {a: [\n"},
   })};
   must_compile("objects:\n  - {type: good, name: G}\n");
-  EXPECT_EQ(first_error("objects:\n  - {type: child, name: C}\n"), "unknown key 'colour' in a type file (did you mean 'color'?)");
+  EXPECT_EQ(first_error("objects:\n  - {type: child, name: C}\n"),
+            "unknown key 'colour' in a type file (did you mean 'color'?) (in type 'typo', which 'child' extends)");
   diag = Diagnostics();
   EXPECT_FALSE(compile_text("objects:\n  - {type: garbled, name: X}\n"));
   ASSERT_FALSE(diag.errors().empty());
@@ -163,7 +164,9 @@ TEST_F(Compile, ABrokenTypeFailsOnlyTheVaultsThatUseIt) {
             "mesh file 'nowhere.stl' does not exist");
   EXPECT_EQ(diag.count(), 1u) << diag.format(sources);
   diag = Diagnostics{};
-  EXPECT_EQ(first_error("objects:\n  - {type: derived, name: D}\n"), "mesh file 'nowhere.stl' does not exist");
+  // A base's error says which type used extends it.
+  EXPECT_EQ(first_error("objects:\n  - {type: derived, name: D}\n"),
+            "mesh file 'nowhere.stl' does not exist (in type 'broken', which 'derived' extends)");
   EXPECT_EQ(diag.count(), 1u) << diag.format(sources);
 }
 

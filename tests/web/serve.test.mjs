@@ -1,0 +1,104 @@
+// `sscs serve` in a real browser (chromium-headless-shell through puppeteer-core): a copy of the
+// reference store served; the page's camera and its table's search are changed; a save that
+// narrows the aisle reloads the page with the new failure, the same camera and the same search;
+// a typo shows its file:line:col over the last good view; the fix recovers; no console error
+// (the page's content security policy lets its live script run and connect back).
+// Usage: SSCS=path/to/sscs SSCS_SOURCE=source dir node --test serve.test.mjs
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { mkdtempSync, copyFileSync, readFileSync, writeFileSync, rmSync, existsSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import puppeteer from 'puppeteer-core';
+
+const sscs = process.env.SSCS, source = process.env.SSCS_SOURCE;
+assert.ok(sscs && source, 'SSCS and SSCS_SOURCE are set');
+const chromium = ['/usr/bin/chromium-headless-shell', '/usr/bin/chromium'].find(existsSync);
+const dir = mkdtempSync(join(tmpdir(), 'sscs-serve-'));
+const vault = join(dir, 'store.yaml');
+copyFileSync(join(source, 'scenarios/drum-store/store.yaml'), vault);
+const text = readFileSync(vault, 'utf8');
+let server, browser, base;
+
+before(async () => {
+  server = spawn(sscs, ['serve', 'store.yaml', '--port', '0'], { cwd: dir, stdio: ['ignore', 'pipe', 'inherit'] });
+  base = await new Promise((resolve, reject) => {
+    let seen = '';
+    server.stdout.on('data', (d) => {
+      seen += d;
+      const m = seen.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+      if (m) resolve(m[0]);
+    });
+    server.on('exit', (code) => reject(new Error(`sscs serve exited (${code}): ${seen}`)));
+  });
+  browser = await puppeteer.launch({
+    executablePath: chromium, headless: 'shell',
+    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--disable-background-networking',
+           '--disable-component-update', '--no-first-run', '--disable-sync', '--disable-quic'],
+  });
+});
+after(async () => {
+  await browser?.close();
+  server?.kill('SIGINT');
+  rmSync(dir, { recursive: true, force: true });
+});
+
+const failed = (page) => page.evaluate(() => window.sscsReport.data.reports[0].failed);
+const camera = (page) => page.evaluate(() => {
+  const v = window.sscsReport.view;
+  return [...v.orbitCamera.position.toArray(), ...v.controls.target.toArray()];
+});
+
+/** Saves `content` and waits until the page has reloaded with its report ready: the time taken. */
+async function save(page, content) {
+  const t0 = Date.now();
+  const reloaded = page.waitForNavigation({ timeout: 30000 });
+  writeFileSync(vault, content);
+  await reloaded;
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  return Date.now() - t0;
+}
+
+test('a save reloads the page with its verdicts, its camera and its search kept; a typo shows where it is', async () => {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
+  const problems = [];
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.goto(base);
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  assert.equal(await failed(page), 0);
+  // A camera of the user's own, and a search in the table.
+  await page.evaluate(() => {
+    const v = window.sscsReport.view;
+    v.orbitCamera.position.set(3, -7, 9);
+    v.controls.target.set(6, 4, 1);
+    v.controls.update();
+  });
+  await page.type('input[data-filter=text]', 'aisle');
+  const before = await camera(page);
+
+  const took = await save(page, text.replace('aisle: {value: 3.2 m', 'aisle: {value: 2.2 m'));
+  console.log(`serve: a save of the store to the page reloaded and ready in a browser: ${took} ms`);
+  assert.equal(await failed(page), 1);
+  const after = await camera(page);
+  after.forEach((x, k) => assert.ok(Math.abs(x - before[k]) < 1e-6, `camera kept: ${after} vs ${before}`));
+  assert.equal(await page.$eval('input[data-filter=text]', (e) => e.value), 'aisle');
+  const rows = await page.$$eval('[data-testid=results] tbody tr', (r) => r.map((x) => x.textContent));
+  assert.ok(rows.length >= 1 && rows.every((r) => /aisle/i.test(r)), `the search kept: ${rows.length} rows`);
+
+  await save(page, text.replace('aisle: {value: 3.2 m', 'aisle: {valu: 3.2 m'));
+  const banner = await page.$eval('[data-testid=serve-errors]', (e) => e.textContent);
+  assert.match(banner, /store\.yaml:9:11: error: unknown key 'valu'/);
+  assert.match(banner, /did you mean 'value'/);
+  assert.equal(await failed(page), 1, 'the last good view stays');
+
+  await save(page, text);
+  assert.equal(await page.$('[data-testid=serve-errors]'), null);
+  assert.equal(await failed(page), 0);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
