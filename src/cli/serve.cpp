@@ -95,7 +95,7 @@ std::string html_escape(const std::string& text) {
 /// Text with the terminal's colour codes left out (the diagnostics are formatted without them).
 std::string errors_banner(const std::string& errors, bool greyed) {
   return fmt::format(
-      "<div id=\"sscs-serve-errors\" data-testid=\"serve-errors\" style=\"position:fixed;left:0;right:0;top:0;z-index:1000;"
+      "<div id=\"sscs-serve-errors\" data-testid=\"serve-errors\" style=\"position:sticky;top:0;z-index:1000;"
       "max-height:45vh;overflow:auto;background:#fff3f3;border-bottom:2px solid #c62828;padding:8px 12px;font:13px monospace\">"
       "<b>sscs serve: the vault does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
       greyed ? " (the last good view below, greyed)" : "", html_escape(errors),

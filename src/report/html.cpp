@@ -81,14 +81,16 @@ std::string html_page(const HtmlReport& report) {
   return page;
 }
 
-std::string with_live_script(const std::string& page, std::string_view script, std::string_view before_script) {
+std::string with_live_script(const std::string& page, std::string_view script, std::string_view top) {
   std::string out = page;
   const std::string scripts = "script-src ", connect = "connect-src data: blob:";
   if (const size_t at = out.find(scripts); at != std::string::npos) out.insert(at + scripts.size(), script_hash(script) + " ");
   if (const size_t at = out.find(connect); at != std::string::npos) out.replace(at, connect.size(), "connect-src 'self' data: blob:");
-  const std::string extra = std::string(before_script) + "<script>" + std::string(script) + "</script>\n";
-  const size_t body = out.rfind("</body>");
-  out.insert(body == std::string::npos ? out.size() : body, extra);
+  const size_t end = out.rfind("</body>");
+  out.insert(end == std::string::npos ? out.size() : end, "<script>" + std::string(script) + "</script>\n");
+  // What goes first: at the top of the page, above its header.
+  const size_t body = out.find("<body>");
+  out.insert(body == std::string::npos ? 0 : body + 6, std::string(top));
   return out;
 }
 

@@ -31,7 +31,7 @@ std::string html_page(const HtmlReport& report);
 
 /// `page` (html_page's) with one more inline script before its </body>, allowed by its hash, and
 /// allowed to connect back to where the page came from (an EventSource): `sscs serve`'s pages.
-/// `before_script`: HTML put before it (no script).
-std::string with_live_script(const std::string& page, std::string_view script, std::string_view before_script = "");
+/// `top`: HTML put first in the body, above the page's header (no script).
+std::string with_live_script(const std::string& page, std::string_view script, std::string_view top = "");
 
 }  // namespace sscs
