@@ -21,6 +21,7 @@
 #include "cli/subcommands.h"
 #include "pipeline/live_check.h"
 #include "report/html.h"
+#include "report/report.h"
 
 #include <httplib.h>  // after Eigen: the macros of the system headers it pulls in confuse Eigen's templates
 
@@ -78,27 +79,14 @@ constexpr const char* kLiveScript = R"(
 })();
 )";
 
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-/// Text with the terminal's colour codes left out (the diagnostics are formatted without them).
+/// The input errors at the top of the page (the diagnostics as printed, without colour), over the
+/// last good view greyed when there is one.
 std::string errors_banner(const std::string& errors, bool greyed) {
   return fmt::format(
       "<div id=\"sscs-serve-errors\" data-testid=\"serve-errors\" style=\"position:sticky;top:0;z-index:1000;"
       "max-height:45vh;overflow:auto;background:#fff3f3;border-bottom:2px solid #c62828;padding:8px 12px;font:13px monospace\">"
       "<b>sscs serve: the vault does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
-      greyed ? " (the last good view below, greyed)" : "", html_escape(errors),
+      greyed ? " (the last good view below, greyed)" : "", xml_escape(errors),
       greyed ? "<style>canvas{filter:grayscale(1) opacity(0.55)}</style>" : "");
 }
 

@@ -2,6 +2,7 @@
 store; a save pushes an update (Server-Sent Events) and the page then shows the new verdict; a
 syntax error shows its file:line:col over the last good view; the fix recovers; nothing but the
 page and its updates is served; a scenario is refused; Ctrl-C stops it."""
+import html
 import os
 import re
 import shutil
@@ -75,6 +76,7 @@ def serve(sscs, root, fail):
             print(f"serve: a save of the store to its update: {took * 1000:.0f} ms")
             # A typo: the error at its line and column, over the last good view (greyed).
             page, _ = save(text.replace("aisle: {value: 3.2 m", "aisle: {valu: 3.2 m"), "a typo")
+            page = html.unescape(page)  # (the banner's text is escaped in the page)
             if "sscs-serve-errors" not in page or "store.yaml:9:11: error: unknown key 'valu'" not in page or \
                     "did you mean 'value'" not in page or failed_count(page) != 1 or "grayscale" not in page:
                 fail("sscs serve: a typo's error at store.yaml:9:11 over the last good view")
