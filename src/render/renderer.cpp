@@ -110,12 +110,17 @@ constexpr float kSeeThroughAlpha = 0.22f;  // a see-through wall's opacity: ther
 /// door left solid in a see-through end wall hid the racks behind it), as the pages' switch does.
 bool see_through_kind(const std::string& type) { return type == "wall" || type == "door" || type == "rollup_door" || type == "fence"; }
 
+}  // namespace
+
 /// A wall's plane: through the middle of its bounds, square to its thinnest horizontal side in
-/// its own frame (a wall type's y, through it).
+/// its own frame (a wall type's y, through it). Outside the anonymous namespace: Renderer::Impl
+/// holds them, and g++ refuses such a field in a unity build (-Wsubobject-linkage).
 struct WallPlane {
   int object = -1;
   Eigen::Vector3d middle, normal;
 };
+
+namespace {
 
 std::vector<WallPlane> wall_planes(const Workcell& wc, const GeometryModel& geometry) {
   std::vector<WallPlane> out;
