@@ -14,6 +14,7 @@ packages=(
   clang libclang-rt-14-dev  # the sanitizer and libFuzzer build of tools/test.sh (stage 2)
   libjs-three  # three.js r111, built into the HTML reports
   nodejs chromium-headless-shell  # test-only: the glTF validator, the reports in a real browser (tests/web)
+  neovim  # test-only: an editor's own LSP client talking to sscs lsp (tests/lsp)
 )
 
 missing=()

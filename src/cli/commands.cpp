@@ -56,6 +56,10 @@ int run_cli(int argc, char** argv) {
     serve_cmd->add_option("--host", serve_args.host, "address to listen on (default 127.0.0.1: this machine only)");
     common.add_to(serve_cmd);
 
+    CLI::App* lsp_cmd = command("lsp", "a Language Server Protocol server on stdin and stdout for editors: diagnostics as you type, "
+                                       "hover, definition, completion, symbols", [&] { return run_lsp(common); });
+    common.add_to(lsp_cmd, false);
+
     std::string types_format = "text", types_out;
     CLI::App* types_cmd = command("types", "list the object types, devices and constraint kinds", [&] { return run_types(common, types_format, types_out); });
     types_cmd->add_option("--format", types_format, "text, json, or md: the catalogue (with thumbnails; needs --out)")

@@ -58,9 +58,11 @@ struct Common {
   }
   /// Confines what files named inside `input` may read: its project root first (the one messages
   /// name), the --root folders, the standard library and the folders given as options.
-  void confine_to(const std::string& input) const {
+  void confine_to(const std::string& input) const { confine_to_projects({project_root_of(input)}); }
+  /// The same for the project roots `projects` (of the files an editor has open: `sscs lsp`).
+  void confine_to_projects(const std::vector<std::string>& projects) const {
     if (allow_outside_root) return;
-    std::vector<std::string> allowed = {project_root_of(input)};
+    std::vector<std::string> allowed = projects;
     allowed.insert(allowed.end(), roots.begin(), roots.end());
     allowed.push_back(data_dir("library"));
     for (const auto* dirs : {&library, &plugins, &package_paths}) allowed.insert(allowed.end(), dirs->begin(), dirs->end());
@@ -84,7 +86,9 @@ struct Common {
           return false;
         }
       }
-    for (const std::string& input : inputs) confine_to(input);
+    std::vector<std::string> projects;  // every input's (each call replaced the last one's)
+    for (const std::string& input : inputs) projects.push_back(project_root_of(input));
+    if (!inputs.empty()) confine_to_projects(projects);
     for (const std::string& s : set) {
       auto eq = s.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -188,6 +192,7 @@ class InterruptGuard {
 int run_check(const Common& common, const CheckArgs& args);
 /// `sscs serve VAULT`: the live design view (serve.cpp); returns when stopped (Ctrl-C).
 int run_serve(const Common& common, const ServeArgs& args);
+int run_lsp(const Common& common);
 int run_types(const Common& common, const std::string& format, const std::string& out);
 int run_export(const Common& common, const std::string& vault, const std::string& out);
 int run_render(const Common& common, const RenderArgs& args);

@@ -106,6 +106,7 @@ struct FrameTemplate {
   std::string name;  ///< with `{counter}` for each counter of a repeated frame
   PoseRef pose;
   std::shared_ptr<const RepeatTemplate> repeat;  ///< copies of it, or null
+  SourceMark mark;   ///< where its type file writes it (an editor's "go to definition")
   /// The frame's name and pose (in the object's frame) for each copy.
   template <class F>
   void each(const double* attributes_si, F&& f) const {

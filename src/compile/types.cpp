@@ -602,7 +602,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     }
     for (const FrameSpec& f : spec.frames) {
       FrameTemplate frame{f.name, compile_pose(f.pose, t, fmt::format("frame '{}'", f.name), d, counter_names(f.repeat)),
-                          compile_repeat(f.repeat, t, d)};
+                          compile_repeat(f.repeat, t, d), f.mark};
       auto same = std::find_if(tt.frames.begin(), tt.frames.end(), [&](const FrameTemplate& e) { return e.name == f.name; });
       if (same != tt.frames.end()) *same = std::move(frame);  // a subtype's frame replaces its base's
       else tt.frames.push_back(std::move(frame));

@@ -1,5 +1,7 @@
 #include "core/source.h"
 
+#include <filesystem>
+
 namespace sscs {
 
 Sources::Sources() { files_.push_back({"<none>", ""}); }
@@ -8,6 +10,14 @@ uint32_t Sources::find(std::string_view path) const {
   for (uint32_t f = 1; f < files_.size(); ++f)
     if (files_[f].path == path) return f;
   return 0;
+}
+
+const std::string* Sources::unsaved(std::string_view path) const {
+  if (!unsaved_ || unsaved_->empty()) return nullptr;
+  std::error_code ec;
+  const std::string key = std::filesystem::absolute(std::filesystem::path(path), ec).lexically_normal().string();
+  auto it = unsaved_->find(key);
+  return it == unsaved_->end() ? nullptr : &it->second;
 }
 
 uint32_t Sources::add(std::string path, std::string text) {

@@ -1,6 +1,8 @@
 #pragma once
 /// Source files read by sscs and positions inside them.
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -35,12 +37,21 @@ class Sources {
   std::string_view line(const SourceMark& mark) const;
   size_t size() const { return files_.size(); }
 
+  /// Texts that stand in for files on disk, by absolute path (an editor's unsaved buffers, given
+  /// by `sscs lsp`): read_source() takes the text from here, not from the disk. The one seam
+  /// between the inputs and the file system for the YAML files; nothing is written anywhere.
+  using Unsaved = std::map<std::string, std::string, std::less<>>;
+  void set_unsaved(std::shared_ptr<const Unsaved> texts) { unsaved_ = std::move(texts); }
+  /// The unsaved text of `path` (absolute, lexically normal), or null: read the disk.
+  const std::string* unsaved(std::string_view path) const;
+
  private:
   struct File {
     std::string path;
     std::string text;
   };
   std::vector<File> files_;
+  std::shared_ptr<const Unsaved> unsaved_;
 };
 
 }  // namespace sscs

@@ -34,6 +34,20 @@ bool missing_reference(const std::string& what, const std::string& type_file, co
 }
 
 uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& diag, SourceMark where) {
+  const uintmax_t limit = limit_bytes("SSCS_MAX_FILE_MB", kMaxInputFileMb);
+  auto too_big = [&](uintmax_t size) {
+    diag.error(where, fmt::format("cannot read '{}': it is {:.0f} MB, above the {:.0f} MB limit of an input file "
+                                  "(raise it with SSCS_MAX_FILE_MB)", path, size / 1e6, limit / 1e6));
+    return uint32_t{0};
+  };
+  if (const std::string* text = sources.unsaved(path)) {  // an editor's buffer, saved or not
+    if (std::string why = where.valid() ? outside_roots(path) : ""; !why.empty()) {
+      diag.error(where, fmt::format("cannot read '{}': it {}", path, why));
+      return 0;
+    }
+    if (text->size() > limit) return too_big(text->size());
+    return sources.add(path, *text);
+  }
   // A file named in another (where is valid) stays inside the project; a FIFO would be read for ever.
   if (std::string why = where.valid() ? not_a_readable_reference(path) : not_a_file(path); !why.empty()) {
     diag.error(where, fmt::format("cannot read '{}': it {}", path, why));
@@ -41,12 +55,7 @@ uint32_t read_source(const std::string& path, Sources& sources, Diagnostics& dia
   }
   std::error_code ec;
   const uintmax_t size = fs::file_size(path, ec);
-  const uintmax_t limit = limit_bytes("SSCS_MAX_FILE_MB", kMaxInputFileMb);
-  if (!ec && size > limit) {
-    diag.error(where, fmt::format("cannot read '{}': it is {:.0f} MB, above the {:.0f} MB limit of an input file "
-                                  "(raise it with SSCS_MAX_FILE_MB)", path, size / 1e6, limit / 1e6));
-    return 0;
-  }
+  if (!ec && size > limit) return too_big(size);
   errno = 0;
   std::optional<std::string> text = read_file_bytes(path);
   if (!text) {

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The include layering of src/ (../shared/STYLE.md item 9): stages depend one way,
 core <- load <- plugin <- compile <- model <- geometry <- kinematics <- {check, simulate, render}
-<- report <- pipeline <- sweep <- cli, and the stages after compile read the compiled model, never load/ or
+<- report <- pipeline <- {sweep, lsp} <- cli, and the stages after compile read the compiled model, never load/ or
 compile's internals (compile/values.h, compile/compile.h). With a second argument (tests/unit), also that the unit
 tests mirror src/: one folder per stage.
 
@@ -14,10 +14,10 @@ import re
 import sys
 
 ORDER = ["core", "load", "plugin", "compile", "model", "geometry", "kinematics", "check", "simulate", "render",
-         "report", "pipeline", "sweep", "cli"]
+         "report", "pipeline", "sweep", "lsp", "cli"]
 # Stages at the same level may not include each other either (simulate never includes render).
 LEVEL = {"core": 0, "load": 1, "plugin": 2, "compile": 3, "model": 4, "geometry": 5, "kinematics": 6, "check": 7,
-         "simulate": 8, "render": 8, "report": 9, "pipeline": 10, "sweep": 11, "cli": 12}
+         "simulate": 8, "render": 8, "report": 9, "pipeline": 10, "sweep": 11, "lsp": 11, "cli": 12}
 # pipeline assembles the stages for the commands, the HTML reports among them (report/html.h
 # lays out the page, pipeline/html_report.h gathers what it shows): it may include report.
 # Stages that read the compiled model only.

@@ -1,0 +1,157 @@
+#include "lsp/analysis.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "load/load.h"
+#include "pipeline/prepare.h"
+#include "report/report.h"
+
+namespace sscs::lsp {
+
+FileKind file_kind(std::string_view text) {
+  // The first top-level key that says what the file is (a line scan: a 50 MB buffer takes no regex).
+  for (size_t pos = 0; pos < text.size();) {
+    const std::string_view line = text.substr(pos, text.find('\n', pos) - pos);
+    for (const auto& [key, kind] : {std::pair{"vault", FileKind::Vault}, std::pair{"scenario", FileKind::Scenario},
+                                    std::pair{"campaign", FileKind::Scenario}, std::pair{"type", FileKind::Type}}) {
+      const std::string_view k = key;
+      if (line.substr(0, k.size()) != k) continue;
+      const size_t colon = line.find_first_not_of(" \t", k.size());
+      if (colon != std::string_view::npos && line[colon] == ':') return kind;
+    }
+    const size_t next = text.find('\n', pos);
+    if (next == std::string_view::npos) break;
+    pos = next + 1;
+  }
+  return FileKind::Other;
+}
+
+std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, std::shared_ptr<const Sources::Unsaved> unsaved,
+                                        const CompileOptions& options) {
+  auto a = std::make_shared<Analysis>();
+  a->path = path;
+  a->kind = kind;
+  a->sources.set_unsaved(unsaved);
+  switch (kind) {
+    case FileKind::Vault: {
+      PreparedVault vault = prepare_vault(path, options, a->sources, a->diag, {.visuals = false, .contacts = nullptr});
+      if (vault.wc && !a->diag.has_errors()) {
+        CheckOptions check_options;
+        check_options.describe_passes = true;  // hover shows a constraint's last result, passing too
+        a->report = check(*vault.wc, vault.geometry, check_options);
+      }
+      a->wc = std::move(vault.wc);
+      a->geometry = std::move(vault.geometry);
+      break;
+    }
+    case FileKind::Scenario: {
+      PreparedScenario s;
+      s.sources.set_unsaved(unsaved);
+      s.prepare(path, options);
+      a->sources = std::move(s.sources);
+      a->diag = std::move(s.diag);
+      a->wc = std::move(s.wc);
+      a->geometry = std::move(s.geometry);
+      break;
+    }
+    case FileKind::Type:
+      load_type(path, a->sources, a->diag);
+      break;
+    case FileKind::Other:
+      break;
+  }
+  a->file = a->sources.find(path);
+  return a;
+}
+
+int client_column(std::string_view line, size_t byte, bool utf8) {
+  byte = std::min(byte, line.size());
+  if (utf8) return static_cast<int>(byte);
+  int units = 0;
+  for (size_t i = 0; i < byte; ++i) {
+    const auto c = static_cast<unsigned char>(line[i]);
+    if ((c & 0xC0) == 0x80) continue;  // a continuation byte
+    units += c >= 0xF0 ? 2 : 1;        // a code point beyond the BMP takes a surrogate pair
+  }
+  return units;
+}
+
+size_t byte_column(std::string_view line, int column, bool utf8) {
+  if (column <= 0) return 0;
+  if (utf8) return std::min(static_cast<size_t>(column), line.size());
+  int units = 0;
+  size_t i = 0;
+  while (i < line.size() && units < column) {
+    const auto c = static_cast<unsigned char>(line[i]);
+    units += c >= 0xF0 ? 2 : 1;
+    ++i;
+    while (i < line.size() && (static_cast<unsigned char>(line[i]) & 0xC0) == 0x80) ++i;
+  }
+  return i;
+}
+
+Range token_range(const Sources& sources, SourceMark mark, bool utf8) {
+  Range r;
+  if (mark.line == 0) return r;
+  r.line = r.end_line = static_cast<int>(mark.line) - 1;
+  const std::string_view line = sources.line(mark);
+  if (mark.column == 0) {
+    r.end_character = client_column(line, line.size(), utf8);
+    return r;
+  }
+  const size_t start = std::min<size_t>(mark.column - 1, line.size());
+  size_t end = start;
+  if (end < line.size() && (line[end] == '"' || line[end] == '\'')) {
+    const size_t close = line.find(line[end], end + 1);
+    end = close == std::string_view::npos ? line.size() : close + 1;
+  } else {
+    while (end < line.size() && line[end] != ' ' && line[end] != ',' && line[end] != ']' && line[end] != '}' && line[end] != '[' &&
+           line[end] != '{' && !(line[end] == ':' && (end + 1 == line.size() || line[end + 1] == ' ')))
+      ++end;
+  }
+  if (end == start) end = line.size();  // a mark on a space or a bracket: the rest of the line
+  r.character = client_column(line, start, utf8);
+  r.end_character = client_column(line, end, utf8);
+  return r;
+}
+
+std::map<std::string, std::vector<Problem>> problems(const Analysis& a, bool utf8) {
+  std::map<std::string, std::vector<Problem>> out;
+  auto place = [&](SourceMark mark, int severity, std::string message) {
+    if (!mark.valid()) mark = {a.file, 1, 0};  // no place: the file's first line
+    if (!mark.valid()) return;
+    out[a.sources.path(mark.file)].push_back({token_range(a.sources, mark, utf8), severity, std::move(message)});
+  };
+  for (const Diagnostic& d : a.diag.warnings()) place(d.mark, 2, d.message);
+  for (const Diagnostic& d : a.diag.errors()) place(d.mark, 1, d.message);
+  if (a.diag.count() > a.diag.errors().size())
+    place({}, 1, fmt::format("{} more errors not shown", a.diag.count() - a.diag.errors().size()));
+  if (!a.wc || !a.report) return out;
+  const Workcell& wc = *a.wc;
+  for (const CheckResult& r : a.report->results) {
+    if (r.status == Status::Pass) continue;
+    const Constraint& c = wc.constraints[r.constraint];
+    const bool warning = c.severity == Severity::Warning && r.status != Status::Error;
+    std::string margin;
+    if (r.margin) {
+      const char* unit = r.margin_unit();
+      margin = fmt::format(" (margin {}{}{})", number_text(stable(*r.margin)), *unit ? " " : "", unit);
+    }
+    const std::string subjects = subject_names(wc, r);
+    const std::string message = fmt::format("{} {} [{}]{}{}: {}{}", r.status == Status::Error ? "cannot evaluate" : warning ? "warning" : "failed",
+                                            c.name, c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin);
+    place(c.mark, warning ? 2 : 1, message);
+    // A type file's constraint: also at the object it failed for, where the user edits it.
+    if (c.mark.file != a.file)
+      for (int s : r.subjects)
+        if (wc.objects[s].mark.file == a.file && wc.objects[s].mark.valid()) {
+          place(wc.objects[s].mark, warning ? 2 : 1, message);
+          break;
+        }
+  }
+  return out;
+}
+
+}  // namespace sscs::lsp

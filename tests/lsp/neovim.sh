@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Neovim headless, its own LSP client, against `sscs lsp` on a copy of the reference store
+# (neovim.lua says what it checks). Usage: neovim.sh SSCS SOURCE_DIR
+set -euo pipefail
+sscs=$1 source=$2
+if ! command -v nvim >/dev/null; then
+  echo "neovim.sh: nvim is not installed (tools/setup.sh installs it): skipped"
+  exit 77
+fi
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+cp "$source/scenarios/drum-store/store.yaml" "$dir/store.yaml"
+cp "$dir/store.yaml" "$dir/store.orig"
+SSCS=$sscs VAULT=$dir/store.yaml HOME=$dir XDG_CONFIG_HOME=$dir XDG_DATA_HOME=$dir XDG_STATE_HOME=$dir \
+  timeout 120 nvim --headless --clean -n -c "luafile $source/tests/lsp/neovim.lua"
+cmp "$dir/store.yaml" "$dir/store.orig"  # never saved: the server read the buffer, not the file
