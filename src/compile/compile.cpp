@@ -3,12 +3,10 @@
 #include "compile/compile.h"
 
 #include "core/pose.h"
-#include "core/files.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <filesystem>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -16,15 +14,11 @@
 #include <fmt/format.h>
 
 #include "compile/state.h"
-#include "core/data_dirs.h"
-#include "core/timer.h"
 #include "compile/cameras.h"
 #include "compile/values.h"
 #include "core/names.h"
 #include "core/selection_calls.h"
-#include "load/load.h"
 
-namespace fs = std::filesystem;
 
 namespace sscs {
 
@@ -521,15 +515,6 @@ void CompileState::evaluate_pending() {
 
 namespace {
 
-std::string dir_of(const std::string& path) {
-  fs::path p = fs::path(path).parent_path();
-  return p.empty() ? "." : p.string();
-}
-
-std::string resolve_path(const std::string& base_file, const std::string& rel) {
-  return join_path(dir_of(base_file), rel);
-}
-
 /// Stores a written value into `slot`: a number now, an expression for later.
 void assign(CompileState& st, uint32_t slot, const Scalar& s, const AttributeDef* def, Dim dim, const ExprScope& scope,
             std::string_view what, double add = 0) {
@@ -947,8 +932,8 @@ void resolve_object_links(CompileState& st) {
     }
     if (o.at.present && !o.at.null) place_at(st, static_cast<int>(i), names);
     if (o.geomodel.present && !o.geomodel.null) {
-      obj.geomodel = resolve_path(st.spec.path, o.geomodel.text);
-      if (std::string why = not_a_readable_reference(obj.geomodel); !why.empty())
+      obj.geomodel = st.files.reference_path(st.spec.path, o.geomodel.text);
+      if (std::string why = st.files.why_unreadable(obj.geomodel); !why.empty())
         st.diag.error(o.geomodel.mark, fmt::format("geomodel file '{}' {}", obj.geomodel, why));
     }
     const TypeTemplates& tt = st.wc.types[obj.type].templates;
@@ -1156,60 +1141,23 @@ void check_values(CompileState& st) {
 
 }  // namespace
 
-std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& options, Sources& sources, Diagnostics& diag) {
-  CompileState st(spec, sources, diag);
+std::optional<Workcell> compile(const VaultSpec& spec, const VaultInputs& inputs, const CompileOptions& options, Sources& sources,
+                                Diagnostics& diag) {
+  CompileState st(spec, sources, diag, inputs.files);
   st.wc.name = spec.name;
   st.wc.path = spec.path;
   st.wc.description = spec.description;
-
-  // Plugins: --plugins folders load; a vault's own `plugins:` folders load only when the command
-  // line allows them (the same folder in --plugins, or --allow-vault-plugins): a vault file from
-  // a pull request must not be able to run code on its own (docs/plugins.md).
-  st.plugins = options.plugins ? options.plugins : std::make_shared<PluginSet>();
-  if (!options.library) {  // else the library was compiled with these plugins already loaded
-    auto same_folder = [](const std::string& a, const std::string& b) {
-      std::error_code e1, e2;
-      return fs::weakly_canonical(a, e1) == fs::weakly_canonical(b, e2);
-    };
-    std::vector<std::string> folders;
-    for (const std::string& dir : options.plugin_dirs) {
-      std::error_code ec;
-      if (!fs::is_directory(dir, ec)) diag.error({}, fmt::format("--plugins folder '{}' does not exist", dir));
-      else folders.push_back(dir);
-    }
-    for (const Scalar& dir : spec.plugins) {
-      std::string path = resolve_path(spec.path, dir.text);
-      std::error_code ec;
-      bool named = std::any_of(options.plugin_dirs.begin(), options.plugin_dirs.end(), [&](const std::string& d) { return same_folder(d, path); });
-      if (!fs::is_directory(path, ec)) diag.error(dir.mark, fmt::format("plugin folder '{}' does not exist", dir.text));
-      else if (!named && !options.allow_vault_plugins)
-        diag.error(dir.mark, fmt::format("the vault asks to load the plugins in '{}'; a vault alone never loads code. To "
-                                         "allow it, pass --plugins {} (or --allow-vault-plugins)", dir.text, path));
-      else if (std::string why = named ? "" : outside_roots(path); !why.empty())
-        diag.error(dir.mark, fmt::format("plugin folder '{}' {}", dir.text, why));
-      else if (!named) folders.push_back(path);
-    }
-    if (diag.has_errors()) return std::nullopt;  // nothing loads when any folder is refused
-    for (const std::string& dir : folders) st.plugins->load_folder(dir);
-  }
+  st.plugins = inputs.plugins;
   st.wc.plugin_files = st.plugins->files();
-  for (const Scalar& dir : spec.plugins)
-    st.wc.vault_plugin_dirs.push_back(fs::absolute(resolve_path(spec.path, dir.text)).lexically_normal().string());
-
-  // The type library: standard, the vault's folders, --library folders, then plugin types.
+  st.wc.vault_plugin_dirs = inputs.vault_plugin_dirs;
+  // The type library: reused, or built from its gathered type files (the templates of the types
+  // the vault's objects use and those they extend, unless the library is to be reused).
   if (options.library) {
     st.wc.types = *options.library;
-  } else {
-    std::vector<std::pair<std::string, SourceMark>> dirs;
-    if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
-    for (const Scalar& dir : spec.library) dirs.push_back({resolve_path(spec.path, dir.text), dir.mark});
-    for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-    // The templates of the types the vault's objects use (and those they extend), unless the
-    // library is to be reused.
+  } else if (inputs.library) {
     std::set<std::string> used;
     for (const ObjectSpec& o : spec.objects) used.insert(o.type);
-    st.wc.types = load_library(dirs, sources, diag, options.package_paths, st.plugins->types(),
-                               options.whole_library ? nullptr : &used);
+    st.wc.types = build_library(*inputs.library, sources, diag, options.whole_library ? nullptr : &used);
   }
   std::vector<Scalar> overrides;
   compile_parameters(st, options, overrides);
@@ -1229,15 +1177,5 @@ std::optional<Workcell> compile(const VaultSpec& spec, const CompileOptions& opt
   return std::move(st.wc);
 }
 
-std::optional<Workcell> compile_file(const std::string& path, const CompileOptions& options, Sources& sources,
-                                     Diagnostics& diag) {
-  StageTimer timer;
-  auto spec = load_vault(path, sources, diag);
-  timer.lap("load");
-  if (!spec || diag.has_errors()) return std::nullopt;
-  auto wc = compile(*spec, options, sources, diag);
-  timer.lap("compile");
-  return wc;
-}
 
 }  // namespace sscs

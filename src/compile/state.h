@@ -32,11 +32,12 @@ struct ExprScope {
 };
 
 struct CompileState {
-  CompileState(const VaultSpec& s, Sources& src, Diagnostics& d) : spec(s), sources(src), diag(d) {}
+  CompileState(const VaultSpec& s, Sources& src, Diagnostics& d, const FileFacts& f) : spec(s), sources(src), diag(d), files(f) {}
 
   const VaultSpec& spec;
   Sources& sources;
   Diagnostics& diag;
+  const FileFacts& files;  ///< what the files the vault names are (gathered with its inputs)
   Workcell wc;
   std::shared_ptr<PluginSet> plugins;  ///< the loaded plugins' classes
   std::unordered_map<std::string, int> parameter_index;  ///< lookups only, never iterated into output

@@ -1,6 +1,5 @@
 // Pass 1: the type library. Load type files, resolve `extends`, merge attributes, add joints.
 #include <algorithm>
-#include <filesystem>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -10,13 +9,10 @@
 
 #include "compile/compile.h"
 #include "compile/templates.h"
-#include "core/files.h"
 #include "compile/values.h"
 #include "core/expr.h"
 #include "core/names.h"
-#include "load/load.h"
 
-namespace fs = std::filesystem;
 
 namespace sscs {
 
@@ -27,18 +23,6 @@ int ObjectType::find_attribute(std::string_view n) const {
 }
 
 namespace {
-
-std::vector<std::string> type_files(const std::string& dir) {
-  std::vector<std::string> files;
-  std::error_code ec;
-  fs::path root = fs::is_directory(fs::path(dir) / "types", ec) ? fs::path(dir) / "types" : fs::path(dir);
-  for (const auto& entry : fs::directory_iterator(root, ec)) {
-    auto ext = entry.path().extension();
-    if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());  // deterministic order
-  return files;
-}
 
 AttributeDef make_attribute(const AttributeDecl& decl, Diagnostics& diag) {
   AttributeDef a;
@@ -229,7 +213,7 @@ std::shared_ptr<const RepeatTemplate> compile_repeat(const std::optional<RepeatS
 /// Compiles geometry entries; a mesh file that cannot be read goes to `deferred` (the type's
 /// problems, reported when it is used).
 std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geometry, const ObjectType& type, const std::string& type_file,
-                                            Diagnostics& diag, std::vector<Diagnostic>& deferred) {
+                                            const FileFacts& files, Diagnostics& diag, std::vector<Diagnostic>& deferred) {
   std::vector<ShapeTemplate> out;
   for (const GeometrySpec& g : geometry) {
     ShapeTemplate t;
@@ -252,9 +236,9 @@ std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geo
             t.scale = compile_vector(shape.scale, Dim::None, type, "mesh scale", diag, counters);
             t.mesh_text = shape.file.text;
             t.mesh_mark = shape.file.mark;
-            t.mesh_file = resolve_mesh_path(type_file, shape.file.text);
+            t.mesh_file = files.mesh_path(type_file, shape.file.text);
             if (shape.file.present)
-              if (std::string why = not_a_readable_reference(t.mesh_file); !why.empty())
+              if (std::string why = files.why_unreadable(t.mesh_file); !why.empty())
                 deferred.push_back({shape.file.mark, fmt::format("mesh file '{}' {}", shape.file.text, why)});
           }
         },
@@ -270,7 +254,7 @@ std::vector<ShapeTemplate> compile_geometry(const std::vector<GeometrySpec>& geo
 /// A device's parts form one tree: unique names, one root, known parents, no cycles, a real tool.
 /// Compiled to its template.
 std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const ObjectType& type, const std::string& type_file,
-                                                     Diagnostics& diag, std::vector<Diagnostic>& deferred) {
+                                                     const FileFacts& files, Diagnostics& diag, std::vector<Diagnostic>& deferred) {
   std::map<std::string, const PartSpec*> parts;
   std::vector<std::string> names;
   std::map<std::string, SourceMark> joints;
@@ -373,8 +357,8 @@ std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const 
       }
       if (js.type != JointType::Fixed) dt->joint_parts.push_back(static_cast<int>(dt->parts.size() - 1));
     }
-    pt.shapes = compile_geometry(p.geometry, type, type_file, diag, deferred);
-    pt.visual_shapes = compile_geometry(p.visual, type, type_file, diag, deferred);
+    pt.shapes = compile_geometry(p.geometry, type, type_file, files, diag, deferred);
+    pt.visual_shapes = compile_geometry(p.visual, type, type_file, files, diag, deferred);
     pt.mass = compile_value(p.mass, Dim::Mass, type, fmt::format("the mass of part '{}'", p.name), diag);
     pt.color = p.color.text;
     if (p.inertial) {
@@ -411,84 +395,12 @@ std::shared_ptr<const DeviceTemplate> compile_device(const DeviceSpec& d, const 
 
 }  // namespace
 
-std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources,
-                                     Diagnostics& diag, const std::vector<std::string>& package_paths,
-                                     const std::vector<PluginType>& plugin_types, const std::set<std::string>* wanted) {
-  std::vector<std::shared_ptr<const TypeSpec>> specs;
+std::vector<ObjectType> build_library(const LibraryInputs& in, Sources& sources, Diagnostics& diag, const std::set<std::string>* wanted) {
+  const std::vector<std::shared_ptr<const TypeSpec>>& specs = in.specs;
+  const std::map<std::string, std::vector<Diagnostic>>& file_problems = in.problems;
+  const std::set<uint32_t>& plugin_files = in.plugin_files;
   std::map<std::string, size_t> index;  // name -> specs index (ordered: deterministic)
-  std::vector<fs::path> loaded;  // a folder named twice (a vault's library and --library) loads once
-  std::map<std::string, std::vector<Diagnostic>> file_problems;  // type name -> its file's errors
-  for (const auto& [dir, where] : dirs) {
-    std::error_code ec;
-    if (fs::path real = fs::weakly_canonical(dir, ec); !ec) {
-      if (std::find(loaded.begin(), loaded.end(), real) != loaded.end()) continue;
-      loaded.push_back(real);
-    }
-    if (!fs::is_directory(dir, ec)) {
-      const bool exists = fs::exists(dir, ec);
-      diag.error(where, fmt::format("type library folder '{}' {}", dir,
-                                    exists ? "is not a folder (a library is a folder holding types/)" : "does not exist"));
-      continue;
-    }
-    // A folder a vault names (where is valid), and each type file in it, stay inside the project.
-    if (std::string why = where.valid() ? outside_roots(dir) : ""; !why.empty()) {
-      diag.error(where, fmt::format("type library folder '{}' {}", dir, why));
-      continue;
-    }
-    for (const std::string& file : type_files(dir)) {
-      if (std::string why = where.valid() ? outside_roots(file) : ""; !why.empty()) {
-        diag.error(where, fmt::format("type file '{}' {}", file, why));
-        continue;
-      }
-      // The file's own errors are the type's problems, told where a vault uses it.
-      Diagnostics own;
-      auto spec = load_type(file, sources, own, {}, package_paths);
-      std::string stem = fs::path(file).stem().string();
-      if (!spec || spec->name.empty()) {
-        if (!own.has_errors()) continue;
-        spec.emplace();  // unreadable: known by its file's name
-        spec->name = stem;
-        spec->path = file;
-        spec->mark = own.errors()[0].mark;
-      }
-      if (own.has_errors() || !own.warnings().empty()) {
-        std::vector<Diagnostic>& p = file_problems[spec->name];
-        for (const Diagnostic& d : own.warnings()) p.push_back({d.mark, d.message, true});
-        p.insert(p.end(), own.errors().begin(), own.errors().end());
-      }
-      if (stem != spec->name)
-        diag.error(spec->mark, fmt::format("type file '{}' defines type '{}'; name the file after its type ({}.yaml)",
-                                           fs::path(file).filename().string(), spec->name, spec->name));
-      if (spec->name == "object") {
-        diag.error(spec->mark, "'object' is the built-in super-class and cannot be redefined");
-        continue;
-      }
-      auto [it, inserted] = index.emplace(spec->name, specs.size());
-      if (!inserted) {
-        diag.error(spec->mark, fmt::format("type '{}' is defined twice (also in {})", spec->name,
-                                           specs[it->second]->path));
-        continue;
-      }
-      specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
-    }
-  }
-
-  // Plugin types, read from the type files they amount to (checked when the plugin loaded).
-  std::set<uint32_t> plugin_files;
-  for (const PluginType& pt : plugin_types) {
-    uint32_t file = sources.add(pt.label, pt.text);
-    plugin_files.insert(file);
-    auto spec = load_type(file, pt.plugin, sources, diag, package_paths);
-    if (!spec) continue;
-    spec->plugin = pt.plugin;
-    if (auto it = index.find(spec->name); it != index.end())
-      throw PluginError(fmt::format("plugin {}: object type '{}' is already defined by {}", pt.plugin, spec->name,
-                                    specs[it->second]->plugin.empty() ? "the type library (" + specs[it->second]->path + ")"
-                                                                      : "plugin " + specs[it->second]->plugin));
-    if (spec->name == "object") throw PluginError(fmt::format("plugin {}: 'object' is the built-in super-class", pt.plugin));
-    index.emplace(spec->name, specs.size());
-    specs.push_back(std::make_shared<const TypeSpec>(std::move(*spec)));
-  }
+  for (size_t i = 0; i < specs.size(); ++i) index.emplace(specs[i]->name, i);
 
   // Resolve `extends` in dependency order; a cycle is reported once, at the type that closes it.
   std::vector<ObjectType> types(specs.size());
@@ -588,7 +500,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
     // Geometry, frames and parts are evaluated by later stages; their structure and the names
     // their expressions use are checked now, so a typo fails at load, with its line.
     TypeTemplates& tt = t.templates;
-    if (spec.has_geometry || t.base < 0) tt.geometry = compile_geometry(spec.geometry, t, spec.path, d, t.problems);
+    if (spec.has_geometry || t.base < 0) tt.geometry = compile_geometry(spec.geometry, t, spec.path, in.files, d, t.problems);
     for (const RuleSpec& rule : spec.rules) {
       // A condition compares (`length - 1` for `length >= 1` held everywhere but at 1).
       if (rule.condition.present && rule.condition.text.find_first_of("<>=!&|") == std::string::npos)
@@ -607,7 +519,7 @@ std::vector<ObjectType> load_library(const std::vector<std::pair<std::string, So
       if (same != tt.frames.end()) *same = std::move(frame);  // a subtype's frame replaces its base's
       else tt.frames.push_back(std::move(frame));
     }
-    if (spec.device && imported) tt.device = compile_device(*spec.device, t, spec.path, d, t.problems);
+    if (spec.device && imported) tt.device = compile_device(*spec.device, t, spec.path, in.files, d, t.problems);
     t.own_device = spec.device.has_value();
     auto add_meshes = [&](const std::vector<GeometrySpec>& geometry) {
       for (const GeometrySpec& g : geometry)

@@ -22,7 +22,7 @@ PreparedVault prepare_vault(const std::string& path, const CompileOptions& optio
 PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& options, Sources& sources, Diagnostics& diag,
                             const GeometryOptions& geometry, MeshCache* meshes) {
   PreparedVault out;
-  out.wc = compile(vault, options, sources, diag);
+  out.wc = compile_vault(vault, options, sources, diag);
   if (out.wc) out.geometry = build_geometry(*out.wc, diag, meshes, geometry);
   return out;
 }

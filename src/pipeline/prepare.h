@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "geometry/geometry.h"
 #include "load/campaign.h"
 #include "load/scenario.h"

@@ -29,7 +29,7 @@ TypeInstance instance_at_defaults(const std::shared_ptr<const std::vector<Object
   uint32_t file = sources.add("<types>", fmt::format("sscs: 1\nvault: types\nobjects:\n  - {{type: {}, name: Instance}}\n", type.name));
   auto spec = load_vault(file, sources, diag);
   std::optional<Workcell> wc;
-  if (spec && !diag.has_errors()) wc = compile(*spec, options, sources, diag);
+  if (spec && !diag.has_errors()) wc = compile_vault(*spec, options, sources, diag);
   GeometryModel geometry;
   if (wc) geometry = build_geometry(*wc, diag);
   // Problems in the library's files are the library's (errors of the instance itself, such as a

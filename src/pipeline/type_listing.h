@@ -9,7 +9,7 @@
 
 #include <Eigen/Geometry>
 
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "plugin/plugins.h"
 
 namespace sscs {

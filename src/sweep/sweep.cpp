@@ -205,7 +205,7 @@ void Study::report_with_vault(const std::vector<Axis>& axes) {
   if (!vault) return;
   CompileOptions options = options_.compile;
   Diagnostics scratch;  // the vault's own errors are reported when the values are fixed
-  auto wc = compile(*vault, options, sources_, scratch);
+  auto wc = compile_vault(*vault, options, sources_, scratch);
   if (!wc) return;
   validate_names(*wc, spec_.vault_path, !spec_.scenario_path.empty(), spec_.campaign);
   validate_axis_values(*wc, axes);
@@ -253,7 +253,7 @@ bool Study::prepare_case(Case& c) {
   options.library = c.library;
   options.whole_library = true;  // kept for the vault's other variants (c.library below)
   const uint32_t read_before = sources_.size();
-  auto wc = compile(*c.vault, options, sources_, diag_);
+  auto wc = compile_vault(*c.vault, options, sources_, diag_);
   if (!wc) return false;
   if (same != cases_.end()) {
     c.library_files = same->library_files;

@@ -38,7 +38,7 @@ void check_vault(const std::string& text) {
   if (!spec || diag.has_errors()) return;
   CompileOptions options;
   options.library = library;
-  auto wc = compile(*spec, options, sources, diag);
+  auto wc = compile_vault(*spec, options, sources, diag);
   if (wc) check(*wc, build_geometry(*wc, diag));
 }
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "core/files.h"
 #include "load/load.h"
 

@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!spec) continue;
     CompileOptions options;
     options.library = library;
-    auto wc = compile(*spec, options, sources, diag);
+    auto wc = compile_vault(*spec, options, sources, diag);
     if (wc) check(*wc, build_geometry(*wc, diag));
   }
   return 0;

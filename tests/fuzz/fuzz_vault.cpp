@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!spec || diag.has_errors()) return 0;
   CompileOptions options;
   options.library = library;
-  auto wc = compile(*spec, options, sources, diag);
+  auto wc = compile_vault(*spec, options, sources, diag);
   if (!wc) return 0;
   GeometryModel geometry = build_geometry(*wc, diag);
   if (diag.has_errors()) return 0;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "check/check.h"
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "load/load.h"
 
 namespace sscs::testing {
@@ -48,7 +48,7 @@ class VaultTest : public ::testing::Test {
     uint32_t file = sources.add("vault.yaml", "sscs: 1\nvault: T\n" + body);
     auto spec = load_vault(file, sources, diag);
     if (!spec || diag.has_errors()) return std::nullopt;
-    return compile(*spec, options, sources, diag);
+    return compile_vault(*spec, options, sources, diag);
   }
   Workcell must_compile(const std::string& body) {
     auto wc = compile_text(body);

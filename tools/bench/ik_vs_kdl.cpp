@@ -31,7 +31,7 @@
 #include <kdl/chainiksolverpos_nr_jl.hpp>
 #include <kdl/chainiksolvervel_pinv.hpp>
 
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "geometry/geometry.h"
 #include "kinematics/ik.h"
 #include "load/load.h"
@@ -122,7 +122,7 @@ int run(const std::string& type, int samples, const sscs::CompileOptions& option
   uint32_t file = sources.add("bench.yaml", "sscs: 1\nvault: Bench\nobjects:\n  - {type: " + type + ", name: R}\n");
   auto spec = sscs::load_vault(file, sources, diag);
   std::optional<sscs::Workcell> wc;
-  if (spec) wc = sscs::compile(*spec, options, sources, diag);
+  if (spec) wc = sscs::compile_vault(*spec, options, sources, diag);
   sscs::GeometryModel geometry;
   if (wc) geometry = sscs::build_geometry(*wc, diag);
   if (diag.has_errors() || !wc) {

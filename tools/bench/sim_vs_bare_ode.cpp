@@ -21,7 +21,7 @@
 #include <cstdio>
 #include <string>
 
-#include "compile/compile.h"
+#include "pipeline/compile_vault.h"
 #include "geometry/geometry.h"
 #include "pipeline/scenario.h"
 #include "simulate/plan.h"

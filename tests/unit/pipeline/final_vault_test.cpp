@@ -90,7 +90,7 @@ TEST_F(FinalVault, CompilesToEveryObjectWhereTheRunLeftIt) {
     const uint32_t file = again.add("final.yaml", text);
     auto spec = load_vault(file, again, diag_again);
     std::optional<Workcell> back;
-    if (spec && !diag_again.has_errors()) back = compile(*spec, options, again, diag_again);
+    if (spec && !diag_again.has_errors()) back = compile_vault(*spec, options, again, diag_again);
     ASSERT_TRUE(back && !diag_again.has_errors()) << diag_again.format(again) << "\n" << text;
     EXPECT_TRUE(diag_again.warnings().empty()) << diag_again.format(again);
     const GeometryModel geometry_back = build_geometry(*back, diag_again);
