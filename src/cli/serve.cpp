@@ -107,6 +107,7 @@ struct Live {
 
 /// Checks again on every change: the last save wins (a check begun before it is not published).
 void checker(Live& live, const std::string& vault, const CompileOptions& options, bool quiet) {
+  LibraryCache library;  // a save of the vault checks the vault, not the library again
   for (;;) {
     {
       std::unique_lock lock(live.m);
@@ -121,7 +122,7 @@ void checker(Live& live, const std::string& vault, const CompileOptions& options
     }
     const auto t0 = std::chrono::steady_clock::now();
     live.checking = true;
-    LiveCheck result = live_check(vault, options);
+    LiveCheck result = live_check(vault, options, library);
     live.checking = false;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard lock(live.m);

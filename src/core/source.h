@@ -42,6 +42,7 @@ class Sources {
   /// between the inputs and the file system for the YAML files; nothing is written anywhere.
   using Unsaved = std::map<std::string, std::string, std::less<>>;
   void set_unsaved(std::shared_ptr<const Unsaved> texts) { unsaved_ = std::move(texts); }
+  const std::shared_ptr<const Unsaved>& unsaved_texts() const { return unsaved_; }
   /// The unsaved text of `path` (absolute, lexically normal), or null: read the disk.
   const std::string* unsaved(std::string_view path) const;
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/data_dirs.h"
+#include "core/digest.h"
 #include "core/files.h"
 #include "load/load.h"
 
@@ -18,19 +19,6 @@ namespace {
 std::string dir_of(const std::string& path) {
   fs::path p = fs::path(path).parent_path();
   return p.empty() ? "." : p.string();
-}
-
-/// The type files of a library folder (its types/ when it has one), sorted.
-std::vector<std::string> type_files(const std::string& dir) {
-  std::vector<std::string> files;
-  std::error_code ec;
-  fs::path root = fs::is_directory(fs::path(dir) / "types", ec) ? fs::path(dir) / "types" : fs::path(dir);
-  for (const auto& entry : fs::directory_iterator(root, ec)) {
-    auto ext = entry.path().extension();
-    if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());  // deterministic order
-  return files;
 }
 
 /// Every mesh a type file names: its geometry's, and its device parts' geometry and visuals.
@@ -104,7 +92,7 @@ LibraryInputs gather_library(const std::vector<std::pair<std::string, SourceMark
       diag.error(where, fmt::format("type library folder '{}' {}", dir, why));
       continue;
     }
-    for (const std::string& file : type_files(dir)) {
+    for (const std::string& file : library_type_files(dir)) {
       if (std::string why = where.valid() ? outside_roots(file) : ""; !why.empty()) {
         diag.error(where, fmt::format("type file '{}' {}", file, why));
         continue;
@@ -197,16 +185,82 @@ std::optional<VaultInputs> gather_vault(const VaultSpec& spec, const CompileOpti
   for (const Scalar& dir : spec.plugins) in.vault_plugin_dirs.push_back(fs::absolute(resolve(dir.text)).lexically_normal().string());
 
   // The type library: standard, the vault's folders, --library folders, then plugin types.
-  if (!options.library) {
-    std::vector<std::pair<std::string, SourceMark>> dirs;
-    if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
-    for (const Scalar& dir : spec.library) dirs.push_back({resolve(dir.text), dir.mark});
-    for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
-    in.library = gather_library(dirs, sources, diag, options.package_paths, in.plugins->types());
-  }
+  if (!options.library) in.library = gather_library(library_dirs(spec, options), sources, diag, options.package_paths, in.plugins->types());
   for (const ObjectSpec& o : spec.objects)
     if (o.geomodel.present && !o.geomodel.null) in.files.add_reference(spec.path, o.geomodel.text);
   return in;
+}
+
+std::vector<std::pair<std::string, SourceMark>> library_dirs(const VaultSpec& spec, const CompileOptions& options) {
+  std::vector<std::pair<std::string, SourceMark>> dirs;
+  if (spec.standard_library) dirs.push_back({standard_library_dir(), {}});
+  for (const Scalar& dir : spec.library) dirs.push_back({join_path(dir_of(spec.path), dir.text), dir.mark});
+  for (const std::string& dir : options.library_dirs) dirs.push_back({dir, {}});
+  return dirs;
+}
+
+std::vector<std::string> library_type_files(const std::string& dir) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  fs::path root = fs::is_directory(fs::path(dir) / "types", ec) ? fs::path(dir) / "types" : fs::path(dir);
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    auto ext = entry.path().extension();
+    if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());  // deterministic order
+  return files;
+}
+
+namespace {
+
+std::vector<std::string> dir_names(const VaultSpec& spec, const CompileOptions& options) {
+  std::vector<std::string> out;
+  for (const auto& [dir, _] : library_dirs(spec, options)) out.push_back(dir);
+  return out;
+}
+
+std::vector<std::string> type_files_of(const std::vector<std::string>& dirs) {
+  std::vector<std::string> out;
+  for (const std::string& dir : dirs)
+    for (std::string& f : library_type_files(dir)) out.push_back(std::move(f));
+  return out;
+}
+
+}  // namespace
+
+bool LibraryCache::keepable(const VaultSpec& spec, const CompileOptions& options) {
+  return spec.plugins.empty() && options.plugin_dirs.empty() && !options.library && (!options.plugins || options.plugins->files().empty());
+}
+
+void LibraryCache::seed(Sources& sources) const {
+  for (const File& f : files_) sources.add(f.library ? f.path : "(earlier) " + f.path, f.text);
+}
+
+std::shared_ptr<const std::vector<ObjectType>> LibraryCache::find(const VaultSpec& spec, const CompileOptions& options,
+                                                                  const Sources& sources) const {
+  if (!types_ || !keepable(spec, options) || dir_names(spec, options) != dirs_) return nullptr;
+  if (type_files_of(dirs_) != type_files_) return nullptr;  // a type file added or removed
+  for (const File& f : files_) {
+    if (!f.library) continue;
+    if (const std::string* text = sources.unsaved(f.path)) {
+      if (*text != f.text) return nullptr;
+    } else if (std::optional<std::string> now = read_file_bytes(f.path); !now || *now != f.text) {
+      return nullptr;
+    }
+  }
+  return types_;
+}
+
+void LibraryCache::keep(const VaultSpec& spec, const CompileOptions& options, std::shared_ptr<const std::vector<ObjectType>> types,
+                        const Sources& sources) {
+  files_.clear();
+  types_ = nullptr;
+  if (!keepable(spec, options)) return;
+  dirs_ = dir_names(spec, options);
+  type_files_ = type_files_of(dirs_);
+  for (uint32_t f = 1; f < sources.size(); ++f)
+    files_.push_back({sources.path(f), sources.text(f), sources.path(f) != spec.path});
+  types_ = std::move(types);
 }
 
 }  // namespace sscs

@@ -91,4 +91,40 @@ struct VaultInputs {
 /// PluginError.
 std::optional<VaultInputs> gather_vault(const VaultSpec& spec, const CompileOptions& options, Sources& sources, Diagnostics& diag);
 
+/// The type library folders of a vault, in the order compile reads them: the standard library
+/// (unless the vault says otherwise), the vault's `library:` folders, then --library folders.
+std::vector<std::pair<std::string, SourceMark>> library_dirs(const VaultSpec& spec, const CompileOptions& options);
+
+/// The type files of a library folder (its types/ folder when it has one), sorted.
+std::vector<std::string> library_type_files(const std::string& dir);
+
+/// A type library kept between compiles (sscs lsp and sscs serve compile at every change): reused
+/// while the vault names the same library folders and every file the library was read from (type
+/// files, URDF, SRDF) has the same text, on disk or in an editor's buffer; so a change to the vault
+/// compiles the vault, not the library. A vault that loads plugins is compiled whole every time.
+class LibraryCache {
+ public:
+  /// Registers in `sources` (new, empty) the files the kept library was read from, at the indices
+  /// its marks point at, so its types' problems quote their lines. Call before loading the vault.
+  void seed(Sources& sources) const;
+  /// The kept library when it still holds for `spec` (read with `sources`, seeded), else null.
+  std::shared_ptr<const std::vector<ObjectType>> find(const VaultSpec& spec, const CompileOptions& options, const Sources& sources) const;
+  /// Keeps `types`: the library of vault `spec`, compiled whole (CompileOptions::whole_library)
+  /// with `sources` holding the files it was read from.
+  void keep(const VaultSpec& spec, const CompileOptions& options, std::shared_ptr<const std::vector<ObjectType>> types,
+            const Sources& sources);
+  /// Whether a library may be kept for vaults like `spec` (none that loads plugins).
+  static bool keepable(const VaultSpec& spec, const CompileOptions& options);
+
+ private:
+  struct File {
+    std::string path, text;
+    bool library = false;  ///< read for the library (compared when reused); else the vault's, renamed
+  };
+  std::vector<File> files_;
+  std::vector<std::string> dirs_;
+  std::vector<std::string> type_files_;
+  std::shared_ptr<const std::vector<ObjectType>> types_;
+};
+
 }  // namespace sscs

@@ -29,14 +29,14 @@ FileKind file_kind(std::string_view text) {
 }
 
 std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, std::shared_ptr<const Sources::Unsaved> unsaved,
-                                        const CompileOptions& options) {
+                                        const CompileOptions& options, LibraryCache& library) {
   auto a = std::make_shared<Analysis>();
   a->path = path;
   a->kind = kind;
   a->sources.set_unsaved(unsaved);
   switch (kind) {
     case FileKind::Vault: {
-      PreparedVault vault = prepare_vault(path, options, a->sources, a->diag, {.visuals = false, .contacts = nullptr});
+      PreparedVault vault = prepare_vault(path, options, a->sources, a->diag, {.visuals = false, .contacts = nullptr}, library);
       if (vault.wc && !a->diag.has_errors()) {
         CheckOptions check_options;
         check_options.describe_passes = true;  // hover shows a constraint's last result, passing too

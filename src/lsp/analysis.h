@@ -34,8 +34,10 @@ struct Analysis {
 
 /// Compiles the file `path` (absolute) of kind `kind`, with `unsaved` standing in for the files
 /// the editor has open, and checks it when it is a vault.
+/// `library` keeps the vault's type library between its compiles (a keystroke compiles the vault,
+/// not the library).
 std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, std::shared_ptr<const Sources::Unsaved> unsaved,
-                                        const CompileOptions& options);
+                                        const CompileOptions& options, LibraryCache& library);
 
 /// A range of a file as LSP counts: 0-based lines, and characters in UTF-16 code units (or bytes
 /// when the client speaks UTF-8).

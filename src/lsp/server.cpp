@@ -608,7 +608,7 @@ void Server::compile_one(const std::string& path) {
   std::map<std::string, std::vector<Problem>> found;
   std::shared_ptr<const Analysis> a;
   try {
-    a = analyze(path, kind, unsaved, options_.compile);
+    a = analyze(path, kind, unsaved, options_.compile, libraries_[path]);
     found = problems(*a, utf8_);
   } catch (const std::exception& e) {  // a plugin that throws, a bug: said at the file's first line
     found[path].push_back({Range{}, 1, fmt::format("sscs could not check this file: {}", e.what())});

@@ -83,6 +83,7 @@ class Server {
   /// What each compiled file published, by the file it is in: a file's diagnostics are the union.
   std::map<std::string, std::map<std::string, std::vector<Problem>>> published_;
   std::vector<std::string> roots_;
+  std::map<std::string, LibraryCache> libraries_;  ///< each open vault's kept library (the worker's)
   std::mutex send_m_;
   std::thread worker_;
 };

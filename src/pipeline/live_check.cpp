@@ -12,12 +12,12 @@
 
 namespace sscs {
 
-LiveCheck live_check(const std::string& path, const CompileOptions& options) {
+LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library) {
   namespace fs = std::filesystem;
   LiveCheck out;
   Sources sources;
   Diagnostics diag;
-  PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = true, .contacts = nullptr});
+  PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = true, .contacts = nullptr}, library);
   std::set<std::string> files;
   auto read = [&](const std::string& file) {
     std::error_code ec;

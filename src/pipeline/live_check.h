@@ -17,7 +17,7 @@ struct LiveCheck {
 };
 
 /// Compiles and checks the vault `path` and makes its page (the caller has confined what files
-/// named inside it may read).
-LiveCheck live_check(const std::string& path, const CompileOptions& options);
+/// named inside it may read). `library` keeps its type library from one check to the next.
+LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library);
 
 }  // namespace sscs

@@ -27,6 +27,36 @@ PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& option
   return out;
 }
 
+PreparedVault prepare_vault(const std::string& path, const CompileOptions& options, Sources& sources, Diagnostics& diag,
+                            const GeometryOptions& geometry, LibraryCache& library) {
+  // Which library the vault names, from a first read of its text (a millisecond): the kept one, if
+  // it still holds, with its files seeded where its marks point; else the library compiled whole
+  // and kept for the next change.
+  CompileOptions kept = options;
+  {
+    Sources probe;
+    probe.set_unsaved(sources.unsaved_texts());
+    library.seed(probe);
+    Diagnostics quiet;
+    if (std::optional<VaultSpec> spec = load_vault(path, probe, quiet)) kept.library = library.find(*spec, options, probe);
+  }
+  if (kept.library) library.seed(sources);
+  std::optional<VaultSpec> spec = load_vault(path, sources, diag);
+  if (!spec || diag.has_errors()) return {};
+  if (!kept.library && LibraryCache::keepable(*spec, options)) {
+    // The whole library, kept whatever the vault's own errors (a vault being typed has them most
+    // of the time); a library folder that cannot be read keeps nothing (the compile reports it).
+    Diagnostics quiet;
+    auto types = std::make_shared<const std::vector<ObjectType>>(
+        load_library(library_dirs(*spec, options), sources, quiet, options.package_paths));
+    if (!quiet.has_errors() && quiet.warnings().empty()) {
+      library.keep(*spec, options, types, sources);
+      kept.library = std::move(types);
+    }
+  }
+  return prepare_vault(*spec, kept, sources, diag, geometry);
+}
+
 bool PreparedScenario::prepare(const std::string& path, const CompileOptions& base, const std::string& camera_file) {
   auto file = load_run_file(path, sources, diag);
   if (!file || diag.has_errors()) return false;

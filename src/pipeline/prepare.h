@@ -32,6 +32,12 @@ PreparedVault prepare_vault(const std::string& path, const CompileOptions& optio
 PreparedVault prepare_vault(const VaultSpec& vault, const CompileOptions& options, Sources& sources, Diagnostics& diag,
                             const GeometryOptions& geometry = {}, MeshCache* meshes = nullptr);
 
+/// The same for a vault compiled again and again (sscs lsp, sscs serve): its library is taken
+/// from `library` while it holds (LibraryCache::find), else compiled whole and kept there. `sources`
+/// starts empty (with the editor's unsaved texts set, if any).
+PreparedVault prepare_vault(const std::string& path, const CompileOptions& options, Sources& sources, Diagnostics& diag,
+                            const GeometryOptions& geometry, LibraryCache& library);
+
 /// A scenario loaded, its vault compiled with the overrides (the scenario's `set:`, then
 /// --set), planned, and its cameras (or a camera file's) compiled. Input errors are in `diag`.
 struct PreparedScenario {
