@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "core/yaml_tree.h"
+
 namespace sscs {
 
 std::string printable(std::string_view line, bool keep_newlines) {
@@ -75,13 +77,14 @@ std::string format_one(const Diagnostic& d, const Sources& sources, bool color) 
   const char* reset = color ? "\033[0m" : "";
   const char* word = d.warning ? "warning" : "error";
   std::string out;
-  if (d.mark.valid()) {
-    out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(d.mark.file), d.mark.line, d.mark.column, reset, word_colour,
+  const SourceMark mark = yaml::exact_mark(sources, d.mark);  // inside a scalar written over several lines
+  if (mark.valid()) {
+    out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(mark.file), mark.line, mark.column, reset, word_colour,
                        word, reset, printable(within_window(d.message), true));
-    std::string_view line = sources.line(d.mark);
+    std::string_view line = sources.line(mark);
     if (!line.empty() && line.size() < 300) {
       out += fmt::format("  {}\n", printable(line));
-      std::string caret(d.mark.column > 0 ? d.mark.column - 1 : 0, ' ');
+      std::string caret(mark.column > 0 ? mark.column - 1 : 0, ' ');
       for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
         if (line[i] == '\t') caret[i] = '\t';
       out += fmt::format("  {}{}^{}\n", caret, green, reset);

@@ -341,4 +341,68 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
   return doc;
 }
 
+namespace {
+
+/// The scalar of `node`'s tree that starts on `line` at the greatest column below `column`.
+Node scalar_before(Node node, uint32_t line, uint32_t column, Node best = {}) {
+  if (!node.valid()) return best;
+  if (node.is_scalar()) {
+    const SourceMark m = node.mark();
+    if (m.line == line && m.column < column && (!best.valid() || m.column > best.mark().column)) return node;
+    return best;
+  }
+  for (size_t i = 0; i < node.size(); ++i) best = scalar_before(node.is_map() ? node.value(i) : node.item(i), line, column, best);
+  return best;
+}
+
+bool word_byte(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+}  // namespace
+
+SourceMark exact_mark(const Sources& sources, SourceMark mark) {
+  if (!mark.valid() || mark.line == 0) return mark;
+  const std::string_view line = sources.line(mark);
+  if (mark.column <= line.size() + 1) return mark;  // on its line (or just past its end): as placed
+  Diagnostics quiet;
+  const Document doc = parse(sources, mark.file, quiet);
+  const Node scalar = scalar_before(doc.root(), mark.line, mark.column);
+  if (!scalar.valid()) return mark;
+  const SourceMark start = scalar.mark();
+  const size_t skip = scalar.quoted() ? 1 : 0;
+  if (mark.column < start.column + skip) return mark;
+  const size_t pos = mark.column - start.column - skip;
+  const std::string_view text = scalar.text();
+  if (pos >= text.size()) return start;
+  // The token at pos, and how many times it occurs in the text before.
+  size_t from = pos, to = pos + 1;
+  if (word_byte(text[pos])) {
+    while (from > 0 && word_byte(text[from - 1])) --from;
+    while (to < text.size() && word_byte(text[to])) ++to;
+  }
+  const std::string_view token = text.substr(from, to - from);
+  auto whole = [&](std::string_view in, size_t at) {
+    if (!word_byte(token.front())) return true;
+    return (at == 0 || !word_byte(in[at - 1])) && (at + token.size() >= in.size() || !word_byte(in[at + token.size()]));
+  };
+  size_t before = 0;
+  for (size_t at = text.find(token); at != std::string_view::npos && at < from; at = text.find(token, at + 1))
+    if (whole(text, at)) ++before;
+  // The same occurrence in the source, from the scalar's start.
+  const std::string_view source = sources.text(mark.file);
+  size_t offset = 0;
+  for (uint32_t l = 1; l < start.line && offset != std::string_view::npos; ++l) offset = source.find('\n', offset) + 1;
+  offset += start.column - 1;
+  for (size_t at = source.find(token, offset); at != std::string_view::npos; at = source.find(token, at + 1)) {
+    if (!whole(source, at)) continue;
+    if (before-- > 0) continue;
+    SourceMark out{mark.file, 1, 1};
+    const size_t line_start = source.rfind('\n', at == 0 ? 0 : at - 1);
+    for (size_t k = source.find('\n'); k != std::string_view::npos && k < at; k = source.find('\n', k + 1)) ++out.line;
+    out.column = static_cast<uint32_t>(at - (line_start == std::string_view::npos || at == 0 ? 0 : line_start + 1) + 1);
+    if (at == 0) out.column = 1;
+    return out;
+  }
+  return start;
+}
+
 }  // namespace sscs::yaml

@@ -90,4 +90,12 @@ class Document {
 /// Document is empty.
 Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const Limits& limits = {});
 
+/// Where a mark inside a scalar really is. Stages place a problem at offset `pos` of a scalar's
+/// text as its mark's column + pos (+1 past a quote or a block indicator): right for a scalar on
+/// one line, but past the end of the line for one written over several (a `>-` block, a folded
+/// plain or quoted scalar). Such a mark (its column beyond its line) is moved to the same text in
+/// the source: the token at `pos` (an identifier, a number, else one character), at the same
+/// occurrence. Other marks are returned as they are.
+SourceMark exact_mark(const Sources& sources, SourceMark mark);
+
 }  // namespace sscs::yaml

@@ -110,6 +110,22 @@ SelectorSpec read_selector(yaml::Node node, std::string_view what, Diagnostics& 
   s.mark = node.valid() ? node.mark() : SourceMark{};
   s.items = load::scalar_list(node, what, diag);
   if (node.valid() && s.items.empty()) load::expected(diag, node, "a name, glob, type:T or a list of these", what);
+  // An empty item (`a: ` half typed, `[Drum_1, ~]`) selects nothing: never a silent pass.
+  for (const Scalar& item : s.items)
+    if (item.null) {
+      diag.error(item.mark, fmt::format("expected a name, glob, type:T or a list of these for {}, found nothing", what));
+      s.items.clear();
+      break;
+    }
+  return s;
+}
+
+/// An object's name where one is required (`device:`, `container:`, `carrying:`): left empty
+/// (`device: `, `device: ~`: null), it is an input error, never a rule left out. ("" is a name
+/// that names no object: the compile says so.)
+Scalar object_name(yaml::Node node, std::string_view what, Diagnostics& diag) {
+  Scalar s = load::scalar(node, what, diag);
+  if (s.present && s.null) diag.error(s.mark, fmt::format("expected an object name for {}, found nothing", what));
   return s;
 }
 
@@ -191,24 +207,31 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     InsideSpec in;
     in.objects = read_selector(r.require("objects"), "inside objects", diag);
     allow_empty(in.objects);
-    in.container = load::scalar(r.require("container"), "inside container", diag);
+    in.container = object_name(r.require("container"), "inside container", diag);
     in.min = load::scalar(r.take("min"), "inside min", diag);
     in.eps = load::scalar(r.take("eps"), "eps", diag);
     in.faces = load::scalar_list(r.take("faces"), "inside faces", diag);
     out = std::move(in);
   } else {  // reach
     ReachSpec re;
-    re.device = load::scalar(r.require("device"), "reach device", diag);
+    re.device = object_name(r.require("device"), "reach device", diag);
     // Targets: selectors (`Drum_*`, `type:drum`, `Drum_3.top`) and world poses ({xyz, rpy}).
     yaml::Node targets = r.require("targets");
     re.targets.mark = targets.valid() ? targets.mark() : r.mark();
+    bool told_empty = false;  // an empty target, said where it is
     auto target = [&](yaml::Node item) {
       if (item.is_map()) {
         MapReader pr(item, "reach target pose", diag);
         re.poses.push_back({load::pose(pr, diag), item.mark()});
         pr.finish();
       } else {
-        re.targets.items.push_back(load::scalar(item, "reach targets", diag));
+        Scalar t = load::scalar(item, "reach targets", diag);
+        if (t.present && t.null) {
+          diag.error(t.mark, "expected an object, OBJECT.FRAME, a glob or type:T for reach targets, found nothing");
+          told_empty = true;
+        } else {
+          re.targets.items.push_back(std::move(t));
+        }
       }
     };
     if (targets.is_sequence()) {
@@ -216,7 +239,7 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     } else if (targets.valid()) {
       target(targets);
     }
-    if (targets.valid() && re.targets.items.empty() && re.poses.empty())
+    if (targets.valid() && re.targets.items.empty() && re.poses.empty() && !told_empty)
       load::expected(diag, targets, "a name, glob, type:T, Object.frame, {xyz, rpy} or a list of these", "reach targets");
     allow_empty(re.targets);
     re.frame = load::scalar(r.take("frame"), "reach frame", diag);
@@ -234,7 +257,7 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     }
     re.position_tol = load::scalar(r.take("position_tol"), "position_tol", diag);
     re.angle_tol = load::scalar(r.take("angle_tol"), "angle_tol", diag);
-    re.carrying = load::scalar(r.take("carrying"), "reach carrying", diag);
+    re.carrying = object_name(r.take("carrying"), "reach carrying", diag);
     out = std::move(re);
   }
   r.finish();

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "core/yaml_tree.h"
 #include "load/load.h"
 #include "pipeline/prepare.h"
 #include "report/report.h"
@@ -120,8 +121,12 @@ Range token_range(const Sources& sources, SourceMark mark, bool utf8) {
 std::map<std::string, std::vector<Problem>> problems(const Analysis& a, bool utf8) {
   std::map<std::string, std::vector<Problem>> out;
   auto place = [&](SourceMark mark, int severity, std::string message) {
-    if (!mark.valid()) mark = {a.file, 1, 0};  // no place: the file's first line
-    if (!mark.valid()) return;
+    if (!mark.valid() && a.file) mark = {a.file, 1, 0};  // no place: the file's first line
+    if (!mark.valid()) {
+      out[a.path].push_back({Range{}, severity, std::move(message)});
+      return;
+    }
+    mark = yaml::exact_mark(a.sources, mark);  // inside a scalar written over several lines
     out[a.sources.path(mark.file)].push_back({token_range(a.sources, mark, utf8), severity, std::move(message)});
   };
   for (const Diagnostic& d : a.diag.warnings()) place(d.mark, 2, d.message);
