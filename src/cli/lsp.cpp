@@ -16,36 +16,70 @@ namespace {
 
 constexpr size_t kMostMessageBytes = size_t(1) << 30;  ///< a message's body at most (an editor's buffer of 50 MB is well inside)
 
-/// Reads one message's body from stdin: "" at the end of the input. A malformed header is skipped
-/// to the next blank line, and its body read as said, so one bad message does not end the session.
-std::optional<std::string> read_message(std::istream& in, std::string& problem) {
-  std::string line;
-  long long length = -1;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) {
-      if (length < 0) {
-        problem = "a message without Content-Length";
-        return std::string();
+/// Reads messages from stdin: "" at the end of the input. A header block without a readable
+/// Content-Length leaves no way to know where its body ends: the reader says so (`problem`) and
+/// skips to the next `Content-Length:`, so one bad message does not deafen the session.
+class MessageReader {
+ public:
+  explicit MessageReader(std::istream& in) : in_(in) {}
+
+  std::optional<std::string> next(std::string& problem) {
+    std::string line;
+    long long length = -1;
+    while (read_line(line)) {
+      if (line.empty()) {
+        if (length < 0) {
+          problem = "a message without a readable Content-Length header (skipped to the next one)";
+          if (!resync()) return std::nullopt;
+          return std::string();
+        }
+        if (static_cast<size_t>(length) > kMostMessageBytes) {
+          problem = fmt::format("a message of {} bytes, above the {} MB a message may have", length, kMostMessageBytes >> 20);
+          in_.ignore(length);
+          return std::string();
+        }
+        std::string body(static_cast<size_t>(length), '\0');
+        in_.read(body.data(), length);
+        if (in_.gcount() != length) return std::nullopt;
+        return body;
       }
-      if (static_cast<size_t>(length) > kMostMessageBytes) {
-        problem = fmt::format("a message of {} bytes, above the {} MB a message may have", length, kMostMessageBytes >> 20);
-        in.ignore(length);
-        return std::string();
+      constexpr std::string_view header = "content-length:";
+      if (line.size() > header.size() && std::equal(header.begin(), header.end(), line.begin(), [](char a, char b) { return a == std::tolower(b); })) {
+        char* end = nullptr;
+        const long long n = std::strtoll(line.c_str() + header.size(), &end, 10);
+        length = end != line.c_str() + header.size() && n >= 0 ? n : -1;
       }
-      std::string body(static_cast<size_t>(length), '\0');
-      in.read(body.data(), length);
-      if (in.gcount() != length) return std::nullopt;
-      return body;
     }
-    constexpr std::string_view header = "content-length:";
-    if (line.size() > header.size() && std::equal(header.begin(), header.end(), line.begin(), [](char a, char b) { return a == std::tolower(b); })) {
-      char* end = nullptr;
-      length = std::strtoll(line.c_str() + header.size(), &end, 10);
-    }
+    return std::nullopt;
   }
-  return std::nullopt;
-}
+
+ private:
+  bool read_line(std::string& line) {
+    if (!std::getline(in_, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    line = carry_ + line;
+    carry_.clear();
+    return true;
+  }
+  /// Skips input up to the next "Content-Length:" (any case), which the next line read starts with.
+  bool resync() {
+    constexpr std::string_view header = "content-length:";
+    size_t matched = 0;
+    char c;
+    while (in_.get(c)) {
+      matched = std::tolower(static_cast<unsigned char>(c)) == header[matched] ? matched + 1
+                : std::tolower(static_cast<unsigned char>(c)) == header[0] ? 1 : 0;
+      if (matched == header.size()) {
+        carry_ = "Content-Length:";
+        return true;
+      }
+    }
+    return false;
+  }
+
+  std::istream& in_;
+  std::string carry_;
+};
 
 }  // namespace
 
@@ -66,9 +100,10 @@ int run_lsp(const Common& common) {
   server_options.confine = [&common](const std::vector<std::string>& projects) { common.confine_to_projects(projects); };
   lsp::Server server(write, server_options);
   int code = 1;  // the input ended without `exit`
+  MessageReader reader(std::cin);
   while (true) {
     std::string problem;
-    std::optional<std::string> body = read_message(std::cin, problem);
+    std::optional<std::string> body = reader.next(problem);
     if (!body) break;
     if (!problem.empty()) {
       write({{"jsonrpc", "2.0"}, {"id", nullptr}, {"error", {{"code", lsp::kParseError}, {"message", problem}}}});

@@ -686,6 +686,7 @@ void expand_objects(CompileState& st) {
       if (st.plugins->files().empty()) hint += " (no plugins are loaded: a plugin's type needs --plugins DIR)";
       st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, hint));
       if (o.name.present) st.unbuilt.insert(o.name.text);
+      if (o.array) st.unbuilt_arrays.push_back(o.array->name_pattern.text);  // no "unknown object 'Crate_3'" after it
       continue;
     }
     int type = static_cast<int>(t - st.wc.types.begin());
@@ -703,6 +704,7 @@ void expand_objects(CompileState& st) {
         }
     if (st.wc.types[type].broken) {
       if (o.name.present) st.unbuilt.insert(o.name.text);
+      if (o.array) st.unbuilt_arrays.push_back(o.array->name_pattern.text);
       continue;
     }
     // A library reused from another vault's compile holds the templates it needed only (its

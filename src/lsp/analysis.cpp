@@ -1,6 +1,7 @@
 #include "lsp/analysis.h"
 
 #include <filesystem>
+#include <regex>
 
 #include <fmt/format.h>
 
@@ -25,6 +26,15 @@ FileKind file_kind(std::string_view text) {
     const size_t next = text.find('\n', pos);
     if (next == std::string_view::npos) break;
     pos = next + 1;
+  }
+  // A document written as one flow mapping (`{sscs: 1, vault: V, objects: [...]}`): its keys, in its start.
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string_view::npos && text[first] == '{') {
+    static const std::regex key(R"([{,]\s*(vault|scenario|campaign|type)\s*:)");
+    const std::string_view head = text.substr(first, 65536);
+    std::match_results<std::string_view::const_iterator> m;
+    if (std::regex_search(head.begin(), head.end(), m, key))
+      return m[1] == "vault" ? FileKind::Vault : m[1] == "type" ? FileKind::Type : FileKind::Scenario;
   }
   return FileKind::Other;
 }
@@ -109,7 +119,7 @@ Range token_range(const Sources& sources, SourceMark mark, bool utf8) {
     end = close == std::string_view::npos ? line.size() : close + 1;
   } else {
     while (end < line.size() && line[end] != ' ' && line[end] != ',' && line[end] != ']' && line[end] != '}' && line[end] != '[' &&
-           line[end] != '{' && !(line[end] == ':' && (end + 1 == line.size() || line[end + 1] == ' ')))
+           line[end] != '{' && line[end] != '"' && line[end] != '\'' && !(line[end] == ':' && (end + 1 == line.size() || line[end + 1] == ' ')))
       ++end;
   }
   if (end == start) end = line.size();  // a mark on a space or a bracket: the rest of the line
@@ -142,7 +152,7 @@ std::map<std::string, std::vector<Problem>> problems(const Analysis& a, bool utf
     std::string margin;
     if (r.margin) {
       const char* unit = r.margin_unit();
-      margin = fmt::format(" (margin {}{}{})", number_text(stable(*r.margin)), *unit ? " " : "", unit);
+      margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);  // as `sscs check` prints it
     }
     const std::string subjects = subject_names(wc, r);
     const std::string message = fmt::format("{} {} [{}]{}{}: {}{}", r.status == Status::Error ? "cannot evaluate" : warning ? "warning" : "failed",

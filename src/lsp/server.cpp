@@ -51,7 +51,10 @@ bool blank(std::string_view line) {
   return i == line.size() || line[i] == '#';
 }
 /// Whether a byte ends a token: YAML's flow punctuation, spaces, quotes and comments.
-bool token_end(char c) { return c == ' ' || c == '\t' || c == ',' || c == '[' || c == ']' || c == '{' || c == '}' || c == '"' || c == '\'' || c == '#'; }
+bool token_end(char c) {
+  return c == ' ' || c == '\t' || c == ',' || c == '[' || c == ']' || c == '{' || c == '}' || c == '"' || c == '\'' || c == '#' ||
+         c == '(' || c == ')' || c == '+' || c == '-' || c == '/' || c == '<' || c == '>' || c == '=' || c == '&' || c == '|';
+}
 
 /// The key a line sets at its start (`  - type: drum` -> "type"), or "".
 std::string line_key(std::string_view line) {
@@ -121,7 +124,9 @@ Cursor cursor_at(std::string_view text, int line, int character, bool utf8) {
   c.prefix = l.substr(c.start, at - c.start);
   const std::string_view before = l.substr(0, c.start);
   const bool line_start = std::regex_match(before.begin(), before.end(), std::regex(R"(\s*(-\s+)*)"));
-  if (!c.token.empty() && c.token.back() == ':') {  // `height:` under the cursor: a key
+  const std::string_view trimmed = before.substr(0, before.find_last_not_of(" \t") + 1);
+  const bool key_place = line_start || (!trimmed.empty() && (trimmed.back() == '{' || trimmed.back() == ','));
+  if (!c.token.empty() && c.token.back() == ':' && key_place) {  // `height:` under the cursor: a key
     c.token.remove_suffix(1);
     if (c.prefix.size() > c.token.size()) c.prefix = c.token;
     c.is_key = true;
@@ -167,6 +172,8 @@ Cursor cursor_at(std::string_view text, int line, int character, bool utf8) {
     }
     if (!blank(s) && indent_of(s) < c.list_indent) break;
   }
+  // A line of its own at or left of the items' dash (a top-level key being typed) is in no item.
+  if (c.item >= 0 && c.item != line && c.start <= c.list_indent) c.item = -1;
   return c;
 }
 
@@ -324,7 +331,7 @@ std::string constraint_markdown(const Analysis& a, int c) {
     std::string margin;
     if (r.margin) {
       const char* unit = r.margin_unit();
-      margin = fmt::format(" (margin {}{}{})", number_text(stable(*r.margin)), *unit ? " " : "", unit);
+      margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
     }
     lines += fmt::format("\n- {}: {}{}", status_name(r.status), md_escape(r.message), margin);
   }
@@ -335,6 +342,12 @@ std::string constraint_markdown(const Analysis& a, int c) {
 
 json position(int line, int character) { return {{"line", line}, {"character", character}}; }
 json range_json(const Range& r) { return {{"start", position(r.line, r.character)}, {"end", position(r.end_line, r.end_character)}}; }
+
+int parameter_named(const Workcell& wc, std::string_view name) {
+  for (size_t p = 0; p < wc.parameters.size(); ++p)
+    if (wc.parameters[p].name == name) return static_cast<int>(p);
+  return -1;
+}
 
 int constraint_named(const Workcell& wc, std::string_view name) {
   for (size_t c = 0; c < wc.constraints.size(); ++c)
@@ -454,16 +467,7 @@ json Server::request(const std::string& method, const json& params) {
     initialized_ = true;
     for (const json& e : params.value("/capabilities/general/positionEncodings"_json_pointer, json::array()))
       if (e == "utf-8") utf8_ = true;
-    std::vector<std::string> folders;
-    if (params.contains("workspaceFolders") && params["workspaceFolders"].is_array())
-      for (const json& f : params["workspaceFolders"]) folders.push_back(uri_to_path(f.value("uri", "")));
-    else if (params.contains("rootUri") && params["rootUri"].is_string())
-      folders.push_back(uri_to_path(params["rootUri"]));
-    {
-      std::lock_guard lock(m_);
-      for (const std::string& f : folders)
-        if (!f.empty()) roots_.push_back(project_root_of(f));
-    }
+    // (The workspace's folders are not needed: each file reads within its own project root.)
     return {{"capabilities",
              {{"positionEncoding", utf8_ ? "utf-8" : "utf-16"},
               {"textDocumentSync", {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}}},
@@ -529,7 +533,13 @@ void Server::notification(const std::string& method, const json& params) {
     return;
   }
   auto doc = docs_.find(path);
-  if (doc != docs_.end()) doc->second.kind = file_kind(doc->second.text);
+  if (doc != docs_.end()) {
+    // A file that no longer says what it is (emptied, half deleted) is still what it was: its
+    // errors show, and the old ones go.
+    const FileKind kind = file_kind(doc->second.text);
+    if (kind != FileKind::Other || method == "textDocument/didOpen") doc->second.kind = kind;
+    if (params["textDocument"].contains("version")) doc->second.version = params["textDocument"]["version"];
+  }
   {
     std::lock_guard lock(m_);
     auto texts = std::make_shared<Sources::Unsaved>();
@@ -537,6 +547,7 @@ void Server::notification(const std::string& method, const json& params) {
     unsaved_ = std::move(texts);
     if (doc != docs_.end()) {
       open_[path] = doc->second.kind;
+      versions_[path] = doc->second.version;
     } else {  // closed: what it published goes, and the files that read it read the disk again
       open_.erase(path);
       analyses_.erase(path);
@@ -595,15 +606,17 @@ void Server::settle() {
 void Server::compile_one(const std::string& path) {
   std::shared_ptr<const Sources::Unsaved> unsaved;
   FileKind kind;
+  long version = -1;
   {
     std::lock_guard lock(m_);
     auto it = open_.find(path);
     if (it == open_.end()) return;
     kind = it->second;
     unsaved = unsaved_;
-    // What files named inside it may read: the project roots of the open files (and the workspace's).
-    if (const std::string root = project_root_of(path); std::find(roots_.begin(), roots_.end(), root) == roots_.end()) roots_.push_back(root);
-    if (options_.confine) options_.confine(roots_);
+    // What files named inside it may read: its own project root, as `sscs check` of it reads
+    // (not the roots of other open files: a verdict must not depend on which tabs are open).
+    if (options_.confine) options_.confine({project_root_of(path)});
+    version = versions_.count(path) ? versions_[path] : -1;
   }
   std::map<std::string, std::vector<Problem>> found;
   std::shared_ptr<const Analysis> a;
@@ -618,6 +631,7 @@ void Server::compile_one(const std::string& path) {
   if (a) analyses_[path] = a;
   if (a && a->wc) good_[path] = a;
   found[path];  // the file itself is published even when clean (its earlier problems go)
+  published_version_[path] = version;
   publish(path, std::move(found));
 }
 
@@ -629,11 +643,18 @@ void Server::publish(const std::string& root, std::map<std::string, std::vector<
   mine = std::move(found);
   for (const std::string& file : touched) {
     json diagnostics = json::array();
+    std::set<std::string> seen;  // a type file's error found by its own check and by a vault's: once
     for (const auto& [_, by_file] : published_)
       if (auto it = by_file.find(file); it != by_file.end())
-        for (const Problem& p : it->second)
-          diagnostics.push_back({{"range", range_json(p.range)}, {"severity", p.severity}, {"source", "sscs"}, {"message", p.message}});
-    send({{"jsonrpc", "2.0"}, {"method", "textDocument/publishDiagnostics"}, {"params", {{"uri", path_to_uri(file)}, {"diagnostics", diagnostics}}}});
+        for (const Problem& p : it->second) {
+          json d = {{"range", range_json(p.range)}, {"severity", p.severity}, {"source", "sscs"}, {"message", p.message}};
+          if (seen.insert(d.dump()).second) diagnostics.push_back(std::move(d));
+        }
+    json params = {{"uri", path_to_uri(file)}, {"diagnostics", diagnostics}};
+    // The version of the text they are for, when it is that of the open file's last analysis.
+    if (auto v = published_version_.find(file); v != published_version_.end() && v->second >= 0 && published_.count(file))
+      params["version"] = v->second;
+    send({{"jsonrpc", "2.0"}, {"method", "textDocument/publishDiagnostics"}, {"params", params}});
   }
 }
 
@@ -674,25 +695,44 @@ json Server::hover(const Doc& doc, int line, int character) const {
     }
   } else if ((c.key == "type" && !c.is_key) || word.rfind("type:", 0) == 0) {
     if (word.rfind("type:", 0) == 0) word.remove_prefix(5);
+    word = word.substr(0, word.find('.'));  // `max(type:drum.gross_mass)`: the type
     if (const int t = wc.find_type(word); t >= 0) md = type_markdown(wc, t);
+  } else if (const int p = parameter_named(wc, word); p >= 0) {
+    const Parameter& param = wc.parameters[p];
+    md = fmt::format("**{}**: a parameter, {}", md_escape(param.name),
+                     param.type == AttrType::String || param.type == AttrType::Enum
+                         ? fmt::format("'{}'", param.slot < wc.texts.size() ? wc.texts[param.slot] : "")
+                         : with_unit(wc.values[param.slot], param.dim));
   } else {
     if (word.rfind("at:", 0) == 0) word.remove_prefix(3);
     const size_t dot = word.find('.');
     const std::vector<int> objects = objects_named(wc, word.substr(0, dot));
     const size_t skipped = c.token.size() - word.size();  // `!`, `at:`
-    if (!objects.empty() && dot != std::string_view::npos && c.prefix.size() > skipped + dot) {  // on the frame
+    if (!objects.empty() && dot != std::string_view::npos && c.prefix.size() > skipped + dot) {  // on the member or frame
       const std::string frame(word.substr(dot + 1));
       const int o = objects.front();
       std::vector<std::optional<Eigen::Isometry3d>> known(wc.objects.size());
       const Eigen::Isometry3d X_world = wc.pose_in_world(o, known);
-      if (auto X = wc.named_frame(o, frame)) {
+      const std::vector<std::string> frames = wc.frame_names(o);
+      std::string why;
+      const ObjectType& type = wc.types[wc.objects[o].type];
+      const int at = type.find_attribute(frame);
+      if (std::optional<Operand> member = member_operand(wc, o, frame, /*allow_bbox=*/true, &why)) {  // `Rack_1.height`, `.bbox.max.z`
+        const bool text = at >= 0 && (type.attributes[at].type == AttrType::String || type.attributes[at].type == AttrType::Enum);
+        md = fmt::format("**{}.{}** = {}", md_escape(wc.objects[o].name), md_escape(frame),
+                         text ? attribute_value(wc, o, at) : with_unit(operand_value(*member, wc.values, a->geometry), member->dim));
+        if (at >= 0 && !type.attributes[at].description.empty()) md += "\n\n" + md_escape(type.attributes[at].description);
+      } else if (std::find(frames.begin(), frames.end(), frame) != frames.end() && !wc.named_frame(o, frame)) {
+        md = fmt::format("**{}.{}**: a part of the device `{}` (it moves with the joints: where it is depends on the pose)",
+                         md_escape(wc.objects[o].name), md_escape(frame), wc.types[wc.objects[o].type].name);
+      } else if (auto X = wc.named_frame(o, frame)) {
         const Eigen::Isometry3d W = X_world * *X;
         md = fmt::format("**{}.{}**: a frame of `{}`\n\n- world position: {} m", md_escape(wc.objects[o].name), md_escape(frame),
                          wc.types[wc.objects[o].type].name, vec_text(W.translation()));
         if (auto rpy = frame_rpy_deg(W)) md += fmt::format(", roll pitch yaw {} deg", vec_text(*rpy));
       } else {
-        md = fmt::format("`{}` has no frame '{}'; its frames: {}", md_escape(wc.objects[o].name), md_escape(frame),
-                         md_escape(name_list(wc.frame_names(o), 24)));
+        md = fmt::format("`{}` has no attribute or frame '{}'; its frames: {}", md_escape(wc.objects[o].name), md_escape(frame),
+                         md_escape(name_list(frames, 24)));
       }
     } else if (!objects.empty()) {
       md = object_markdown(*a, objects);
@@ -734,13 +774,27 @@ json Server::definition(const Doc& doc, int line, int character) const {
     return type_file(wc.find_type(word));
   }
   if (word.rfind("at:", 0) == 0) word.remove_prefix(3);
+  if (parameter_named(wc, word) >= 0) {  // a parameter: its line under `parameters:` in this file
+    bool in_parameters = false;
+    for (size_t k = 0; k < c.lines.size(); ++k) {
+      const std::string_view l = c.lines[k];
+      if (!blank(l) && indent_of(l) == 0) in_parameters = line_key(l) == "parameters";
+      else if (in_parameters && line_key(l) == word) {
+        const int at = client_column(l, indent_of(l), utf8_);
+        return {{"uri", doc.uri}, {"range", range_json({static_cast<int>(k), at, static_cast<int>(k), at + static_cast<int>(word.size())})}};
+      }
+    }
+    return nullptr;
+  }
   const size_t skipped = c.token.size() - word.size();
   const size_t dot = word.find('.');
   const std::vector<int> objects = objects_named(wc, word.substr(0, dot));
   if (objects.empty()) return type_file(wc.find_type(word));
   const int o = objects.front();
-  if (dot != std::string_view::npos && c.prefix.size() > skipped + dot) {  // on the frame: where its type writes it
+  if (dot != std::string_view::npos && c.prefix.size() > skipped + dot) {  // on the member or frame: where its type writes it
     const std::string frame(word.substr(dot + 1));
+    const ObjectType& type = wc.types[wc.objects[o].type];
+    if (const int at = type.find_attribute(frame.substr(0, frame.find('.'))); at >= 0) return at_mark(type.attributes[at].mark);
     for (int t : wc.lineage(wc.objects[o].type))
       for (const FrameTemplate& f : wc.types[t].templates.frames) {
         std::string pattern;
@@ -794,8 +848,10 @@ json Server::completion(const Doc& doc, int line, int character) const {
   if (c.is_key && !(in_list_item && names_objects(c.key)) && c.section == "objects" && c.item >= 0) {
     // A key of an object: its type's attributes and the keys every object has, those not written yet.
     const int t = wc.find_type(item_value(c, c.item, "type").value);
+    const bool placed = item_value(c, c.item, "at").line >= 0 || item_value(c, c.item, "parent").line >= 0;  // one or the other
     for (const char* key : kObjectKeys)
-      if (item_value(c, c.item, key).line < 0) add(key, kItemKeyword, "object key", from, typed);
+      if (item_value(c, c.item, key).line < 0 && !(placed && (std::string_view(key) == "at" || std::string_view(key) == "parent")))
+        add(key, kItemKeyword, "object key", from, typed);
     if (t >= 0)
       for (const AttributeDef& def : wc.types[t].attributes)
         if (item_value(c, c.item, def.name).line < 0)
@@ -821,9 +877,14 @@ json Server::completion(const Doc& doc, int line, int character) const {
         for (const std::string& f : wc.frame_names(objects.front())) add(f, kItemReference, "frame", after, rest);
       }
     } else {
-      for (size_t o = 0; o < wc.objects.size(); ++o)
-        add(wc.objects[o].name, kItemVariable, wc.types[wc.objects[o].type].name, from, typed);
-      if (!expression && c.key != "at" && c.key != "parent")
+      // `device:` takes a device, `container:` a container; the rest any object.
+      for (size_t o = 0; o < wc.objects.size(); ++o) {
+        const ObjectType& type = wc.types[wc.objects[o].type];
+        if ((c.key == "device" && !type.device) || (c.key == "container" && !type.container)) continue;
+        add(wc.objects[o].name, kItemVariable, type.name, from, typed);
+      }
+      const bool one_object = c.key == "at" || c.key == "parent" || c.key == "device" || c.key == "container" || c.key == "carrying";
+      if (!expression && !one_object)
         for (const ObjectType& t : wc.types) add("type:" + t.name, kItemClass, "every object of the type", from, typed);
       if (expression)
         for (const Parameter& p : wc.parameters) add(p.name, kItemVariable, "parameter", from, typed);

@@ -52,6 +52,7 @@ class Server {
     std::string uri;
     std::string text;
     FileKind kind = FileKind::Other;
+    long version = -1;
   };
   nlohmann::json request(const std::string& method, const nlohmann::json& params);
   void notification(const std::string& method, const nlohmann::json& params);
@@ -82,7 +83,8 @@ class Server {
   std::map<std::string, std::shared_ptr<const Analysis>> good_;
   /// What each compiled file published, by the file it is in: a file's diagnostics are the union.
   std::map<std::string, std::map<std::string, std::vector<Problem>>> published_;
-  std::vector<std::string> roots_;
+  std::map<std::string, long> versions_;           ///< each open file's version, as the worker takes it
+  std::map<std::string, long> published_version_;  ///< the version each file's last analysis was of
   std::map<std::string, LibraryCache> libraries_;  ///< each open vault's kept library (the worker's)
   std::mutex send_m_;
   std::thread worker_;

@@ -162,6 +162,14 @@ test('a 50 MB buffer does not stop the server answering', async () => {
   connection.sendNotification('textDocument/didClose', { textDocument: { uri: big } });
 });
 
+test('a message without Content-Length is refused and the next one answered', async () => {
+  const errors = [];
+  connection.onError?.((e) => errors.push(e));
+  server.stdin.write('Content-Type: application/vscode-jsonrpc\r\n\r\n{"jsonrpc":"2.0","id":9999,"method":"shutdown"}');
+  const symbols = await connection.sendRequest('textDocument/documentSymbol', { textDocument: { uri } });
+  assert.ok(symbols.some((s) => s.name === 'Hall'), JSON.stringify(symbols.slice(0, 3)));
+});
+
 test('shutdown and exit end the server with status 0', async () => {
   await connection.sendRequest('shutdown');
   const code = new Promise((resolve) => server.on('exit', resolve));

@@ -105,6 +105,13 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return at == std::string::npos ? text : text.replace(at, from.size(), to);
 }
 
+/// The labels of a completion's items.
+std::set<std::string> labels(const json& completion) {
+  std::set<std::string> out;
+  for (const json& item : completion["items"]) out.insert(item["label"]);
+  return out;
+}
+
 std::string messages(const json& diagnostics) {
   std::string out;
   for (const json& d : diagnostics) out += d["message"].get<std::string>() + "\n";
@@ -200,11 +207,6 @@ TEST(LspServer, CompletionOffersTypesAttributesObjectsAndFrames) {
   Editor e;
   const std::string uri = e.file("store.yaml", kVault);
   e.open(uri, kVault);
-  auto labels = [](const json& r) {
-    std::set<std::string> out;
-    for (const json& item : r["items"]) out.insert(item["label"]);
-    return out;
-  };
   // `at: Rack_1.` typed: the rack's frames.
   e.change(uri, replaced(kVault, "at: Rack_1.slot_1", "at: Rack_1."));
   std::set<std::string> frames = labels(e.at("textDocument/completion", uri, 15, 15));
@@ -309,6 +311,90 @@ TEST(LspServer, TheProtocolsErrorsAndShutdown) {
   EXPECT_FALSE(s.handle({{"jsonrpc", "2.0"}, {"method", "exit"}}));
   EXPECT_EQ(s.exit_code(), 0);
   EXPECT_EQ(server.exit_code(), 1);  // no shutdown asked
+}
+
+TEST(LspServer, HoverOnAMemberInAnExpressionShowsItsValueAndDefinitionItsLine) {  // review 18
+  Editor e;
+  const std::string uri = e.file("store.yaml", kVault);
+  e.open(uri, kVault);
+  // `Rack_1.height` in `bound: [Rack_1.height, LT, Room1.height]` (line 20): its value, not "no frame".
+  const std::string h = e.at("textDocument/hover", uri, 20, 20)["contents"]["value"];
+  EXPECT_NE(h.find("**Rack\\_1.height** = 4.877 m"), std::string::npos) << h;
+  const json d = e.at("textDocument/definition", uri, 20, 20);
+  EXPECT_NE(d["uri"].get<std::string>().find("/library/types/rack.yaml"), std::string::npos) << d.dump();
+  EXPECT_EQ(d["range"]["start"]["line"], 9) << d.dump();  // `  height: {type: length, ...}`
+  // A bounding box member is evaluated on the geometry.
+  const std::string box = replaced(kVault, "[Rack_1.height, LT, Room1.height]", "[Rack_1.bbox.max.z, LT, Room1.height]");
+  e.change(uri, box);
+  const std::string b = e.at("textDocument/hover", uri, 20, 22)["contents"]["value"];
+  EXPECT_NE(b.find("= 4.877 m"), std::string::npos) << b;
+}
+
+TEST(LspServer, ParametersHaveHoverAndDefinition) {
+  Editor e;
+  const std::string text = replaced(kVault, "objects:\n", "parameters:\n  clear: 0.1 m\nobjects:\n");
+  const std::string uri = e.file("store.yaml", text);
+  e.open(uri, replaced(text, "bound: [Rack_1.height, LT, Room1.height]", "expr: \"Rack_1.height <= Room1.height - clear\""));
+  EXPECT_TRUE(e.diagnostics(uri).empty()) << e.diagnostics(uri).dump(2);
+  const std::string h = e.at("textDocument/hover", uri, 22, 45)["contents"]["value"];
+  EXPECT_NE(h.find("**clear**: a parameter, 0.1 m"), std::string::npos) << h;
+  const json d = e.at("textDocument/definition", uri, 22, 45);
+  EXPECT_EQ(d["range"]["start"]["line"], 4) << d.dump();
+  EXPECT_EQ(d["range"]["start"]["character"], 2) << d.dump();
+}
+
+TEST(LspServer, AVaultWrittenAsOneFlowMappingIsChecked) {  // review 18: it got nothing
+  Editor e;
+  const std::string flow = "{sscs: 1, vault: Flow, objects: [{type: room, name: Room1, length: 10 m, width: 6 m, heigth: 5 m}]}\n";
+  const std::string uri = e.file("flow.yaml", flow);
+  e.open(uri, flow);
+  EXPECT_NE(messages(e.diagnostics(uri)).find("did you mean 'height'"), std::string::npos) << e.diagnostics(uri).dump(2);
+}
+
+TEST(LspServer, AnEmptiedBufferShowsItsErrorAndTheOldOnesGo) {  // review 18: the old ones stayed
+  Editor e;
+  const std::string uri = e.file("store.yaml", kVault);
+  e.open(uri, replaced(kVault, "    height: 5 m", "    heigth: 5 m"));
+  ASSERT_NE(messages(e.diagnostics(uri)).find("heigth"), std::string::npos);
+  for (const std::string text : {"", "# only a comment\n", "sscs: 1\n"}) {
+    e.change(uri, text);
+    const std::string told = messages(e.diagnostics(uri));
+    EXPECT_EQ(told.find("heigth"), std::string::npos) << told;
+    EXPECT_FALSE(e.diagnostics(uri).empty()) << "nothing said of " << text;
+  }
+}
+
+TEST(LspServer, DiagnosticsCarryTheVersionTheyAreFor) {
+  Editor e;
+  const std::string uri = e.file("store.yaml", kVault);
+  e.open(uri, kVault);
+  e.change(uri, replaced(kVault, "    height: 5 m", "    heigth: 5 m"));  // version 2
+  json last;
+  for (const json& m : e.got)
+    if (m.value("method", "") == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri) last = m["params"];
+  EXPECT_EQ(last["version"], 2) << last.dump();
+}
+
+TEST(LspServer, CompletionOfADeviceOffersDevicesAndOfAPlacedObjectNoSecondPlacement) {
+  Editor e;
+  const std::string text = replaced(kVault, "constraints:\n", "  - {type: arm6, name: Arm, parent: Room1, location: [6, 3, 0]}\nconstraints:\n"
+                                                               "  - {name: reach, reach: {device: Arm, targets: [Drum_1.top]}}\n");
+  const std::string uri = e.file("store.yaml", text);
+  e.open(uri, text);
+  e.change(uri, replaced(text, "device: Arm,", "device: A,"));
+  EXPECT_EQ(labels(e.at("textDocument/completion", uri, 18, 35)), std::set<std::string>{"Arm"});
+  e.change(uri, replaced(text, "    parent: Room1\n", "    parent: Room1\n    a\n"));
+  const std::set<std::string> keys = labels(e.at("textDocument/completion", uri, 12, 5));
+  EXPECT_FALSE(keys.count("at")) << fmt::format("{}", fmt::join(keys, " "));
+}
+
+TEST(LspServer, ATypeInAQuotedSelectorIsCompleted) {  // review 18: `objects: "type:` offered nothing
+  Editor e;
+  const std::string uri = e.file("store.yaml", kVault);
+  e.open(uri, kVault);
+  e.change(uri, replaced(kVault, "objects: \"Rack_*\"", "objects: \"type:ra\""));
+  const std::set<std::string> types = labels(e.at("textDocument/completion", uri, 18, 30));
+  EXPECT_TRUE(types.count("rack")) << fmt::format("{}", fmt::join(types, " "));
 }
 
 TEST(LspServer, UrisAndPathsRoundTrip) {
