@@ -74,8 +74,50 @@ constexpr const char* kLiveScript = R"(
     if (report && report.ready) report.ready.then(function () { setTimeout(restore, 0); }); else restore();
   }
   if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', when_ready); else when_ready();
+  // Which check the page shows (the server's generation, in a meta element of each page).
+  function generation(doc) {
+    var m = doc.querySelector('meta[name=sscs-serve-generation]');
+    return m ? +m.getAttribute('content') : 0;
+  }
+  window.sscsServeShown = generation(document);
+  // An update is taken in place: the new page fetched, its report data, models and error banner
+  // put into this one, and the page built again around the same 3D view (its canvas, camera and
+  // switches): no reload, no second start of three.js. A page with no report to take (the first
+  // check failed) reloads.
+  var busy = false, again = false;
+  function replace(selector, doc, where) {
+    document.querySelectorAll(selector).forEach(function (e) { e.remove(); });
+    doc.querySelectorAll(selector).forEach(function (e) { where(document.importNode(e, true)); });
+  }
+  function update() {
+    if (busy) { again = true; return; }
+    busy = true;
+    save();
+    fetch('/', { cache: 'no-store' }).then(function (r) { return r.text(); }).then(function (html) {
+      var doc = new DOMParser().parseFromString(html, 'text/html');
+      var data = doc.getElementById('sscs-data'), mine = document.getElementById('sscs-data');
+      if (!data || !mine || !window.sscsRebuild) { location.reload(); return; }
+      replace('#sscs-serve-errors', doc, function (e) { document.body.prepend(e); });
+      replace('style[data-serve]', doc, function (e) { document.head.appendChild(e); });
+      var shown = generation(doc);
+      if (data.textContent === mine.textContent) { window.sscsServeShown = shown; return; }  // a typo: the last good report stays
+      mine.textContent = data.textContent;
+      document.querySelectorAll('script[id^=sscs-model-]').forEach(function (e) { e.remove(); });
+      doc.querySelectorAll('script[id^=sscs-model-]').forEach(function (m) {
+        var e = document.createElement('script');
+        e.type = 'application/octet-stream';
+        e.id = m.id;
+        e.textContent = m.textContent;
+        document.body.appendChild(e);
+      });
+      return window.sscsRebuild().then(function () { restore(); window.sscsServeShown = shown; });
+    }).catch(function () { location.reload(); }).then(function () {
+      busy = false;
+      if (again) { again = false; update(); }
+    });
+  }
   var events = new EventSource('/events');
-  events.addEventListener('update', function () { save(); location.reload(); });
+  events.addEventListener('update', update);
 })();
 )";
 
@@ -87,7 +129,7 @@ std::string errors_banner(const std::string& errors, bool greyed) {
       "max-height:45vh;overflow:auto;background:#fff3f3;border-bottom:2px solid #c62828;padding:8px 12px;font:13px monospace\">"
       "<b>sscs serve: the vault does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
       greyed ? " (the last good view below, greyed)" : "", xml_escape(errors),
-      greyed ? "<style>canvas{filter:grayscale(1) opacity(0.55)}</style>" : "");
+      greyed ? "<style data-serve>canvas{filter:grayscale(1) opacity(0.55)}</style>" : "");
 }
 
 
@@ -128,11 +170,13 @@ void checker(Live& live, const std::string& vault, const CompileOptions& options
     std::lock_guard lock(live.m);
     if (live.stopping) return;
     if (live.dirty) continue;  // saved again meanwhile: that save's check is the one shown
+    // Which check a page shows: its live script takes updates in place and tells the tests.
+    const std::string meta = fmt::format("<meta name=\"sscs-serve-generation\" content=\"{}\">", live.generation + 1);
     if (result.compiled) {
       live.last_good = result.page;
-      live.page = with_live_script(result.page, kLiveScript);
+      live.page = with_live_script(result.page, kLiveScript, meta);
     } else if (!live.last_good.empty()) {
-      live.page = with_live_script(live.last_good, kLiveScript, errors_banner(result.errors, true));
+      live.page = with_live_script(live.last_good, kLiveScript, meta + errors_banner(result.errors, true));
     } else {
       live.page = fmt::format("<!doctype html><html><head><meta charset=\"utf-8\"><title>sscs serve</title></head><body>{}<script>{}</script></body></html>",
                               errors_banner(result.errors, false), kLiveScript);

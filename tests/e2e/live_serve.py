@@ -71,18 +71,18 @@ def serve(sscs, root, fail):
 
             # The aisle 1 m narrower: the forklift cannot turn in it.
             page, took = save(text.replace("aisle: {value: 3.2 m", "aisle: {value: 2.2 m"), "a narrower aisle")
-            if failed_count(page) != 1 or "aisles let the forklift turn" not in page or "sscs-serve-errors" in page:
+            if failed_count(page) != 1 or "aisles let the forklift turn" not in page or 'id="sscs-serve-errors"' in page:
                 fail(f"sscs serve: after narrowing the aisle, failed {failed_count(page)}")
             print(f"serve: a save of the store to its update: {took * 1000:.0f} ms")
             # A typo: the error at its line and column, over the last good view (greyed).
             page, _ = save(text.replace("aisle: {value: 3.2 m", "aisle: {valu: 3.2 m"), "a typo")
             page = html.unescape(page)  # (the banner's text is escaped in the page)
-            if "sscs-serve-errors" not in page or "store.yaml:9:11: error: unknown key 'valu'" not in page or \
+            if 'id="sscs-serve-errors"' not in page or "store.yaml:9:11: error: unknown key 'valu'" not in page or \
                     "did you mean 'value'" not in page or failed_count(page) != 1 or "grayscale" not in page:
                 fail("sscs serve: a typo's error at store.yaml:9:11 over the last good view")
             # Fixed: the page recovers.
             page, _ = save(text, "the fix")
-            if "sscs-serve-errors" in page or failed_count(page) != 0:
+            if 'id="sscs-serve-errors"' in page or failed_count(page) != 0:
                 fail("sscs serve: the page after the fix")
             # Only the page and its updates: no file, inside the project or out.
             for path in ("/store.yaml", "/../../etc/passwd", "/%2e%2e/%2e%2e/etc/passwd", "/library/types/drum.yaml"):

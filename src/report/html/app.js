@@ -149,15 +149,28 @@
     return el('header', {}, el('h1', {}, title), el('div', { class: 'summary' }, items));
   }
 
+  // The 3D view of the page before a rebuild in place (sscs serve): taken by the first viewPanel.
+  let spare = null;
+
   function viewPanel(modelId, opts) {
-    const box = el('div', { class: 'view3d' });
     const text = model(modelId);
+    if (spare && text) {  // the same canvas, camera and switches, with the new model
+      const view = spare;
+      spare = null;
+      view.onPick = (opts && opts.onPick) || (() => {});
+      view.onTime = (opts && opts.onTime) || (() => {});
+      view.replaceModel(text);
+      return { panel: el('section', { class: 'panel3d' }, view.box), box: view.box, view };
+    }
+    if (spare) { spare.dispose(); spare = null; }
+    const box = el('div', { class: 'view3d' });
     const panel = el('section', { class: 'panel3d' }, box);
     if (!text) {
       box.append(el('p', { class: 'note' }, 'No 3D model in this report (its vault could not be read).'));
       return { panel, view: null };
     }
     const view = new S.View3D(box, text, opts);
+    view.box = box;
     // Over the view: back to the whole scene, and walls see-through (on: they hide the racks).
     const xray = el('input', { type: 'checkbox', checked: true, 'data-testid': 'xray', onchange: (e) => view.setXray(e.target.checked) });
     box.append(el('div', { class: 'overlay' }, el('button', { 'data-testid': 'frame-all', onclick: () => view.frameAll() }, 'whole scene'),
@@ -485,11 +498,21 @@
   function start() {
     const data = JSON.parse(document.getElementById('sscs-data').textContent);
     const app = document.getElementById('app');
+    app.replaceChildren();
     document.title = data.title || 'sscs report';
     const page = data.kind === 'check' ? checkPage(data, app) : data.kind === 'run' ? runPage(data, app) : sweepPage(data, app);
     app.append(el('footer', {}, `made by ${data.generator || 'sscs'}${data.source ? ` from ${data.source}` : ''}; opens from disk, nothing fetched`));
     root.sscsReport = Object.assign(page, { data, ready: page.view ? page.view.ready.then(() => true) : Promise.resolve(true) });
   }
+
+  /** sscs serve: builds the page again from the report now in the document (its data and model
+   *  elements replaced), keeping the 3D view (canvas, camera, switches) of a check page. */
+  root.sscsRebuild = () => {
+    const old = root.sscsReport;
+    spare = old && old.kind === 'check' && old.view && !old.view.disposed ? old.view : null;
+    start();
+    return root.sscsReport.ready;
+  };
 
   if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start); else start();
 })(typeof globalThis !== 'undefined' ? globalThis : this);

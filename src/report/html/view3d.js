@@ -57,7 +57,36 @@
       });
     }
 
-    loaded(gltf) {
+    /** Shows another glb (base64) in place of the model (sscs serve's update in place): the
+     *  renderer, camera, controls and switches stay, so the user's view does not move. */
+    replaceModel(glbBase64) {
+      this.ready = new Promise((resolve, reject) => {
+        new THREE.GLTFLoader().parse(decodeBase64(glbBase64), '', (gltf) => {
+          try {
+            if (this.model) {
+              this.scene.remove(this.model);
+              this.model.traverse((node) => {
+                if (node.geometry) node.geometry.dispose();
+                if (node.material) node.material.dispose();
+              });
+            }
+            if (this.gridHelper) this.scene.remove(this.gridHelper);
+            this.objects = new Map();
+            this.cameras = [];
+            this.highlights = new Map();
+            this.mixer = null;
+            this.action = null;
+            this.duration = 0;
+            this.loaded(gltf, { keepCamera: true });
+            this.look();
+            resolve(this);
+          } catch (e) { reject(e); }
+        }, reject);
+      });
+      return this.ready;
+    }
+
+    loaded(gltf, { keepCamera = false } = {}) {
       this.model = gltf.scene;
       this.scene.add(this.model);
       this.model.traverse((node) => {
@@ -90,9 +119,13 @@
       if (this.contentBounds.isEmpty()) this.contentBounds = this.bounds;
       this.grid();
       this.resize();
-      this.frameAll();
+      if (!keepCamera) this.frameAll();
       this.setTime(0);
-      this.loop();
+      if (!this.looping) {
+        this.looping = true;
+        this.loop();
+      }
+      this.render();
     }
 
     grid() {
@@ -104,6 +137,7 @@
       const c = this.bounds.getCenter(new THREE.Vector3());
       grid.position.set(c.x, this.bounds.min.y - 0.001, c.z);
       this.scene.add(grid);
+      this.gridHelper = grid;
     }
 
     resize() {
