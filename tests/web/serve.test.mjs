@@ -84,7 +84,8 @@ test('a save updates the page in place with its verdicts, its camera and its sea
   const before = await camera(page);
 
   const took = await save(page, text.replace('aisle: {value: 3.2 m', 'aisle: {value: 2.2 m'));
-  console.log(`serve: a save of the store to the page updated in place and ready in a browser: ${took} ms`);
+  console.log(`serve: a save of the store to the page updated in place and ready in a browser: ${took} ms ` +
+              `(in the page, ms: ${JSON.stringify(await page.evaluate(() => window.sscsServeTimes))})`);
   assert.equal(await failed(page), 1);
   const after = await camera(page);
   after.forEach((x, k) => assert.ok(Math.abs(x - before[k]) < 1e-6, `camera kept: ${after} vs ${before}`));
