@@ -23,6 +23,9 @@
 #include "report/html.h"
 #include "report/report.h"
 
+#include <cerrno>
+#include <cstring>
+
 #include <httplib.h>  // after Eigen: the macros of the system headers it pulls in confuse Eigen's templates
 #include <zlib.h>
 
@@ -138,7 +141,7 @@ std::string errors_banner(const std::string& errors, bool greyed) {
   return fmt::format(
       "<div id=\"sscs-serve-errors\" data-testid=\"serve-errors\" style=\"position:sticky;top:0;z-index:1000;"
       "max-height:45vh;overflow:auto;background:#fff3f3;border-bottom:2px solid #c62828;padding:8px 12px;font:13px monospace\">"
-      "<b>sscs serve: the vault does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
+      "<b>sscs serve: the last save does not compile{}</b><pre style=\"margin:6px 0 0;white-space:pre-wrap\">{}</pre></div>{}",
       greyed ? " (the last good view below, greyed)" : "", xml_escape(errors),
       greyed ? "<style data-serve>canvas{filter:grayscale(1) opacity(0.55)}</style>" : "");
 }
@@ -176,7 +179,8 @@ struct Live {
 };
 
 /// Checks again on every change: the last save wins (a check begun before it is not published).
-void checker(Live& live, const std::string& vault, const CompileOptions& options, bool quiet) {
+/// `run`: the file is a scenario or a campaign, run into `scratch` at each change.
+void checker(Live& live, const std::string& vault, const CompileOptions& options, bool quiet, bool run, const std::string& scratch) {
   LibraryCache library;  // a save of the vault checks the vault, not the library again
   for (;;) {
     {
@@ -192,7 +196,7 @@ void checker(Live& live, const std::string& vault, const CompileOptions& options
     }
     const auto t0 = std::chrono::steady_clock::now();
     live.checking = true;
-    LiveCheck result = live_check(vault, options, library);
+    LiveCheck result = run ? live_run(vault, options, scratch) : live_check(vault, options, library);
     live.checking = false;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard lock(live.m);
@@ -273,16 +277,12 @@ int run_serve(const Common& common, const ServeArgs& args) {
     std::cerr << fmt::format("sscs: error: {}: no such file\n", args.file);
     return kInputError;
   }
-  {  // A scenario or a campaign names its vault: not served yet.
+  bool run = false;  // a scenario or a campaign: run at each save, its run's report served
+  {
     std::ifstream in(args.file);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     static const std::regex kind(R"((^|\n)(scenario|campaign)\s*:)");
-    std::smatch m;
-    if (std::regex_search(text, m, kind)) {
-      std::cerr << fmt::format("sscs: error: {}: a {} file; sscs serve shows a vault for now (serve the vault it names)\n", args.file,
-                               m[2].str());
-      return kInputError;
-    }
+    run = std::regex_search(text, kind);
   }
   if (args.port < 0 || args.port > 65535) {
     std::cerr << fmt::format("sscs: error: --port expects 0 to 65535, found {}\n", args.port);
@@ -344,7 +344,25 @@ int run_serve(const Common& common, const ServeArgs& args) {
     std::cerr << fmt::format("sscs: error: cannot listen on {}:{} (in use, or not an address of this machine)\n", args.host, args.port);
     return kInputError;
   }
-  std::thread check_thread(checker, std::ref(live), fs::absolute(args.file).string(), options, common.quiet);
+  // A scenario's runs go to a folder of the server's own, removed when it stops.
+  std::string scratch;
+  if (run) {
+    std::string pattern = (fs::temp_directory_path() / "sscs-serve-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) {
+      std::cerr << fmt::format("sscs: error: cannot make a folder for the runs in {}: {}\n", fs::temp_directory_path().string(), std::strerror(errno));
+      return kInputError;
+    }
+    scratch = pattern;
+    common.confine_to_projects({project_root_of(args.file), scratch});  // the run's resolved/ files are read back from there
+  }
+  struct RemoveScratch {
+    std::string dir;
+    ~RemoveScratch() {
+      std::error_code ec;
+      if (!dir.empty()) fs::remove_all(dir, ec);
+    }
+  } remove_scratch{scratch};
+  std::thread check_thread(checker, std::ref(live), fs::absolute(args.file).string(), options, common.quiet, run, scratch);
   std::thread watch_thread(watcher, std::ref(live));
   std::thread http_thread([&] { server.listen_after_bind(); });
   std::cout << fmt::format("sscs serve: http://{}:{}/ shows {}; every file its check reads is watched (Ctrl-C stops)\n",

@@ -9,15 +9,16 @@
 #include "model/shape.h"
 #include "pipeline/html_report.h"
 #include "pipeline/prepare.h"
+#include "pipeline/run_scenario.h"
 
 namespace sscs {
 
-LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library) {
-  namespace fs = std::filesystem;
-  LiveCheck out;
-  Sources sources;
-  Diagnostics diag;
-  PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = true, .contacts = nullptr}, library);
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Every file a compile read (absolute): its sources and the meshes of its geometry.
+std::vector<std::string> files_read(const std::string& path, const Sources& sources, const GeometryModel* geometry) {
   std::set<std::string> files;
   auto read = [&](const std::string& file) {
     std::error_code ec;
@@ -26,16 +27,31 @@ LiveCheck live_check(const std::string& path, const CompileOptions& options, Lib
   };
   read(path);
   for (uint32_t f = 1; f < sources.size(); ++f) read(sources.path(f));
-  if (vault.wc)
-    for (const ObjectGeometry& g : vault.geometry.objects)
+  if (geometry)
+    for (const ObjectGeometry& g : geometry->objects)
       for (const auto* shapes : {&g.shapes, &g.visual_shapes})
         for (const Shape& s : *shapes)
           if (s.mesh) read(s.mesh->path);
-  out.files.assign(files.begin(), files.end());
+  return {files.begin(), files.end()};
+}
+
+/// `out` says the input errors of `diag`.
+void input_errors(LiveCheck& out, const Diagnostics& diag, const Sources& sources) {
+  out.errors = diag.format(sources);
+  const size_t n = diag.errors().size();
+  out.summary = fmt::format("{} input error{}", n, n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library) {
+  LiveCheck out;
+  Sources sources;
+  Diagnostics diag;
+  PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = true, .contacts = nullptr}, library);
+  out.files = files_read(path, sources, vault.wc ? &vault.geometry : nullptr);
   if (diag.has_errors() || !vault.wc) {
-    out.errors = diag.format(sources);
-    const size_t n = diag.errors().size();
-    out.summary = fmt::format("{} input error{}", n, n == 1 ? "" : "s");
+    input_errors(out, diag, sources);
     return out;
   }
   CheckOptions check_options;
@@ -46,6 +62,41 @@ LiveCheck live_check(const std::string& path, const CompileOptions& options, Lib
   out.summary = fmt::format("{} passed, {} failed, {} warnings", r.passed, r.failed, r.warnings);
   out.page = check_html(reports, sources, {&vault.geometry});
   out.compiled = true;
+  return out;
+}
+
+LiveCheck live_run(const std::string& path, const CompileOptions& options, const std::string& scratch) {
+  LiveCheck out;
+  PreparedScenario ps;
+  const bool prepared = ps.prepare(path, options);
+  out.files = files_read(path, ps.sources, ps.wc ? &ps.geometry : nullptr);
+  if (!prepared || ps.diag.has_errors()) {
+    input_errors(out, ps.diag, ps.sources);
+    return out;
+  }
+  RunRequest request;
+  request.out = (fs::path(scratch) / "run").string();
+  request.frames = false;
+  Expected<RunSummary> ran = run_scenario(ps, request);
+  if (!ran) {  // not the input's fault (a full disk): said like an input error, over the last good view
+    out.errors = fmt::format("sscs serve: the run could not be written: {}\n", ran.error());
+    out.summary = "the run failed";
+    return out;
+  }
+  Expected<std::shared_ptr<OpenedRun>> run = OpenedRun::open(request.out);
+  Expected<std::string> page = run ? run_html(**run, options) : Expected<std::string>(Unexpected{run.error()});
+  if (!page) {
+    out.errors = fmt::format("sscs serve: the run's page could not be made: {}\n", page.error());
+    out.summary = "the run's page failed";
+    return out;
+  }
+  out.page = std::move(*page);
+  out.compiled = true;
+  const RunSummary& summary = *ran;
+  out.summary = summary.stopped_by.empty()
+                    ? fmt::format("ran {:.3f} s (cycle time {:.3f} s), {} collisions, {} events", summary.simulated, summary.cycle_time,
+                                  summary.collisions, summary.events)
+                    : fmt::format("ran {:.3f} s: stopped by {} at {:.3f} s", summary.simulated, summary.stopped_by, summary.stopped_at);
   return out;
 }
 

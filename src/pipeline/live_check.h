@@ -20,4 +20,9 @@ struct LiveCheck {
 /// named inside it may read). `library` keeps its type library from one check to the next.
 LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library);
 
+/// The same for a scenario or a campaign: it is run as `sscs simulate --no-frames` runs it (its
+/// own `sim:` mode), into `scratch` (a folder of the caller's, replaced at each run), and the
+/// page is the run's report: its vault, its planned motions animated, its events and verdict.
+LiveCheck live_run(const std::string& path, const CompileOptions& options, const std::string& scratch);
+
 }  // namespace sscs

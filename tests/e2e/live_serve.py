@@ -100,9 +100,63 @@ def serve(sscs, root, fail):
         finally:
             if p.poll() is None:
                 p.kill()
-        # A scenario is not served yet: an input error saying what to serve.
-        scenario = os.path.join(root, "scenarios/drum-store/store-drum.yaml")
-        q = subprocess.run([sscs, "serve", scenario, "--port", "0"], capture_output=True, text=True, timeout=30)
-        if q.returncode != 2 or "a scenario file" not in q.stderr:
-            fail(f"sscs serve of a scenario: exit {q.returncode}, {q.stderr!r}")
+        serve_scenario(sscs, root, tmp, fail)
     print("ok serve")
+
+
+def serve_scenario(sscs, root, tmp, fail):
+    """A scenario served: its run's page (its vault, its motions animated, its events); a save of
+    a slower move runs it again with the longer cycle; a typo in it shows where it is; its runs go
+    to a folder of the server's own, removed when it stops."""
+    cell = os.path.join(tmp, "cell")
+    shutil.copytree(os.path.join(root, "scenarios/drum-transfer"), cell)
+    path = os.path.join(cell, "arm-loads-drum.yaml")
+    text = open(path).read()
+    scratch_dirs = lambda: [d for d in os.listdir(tempfile.gettempdir()) if d.startswith("sscs-serve-")]
+    before = set(scratch_dirs())
+    p = subprocess.Popen([sscs, "serve", "arm-loads-drum.yaml", "--port", "0"], cwd=cell, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    try:
+        m = re.search(r"http://127\.0\.0\.1:(\d+)/", p.stdout.readline())
+        if not m:
+            fail("sscs serve of a scenario: no URL")
+        base = f"http://127.0.0.1:{m.group(1)}"
+
+        def cycle(page):
+            found = re.search(r'"cycle_time":([0-9.]+)', page)
+            return float(found.group(1)) if found else None
+
+        def wait_for(check, what):
+            t0 = time.monotonic()
+            while time.monotonic() - t0 < 60:
+                status, page = get(base + "/")
+                if status == 200 and check(page):
+                    return page
+                time.sleep(0.2)
+            fail(f"sscs serve of a scenario: {what} (the page: {page[:300]!r})")
+
+        page = wait_for(lambda pg: cycle(pg) is not None, "no run page")
+        first = cycle(page)
+        time.sleep(0.5)  # (the watcher arms on the files the first run read)
+        if '"kind":"run"' not in page or '"kind":"grasp"' not in page or not 9 < first < 11:
+            fail(f"sscs serve of a scenario: the first run's page (cycle {first})")
+        with open(path, "w") as f:  # the linear moves at half speed: a longer cycle
+            f.write(text.replace("path: linear, speed: 0.2 m/s", "path: linear, speed: 0.1 m/s"))
+        page = wait_for(lambda pg: (cycle(pg) or 0) > first + 1, "no longer cycle after a slower move was saved")
+        with open(path, "w") as f:
+            f.write(text.replace("move_joints: home", "move_joint: home"))
+        page = html.unescape(wait_for(lambda pg: 'id="sscs-serve-errors"' in pg, "no error banner after a typo"))
+        if not re.search(r"arm-loads-drum\.yaml:\d+:\d+: error: unknown step kind", page):
+            fail("sscs serve of a scenario: the typo's place")
+        ours = set(scratch_dirs()) - before  # the folder of this server's runs
+        if len(ours) != 1:
+            fail(f"sscs serve of a scenario: its runs' folder: {sorted(ours)}")
+        p.send_signal(signal.SIGINT)
+        if p.wait(timeout=10) != 0:
+            fail(f"sscs serve of a scenario: exit {p.returncode} after Ctrl-C")
+        if ours & set(scratch_dirs()):
+            fail(f"sscs serve of a scenario: its runs' folder left behind: {sorted(ours)}")
+        print(f"serve: a scenario's run: {first:.3f} s cycle, {cycle(page) or 0:.3f} after the slower move")
+    finally:
+        if p.poll() is None:
+            p.kill()
