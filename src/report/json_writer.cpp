@@ -207,4 +207,9 @@ void JsonWriter::json(const nlohmann::ordered_json& j) {
   maybe_flush();
 }
 
+nlohmann::ordered_json number_or_null(const std::optional<double>& v) {
+  if (!v || !std::isfinite(*v)) return nullptr;
+  return stable(*v);
+}
+
 }  // namespace sscs

@@ -4,6 +4,7 @@
 /// are written as they are produced instead of being built as one tree first: a report of
 /// 100,000 results costs little more memory than the results themselves.
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -12,6 +13,9 @@
 #include <nlohmann/json.hpp>
 
 namespace sscs {
+
+/// A figure of a report as JSON: stable(v) (12 significant digits), null when absent or not finite.
+nlohmann::ordered_json number_or_null(const std::optional<double>& v);
 
 class JsonWriter {
  public:

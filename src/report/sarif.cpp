@@ -70,11 +70,6 @@ std::string fingerprint(const std::string& vault, const std::string& constraint,
   return sha256_hex(fmt::format("{}\n{}\n{}", vault, constraint, fmt::join(subject, "\n"))).substr(0, 32);
 }
 
-nlohmann::ordered_json number_or_null(const std::optional<double>& v) {
-  if (!v || !std::isfinite(*v)) return nullptr;
-  return stable(*v);
-}
-
 }  // namespace
 
 void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, const Sources& sources, bool strict,

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/csv.h"
+#include "report/json_writer.h"
 #include <nlohmann/json.hpp>
 
 #include "core/digest.h"
@@ -15,10 +16,6 @@ namespace sscs {
 namespace {
 
 using json = nlohmann::ordered_json;
-
-json number_or_null(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? json(stable(*v)) : json(nullptr);
-}
 
 std::string csv_number(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? fmt::format("{:.12g}", stable(*v)) : "";
