@@ -107,7 +107,10 @@ constexpr const char* kLiveScript = R"(
       replace('#sscs-serve-errors', doc, function (e) { document.body.prepend(e); });
       replace('style[data-serve]', doc, function (e) { document.head.appendChild(e); });
       var shown = generation(doc);
-      if (data.textContent === mine.textContent) { window.sscsServeShown = shown; return; }  // a typo: the last good report stays
+      // A typo: the last good report stays. (Its model counts too: a save that moves a rack and
+      // changes no verdict changes only the model.)
+      var models = function (d) { return Array.prototype.map.call(d.querySelectorAll('script[id^=sscs-model-]'), function (e) { return e.textContent; }).join('|'); };
+      if (data.textContent === mine.textContent && models(doc) === models(document)) { window.sscsServeShown = shown; return; }
       mine.textContent = data.textContent;
       document.querySelectorAll('script[id^=sscs-model-]').forEach(function (e) { e.remove(); });
       doc.querySelectorAll('script[id^=sscs-model-]').forEach(function (m) {

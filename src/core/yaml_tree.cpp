@@ -362,7 +362,12 @@ bool word_byte(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c
 SourceMark exact_mark(const Sources& sources, SourceMark mark) {
   if (!mark.valid() || mark.line == 0) return mark;
   const std::string_view line = sources.line(mark);
-  if (mark.column <= line.size() + 1) return mark;  // on its line (or just past its end): as placed
+  // On its line (or just past its end): as placed; unless the line ends in a block scalar's
+  // indicator (`expr: >-`) left of the mark: its text starts on the next line.
+  const size_t indicator = line.find_last_of(">|");
+  const bool block = indicator != std::string_view::npos && mark.column - 1 > indicator &&
+                     line.find_first_not_of("-+0123456789 \t", indicator + 1) == std::string_view::npos;
+  if (mark.column <= line.size() + 1 && !block) return mark;
   Diagnostics quiet;
   const Document doc = parse(sources, mark.file, quiet);
   const Node scalar = scalar_before(doc.root(), mark.line, mark.column);

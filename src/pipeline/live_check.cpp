@@ -25,7 +25,9 @@ std::vector<std::string> files_read(const std::string& path, const Sources& sour
     if (file.empty() || file.front() == '<' || !fs::is_regular_file(file, ec)) return;  // (texts of no file: a plugin's types)
     files.insert(fs::absolute(file).lexically_normal().string());
   };
-  read(path);
+  // The file served, even when it cannot be read now (deleted, being replaced): its folder stays
+  // watched, so its return is checked (a server stuck on "does not exist" until restarted).
+  files.insert(fs::absolute(path).lexically_normal().string());
   for (uint32_t f = 1; f < sources.size(); ++f) read(sources.path(f));
   if (geometry)
     for (const ObjectGeometry& g : geometry->objects)
@@ -93,7 +95,9 @@ LiveCheck live_run(const std::string& path, const CompileOptions& options, const
   out.page = std::move(*page);
   out.compiled = true;
   const RunSummary& summary = *ran;
-  out.summary = summary.stopped_by.empty()
+  out.summary = !summary.unfinished.empty()
+                    ? fmt::format("ran {:.3f} s, no cycle time ({})", summary.simulated, summary.unfinished)
+                : summary.stopped_by.empty()
                     ? fmt::format("ran {:.3f} s (cycle time {:.3f} s), {} collisions, {} events", summary.simulated, summary.cycle_time,
                                   summary.collisions, summary.events)
                     : fmt::format("ran {:.3f} s: stopped by {} at {:.3f} s", summary.simulated, summary.stopped_by, summary.stopped_at);

@@ -244,7 +244,7 @@ class Run {
           if (const double lag = lag_now(ps.device, t); lag > kTrackingTolerance) {
             short_by_.emplace(i, lag);
             short_of = fmt::format("{}'s {} (step {}) ended {:g} m short of its target at {:g} s", wc_.objects[ps.device].name,
-                                   step_kind_name(ps.kind), ps.index, stable(lag), stable(t));
+                                   step_kind_name(ps.kind), ps.index + 1, stable(lag), stable(t));  // numbered from 1, as everything else numbers steps
             if (unfinished_.empty()) unfinished_ = short_of;
             extra["short_by"] = r9(lag);
           }

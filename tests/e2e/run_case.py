@@ -2010,7 +2010,7 @@ def tutorials(sscs, root):
         short = [st for st in summary.get("steps", []) if st.get("short_by")]
         ends = [e for e in events if e["kind"] == "step_end" and e.get("short_by")]
         if summary.get("cycle_time") is not None or not short or short[0]["short_by"] < 0.5 or len(ends) != len(short) or \
-                "no cycle time (Robot's move_joints (step 0) ended" not in p.stdout:
+                "no cycle time (Robot's move_joints (step 1) ended" not in p.stdout:
             fail(f"simulation tutorial, a blocked move: cycle time {summary.get('cycle_time')}, steps short {short}", p)
         # 2. Move the tool: ok; a misspelt frame is an input error with "did you mean".
         p, events, summary = simulate("step2", header + steps[1])

@@ -102,6 +102,18 @@ test('a save updates the page in place with its verdicts, its camera and its sea
   await save(page, text);
   assert.equal(await page.$('[data-testid=serve-errors]'), null);
   assert.equal(await failed(page), 0);
+
+  // A save that moves the racks and changes no verdict: the model is new all the same (review 19:
+  // the page kept the old layout when its report's data had not changed).
+  const rowX = () => page.evaluate(() => {
+    const node = window.sscsReport.view.objects.get('Row_1');
+    const box = new THREE.Box3().setFromObject(node);
+    return box.min.x;
+  });
+  const x0 = await rowX();
+  await save(page, text.replace('first_row_x: 10 m', 'first_row_x: 10.5 m'));
+  assert.equal(await failed(page), 0);
+  assert.ok(Math.abs((await rowX()) - x0 - 0.5) < 1e-6, `Row_1 moved 0.5 m in the view: ${x0} -> ${await rowX()}`);
   assert.deepEqual(problems, []);
   await page.close();
 });

@@ -510,8 +510,22 @@
   root.sscsRebuild = () => {
     const old = root.sscsReport;
     spare = old && old.kind === 'check' && old.view && !old.view.disposed ? old.view : null;
+    if (old && old.view && !spare && !old.view.disposed) old.view.dispose();  // (a run's page: a new view)
+    // The table as the user left it: its sort and the row selected (by its id), when it is still there.
+    const sort = old && old.table ? old.table.sort : null;
+    const was = old && old.table && old.table.selected;
+    const same = (r) => was && r.constraint === was.constraint && (r.subjects || []).join('|') === (was.subjects || []).join('|');
     start();
-    return root.sscsReport.ready;
+    const page = root.sscsReport;
+    if (page.table && sort && sort.key) {
+      page.table.sort = { key: sort.key, dir: -sort.dir };
+      page.table.sortBy(sort.key);  // (flips it back, marking the header)
+    }
+    if (page.table && was) {  // kept selected, without moving the camera to it again
+      page.table.selected = page.table.rows.find(same) || null;
+      page.table.draw();
+    }
+    return page.ready;
   };
 
   if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start); else start();

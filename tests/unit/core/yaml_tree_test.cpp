@@ -96,5 +96,32 @@ TEST(YamlTree, DiagnosticsQuoteTheLineWithACaret) {
   EXPECT_NE(q->diag.format(q->sources).find("error: invalid YAML"), std::string::npos);
 }
 
+/// Where yaml::exact_mark puts offset `pos` of the scalar at (line, column), placed as the
+/// stages place it (column + pos, +1 past a quote or a block indicator): "line:column".
+std::string exact(const std::string& text, uint32_t line, uint32_t column, bool quoted, size_t pos) {
+  Sources sources;
+  const uint32_t file = sources.add("f.yaml", text);
+  const SourceMark m = yaml::exact_mark(sources, {file, line, static_cast<uint32_t>(column + pos + (quoted ? 1 : 0))});
+  return std::to_string(m.line) + ":" + std::to_string(m.column);
+}
+
+TEST(ExactMark, AnOffsetInAScalarOverSeveralLinesIsMovedToItsWord) {  // review 18 and 19
+  // `expr: >-` then two lines: the first word, a later one, and a word repeated.
+  const std::string block = "a:\n  expr: >-\n    Rack_1.height + 0.5\n    <= Romm1.height + Rack_1.height\n";
+  // The scalar's mark is its indicator, 2:9 ('>'); its text "Rack_1.height + 0.5 <= Romm1.height + Rack_1.height".
+  EXPECT_EQ(exact(block, 2, 9, true, 0), "3:5");    // Rack_1 (the first word: it was left on the key's line)
+  EXPECT_EQ(exact(block, 2, 9, true, 23), "4:8");   // Romm1
+  EXPECT_EQ(exact(block, 2, 9, true, 38), "4:23");  // the second Rack_1
+  // A plain scalar folded over two lines: its first line's words stay where they are.
+  const std::string plain = "expr: Rack_1.height + 0.25\n  <= Rooom1.height\n";
+  EXPECT_EQ(exact(plain, 1, 7, false, 0), "1:7");
+  EXPECT_EQ(exact(plain, 1, 7, false, 24), "2:6");  // Rooom1
+  // A double-quoted scalar over two lines.
+  const std::string quoted = "expr: \"Rack_1.height\n  <= Rooom1.height\"\n";
+  EXPECT_EQ(exact(quoted, 1, 7, true, 17), "2:6");
+  // On one line: as placed.
+  EXPECT_EQ(exact("expr: \"a <= Rooom1.height\"\n", 1, 7, true, 5), "1:13");
+}
+
 }  // namespace
 }  // namespace sscs
