@@ -248,7 +248,18 @@ bool CompileState::may_select_unbuilt(std::string_view item) const {
     item.remove_prefix(3);
     item = item.substr(0, item.find('.'));
   }
-  if (item.starts_with("type:") || (unbuilt.empty() && unbuilt_arrays.empty())) return false;
+  if (item.starts_with("type:")) {  // `type:cask` where objects of cask (or of a type extending it) were dropped
+    std::string_view type = item.substr(5);
+    type = type.substr(0, type.find('.'));
+    const int t = wc.find_type(type);
+    for (const std::string& dropped : unbuilt_types) {
+      if (dropped == type) return true;
+      const int d = wc.find_type(dropped);
+      if (t >= 0 && d >= 0 && wc.is_a(d, t)) return true;
+    }
+    return false;
+  }
+  if (unbuilt.empty() && unbuilt_arrays.empty()) return false;
   if (item.find_first_of("*?") == std::string_view::npos) return is_unbuilt(item);
   for (const std::string& name : unbuilt)
     if (glob_match(item, name)) return true;
@@ -687,6 +698,7 @@ void expand_objects(CompileState& st) {
       st.diag.error(o.type_mark, fmt::format("unknown type '{}'{}", o.type, hint));
       if (o.name.present) st.unbuilt.insert(o.name.text);
       if (o.array) st.unbuilt_arrays.push_back(o.array->name_pattern.text);  // no "unknown object 'Crate_3'" after it
+      st.unbuilt_types.insert(o.type);  // nor "type:crat selects no objects"
       continue;
     }
     int type = static_cast<int>(t - st.wc.types.begin());
@@ -705,6 +717,7 @@ void expand_objects(CompileState& st) {
     if (st.wc.types[type].broken) {
       if (o.name.present) st.unbuilt.insert(o.name.text);
       if (o.array) st.unbuilt_arrays.push_back(o.array->name_pattern.text);
+      st.unbuilt_types.insert(o.type);
       continue;
     }
     // A library reused from another vault's compile holds the templates it needed only (its

@@ -46,6 +46,7 @@ struct CompileState {
   std::vector<std::array<double, 3>> array_offset;       ///< per object, SI
   std::unordered_set<std::string> unbuilt;  ///< objects dropped by an earlier error: no second error for them
   std::vector<std::string> unbuilt_arrays;  ///< name patterns of arrays dropped by an error (`Row_{i}`)
+  std::set<std::string> unbuilt_types;      ///< types whose objects were dropped (unknown, or their files broken)
   /// Whether `name` is an object an earlier error dropped (one named so, or an instance of a
   /// dropped array: one wrong pitch gave one error and then 243 "'at' names unknown object").
   bool is_unbuilt(std::string_view name) const;

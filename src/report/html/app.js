@@ -278,7 +278,7 @@
     const statusClass = sum.status === 'ok' ? 'pass' : sum.status === 'violations' ? 'fail' : 'error';
     const timeText = el('span', { class: 'time', 'data-testid': 'time' }, '0.00 s');
     app.append(header(`sscs simulate \u2014 ${sum.scenario} (${sum.vault})`, chip(statusClass, sum.status),
-      el('span', {}, `cycle time ${S.num(sum.cycle_time, 's')}`),
+      el('span', {}, `cycle time ${typeof sum.cycle_time === 'number' ? `${S.time(sum.cycle_time)} s` : S.num(sum.cycle_time)}`),  // to the ms, as simulate prints it
       // As docs/simulation.md defines it; below zero it is how deep they went into each other.
       mc ? el('a', { href: '#', 'data-testid': 'min-clearance',
         title: 'closest approach over the run (below zero: the deepest penetration). Not counted: rooms; a load and the stack it rides on; '
@@ -367,7 +367,7 @@
     v.panel.append(controls, timeline);
     app.append(el('main', { class: 'run' }, v.panel,
       el('section', { class: 'side' }, el('h2', {}, 'Cycle time by step'), breakdown, el('h2', {}, 'Events'), el('div', { class: 'scroll' }, eventList))),
-      campaign ? campaign.section : null, el('section', { class: 'wide' }, el('h2', {}, 'Joints'), plotBox));
+      ...(campaign ? [campaign.section] : []), el('section', { class: 'wide' }, el('h2', {}, 'Joints'), plotBox));  // (a null appended read "null")
     if (view) view.ready.then(() => {
       for (const c of view.cameras) cameraSelect.append(el('option', { value: c.name }, c.name === 'run' ? "the run's camera" : c.name));
       onTime(0);
