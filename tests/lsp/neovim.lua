@@ -1,7 +1,8 @@
--- Neovim's own LSP client (Debian's neovim 0.7) talking to `sscs lsp` on a copy of the reference
--- store: a typo typed is underlined with its did-you-mean before any save; hover on a type, definition
--- of a row, completion after `at: EndWall.` and the document's symbols. Run by neovim.sh.
-local sscs, vault = os.getenv('SSCS'), os.getenv('VAULT')
+-- Neovim's own LSP client (Debian's neovim 0.7), started by the set-up docs/editing.md gives,
+-- talking to `sscs lsp` on a copy of the reference store: a typo typed is underlined with its
+-- did-you-mean before any save; hover on a type, definition of a row, completion after
+-- `at: EndWall.` and the document's symbols. Run by neovim.sh.
+local vault = os.getenv('VAULT')
 
 local function fail(message)
   io.stderr:write('neovim.lua: ' .. message .. '\n')
@@ -15,10 +16,15 @@ vim.lsp.handlers['textDocument/publishDiagnostics'] = function(err, result, ctx,
   return default_publish(err, result, ctx, config)
 end
 
-vim.cmd('edit ' .. vim.fn.fnameescape(vault))
-local id = vim.lsp.start_client({ name = 'sscs', cmd = { sscs, 'lsp' }, root_dir = vim.fn.fnamemodify(vault, ':h') })
-if not id then fail('the client did not start') end
-vim.lsp.buf_attach_client(0, id)
+vim.cmd('edit ' .. vim.fn.fnameescape(vault))  -- the set-up of docs/editing.md (init.lua) starts the client on FileType yaml
+local id
+vim.wait(10000, function()
+  for _, c in ipairs(vim.lsp.get_active_clients()) do
+    if c.name == 'sscs' then id = c.id end
+  end
+  return id ~= nil
+end, 50)
+if not id then fail('the set-up of docs/editing.md started no sscs client (filetype ' .. vim.bo.filetype .. ')') end
 if not vim.wait(30000, function() return publishes > 0 end, 50) then fail('no diagnostics published for the opened store') end
 local function errors()
   return vim.diagnostic.get(0, { severity = vim.diagnostic.severity.ERROR })
