@@ -134,6 +134,12 @@ Cursor cursor_at(std::string_view text, int line, int character, bool utf8) {
     c.is_key = true;  // a word alone on its line: a key being typed (or a block list's item: its key is found below)
   } else {
     c.key = value_key(before);
+    if (c.key.empty()) {  // inside an expression after its first token (`expr: "A.height <= g`): the key it is under
+      static const std::regex key(R"(([A-Za-z_][A-Za-z0-9_]*)\s*:\s)");
+      for (auto it = std::regex_iterator<std::string_view::const_iterator>(before.begin(), before.end(), key);
+           it != std::regex_iterator<std::string_view::const_iterator>(); ++it)
+        c.key = (*it)[1].str();
+    }
   }
   // A block list's item (`  - Drum_1` under `objects:`): the key above it.
   if (line_start && before.find('-') != std::string_view::npos && c.key.empty()) {
@@ -771,7 +777,7 @@ json Server::definition(const Doc& doc, int line, int character) const {
   }
   if ((c.key == "type" && !c.is_key) || word.rfind("type:", 0) == 0) {
     if (word.rfind("type:", 0) == 0) word.remove_prefix(5);
-    return type_file(wc.find_type(word));
+    return type_file(wc.find_type(word.substr(0, word.find('.'))));  // `sum(type:drum.gross_mass)`: the type
   }
   if (word.rfind("at:", 0) == 0) word.remove_prefix(3);
   if (parameter_named(wc, word) >= 0) {  // a parameter: its line under `parameters:` in this file

@@ -397,6 +397,21 @@ TEST(LspServer, ATypeInAQuotedSelectorIsCompleted) {  // review 18: `objects: "t
   EXPECT_TRUE(types.count("rack")) << fmt::format("{}", fmt::join(types, " "));
 }
 
+TEST(LspServer, CompletionInsideAnExpressionAndDefinitionOfASelectedType) {  // review 19
+  Editor e;
+  const std::string text = replaced(kVault, "objects:\n", "parameters:\n  clear: 0.1 m\nobjects:\n");
+  const std::string uri = e.file("store.yaml", text);
+  e.open(uri, text);
+  // After the first token of an expression: parameters and objects.
+  e.change(uri, replaced(text, "bound: [Rack_1.height, LT, Room1.height]", "expr: \"Rack_1.height <= cl\""));
+  EXPECT_EQ(labels(e.at("textDocument/completion", uri, 22, 30)), std::set<std::string>{"clear"});
+  // `type:rack` inside a selector goes to rack.yaml.
+  e.change(uri, replaced(text, "objects: \"Rack_*\"", "objects: \"type:rack\""));
+  const json t = e.at("textDocument/definition", uri, 20, 30);
+  ASSERT_TRUE(t.is_object()) << t.dump();
+  EXPECT_NE(t["uri"].get<std::string>().find("/library/types/rack.yaml"), std::string::npos) << t.dump();
+}
+
 TEST(LspServer, UrisAndPathsRoundTrip) {
   EXPECT_EQ(uri_to_path("file:///a%20b/c%C3%A9.yaml"), "/a b/c\xC3\xA9.yaml");
   EXPECT_EQ(path_to_uri("/a b/c\xC3\xA9.yaml"), "file:///a%20b/c%C3%A9.yaml");
