@@ -521,16 +521,7 @@ std::vector<ObjectType> build_library(const LibraryInputs& in, Sources& sources,
     }
     if (spec.device && imported) tt.device = compile_device(*spec.device, t, spec.path, in.files, d, t.problems);
     t.own_device = spec.device.has_value();
-    auto add_meshes = [&](const std::vector<GeometrySpec>& geometry) {
-      for (const GeometrySpec& g : geometry)
-        if (const MeshSpec* m = std::get_if<MeshSpec>(&g.shape)) t.own_meshes.push_back(m->file.text);
-    };
-    add_meshes(spec.geometry);
-    if (spec.device)
-      for (const PartSpec& part : spec.device->parts) {
-        add_meshes(part.geometry);
-        add_meshes(part.visual);  // frames of a rerun draw them
-      }
+    for (const MeshSpec* m : named_meshes(spec)) t.own_meshes.push_back(m->file.text);
     tt.has_color = spec.color.present && !spec.color.null;  // its own: a colour is not inherited
     tt.color = spec.color.text;
     tt.color_mark = spec.color.mark;

@@ -21,18 +21,8 @@ std::string dir_of(const std::string& path) {
   return p.empty() ? "." : p.string();
 }
 
-/// Every mesh a type file names: its geometry's, and its device parts' geometry and visuals.
 void add_meshes(const TypeSpec& spec, FileFacts& facts) {
-  auto add = [&](const std::vector<GeometrySpec>& geometry) {
-    for (const GeometrySpec& g : geometry)
-      if (const MeshSpec* m = std::get_if<MeshSpec>(&g.shape)) facts.add_mesh(spec.path, m->file.text);
-  };
-  add(spec.geometry);
-  if (spec.device)
-    for (const PartSpec& part : spec.device->parts) {
-      add(part.geometry);
-      add(part.visual);
-    }
+  for (const MeshSpec* m : named_meshes(spec)) facts.add_mesh(spec.path, m->file.text);
 }
 
 }  // namespace
@@ -62,12 +52,6 @@ std::string FileFacts::mesh_path(const std::string& type_file, const std::string
 std::string FileFacts::why_unreadable(const std::string& path) const {
   auto it = unreadable_.find(path);
   return it == unreadable_.end() ? "was not gathered with the inputs (a bug)" : it->second;
-}
-
-void FileFacts::merge(const FileFacts& other) {
-  references_.insert(other.references_.begin(), other.references_.end());
-  meshes_.insert(other.meshes_.begin(), other.meshes_.end());
-  unreadable_.insert(other.unreadable_.begin(), other.unreadable_.end());
 }
 
 LibraryInputs gather_library(const std::vector<std::pair<std::string, SourceMark>>& dirs, Sources& sources, Diagnostics& diag,

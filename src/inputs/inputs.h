@@ -51,7 +51,6 @@ class FileFacts {
   std::string mesh_path(const std::string& type_file, const std::string& rel) const;
   /// Why `path` (a resolved reference) cannot be read, "" when it can.
   std::string why_unreadable(const std::string& path) const;
-  void merge(const FileFacts& other);
 
  private:
   std::map<std::pair<std::string, std::string>, std::string> references_, meshes_;

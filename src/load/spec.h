@@ -179,6 +179,10 @@ struct TypeSpec {
   std::optional<DeviceSpec> device;
 };
 
+/// Every mesh file a type file names, as written: its geometry's, then each device part's
+/// geometry and visuals (frames of a rerun draw those too).
+std::vector<const MeshSpec*> named_meshes(const TypeSpec& spec);
+
 // ---- vault files ----
 
 struct ParameterSpec {

@@ -149,11 +149,7 @@ std::map<std::string, std::vector<Problem>> problems(const Analysis& a, bool utf
     if (r.status == Status::Pass) continue;
     const Constraint& c = wc.constraints[r.constraint];
     const bool warning = c.severity == Severity::Warning && r.status != Status::Error;
-    std::string margin;
-    if (r.margin) {
-      const char* unit = r.margin_unit();
-      margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);  // as `sscs check` prints it
-    }
+    const std::string margin = margin_text(r);  // as `sscs check` prints it
     const std::string subjects = subject_names(wc, r);
     const std::string message = fmt::format("{} {} [{}]{}{}: {}{}", r.status == Status::Error ? "cannot evaluate" : warning ? "warning" : "failed",
                                             c.name, c.kind, subjects.empty() ? "" : " ", subjects, r.message, margin);

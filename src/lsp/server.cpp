@@ -11,6 +11,7 @@
 #include "core/units.h"
 #include "load/spec.h"
 #include "pipeline/type_listing.h"
+#include "report/report.h"
 
 namespace sscs::lsp {
 
@@ -334,12 +335,7 @@ std::string constraint_markdown(const Analysis& a, int c) {
     (r.status == Status::Pass ? passed : failed)++;
     if (shown == 10) continue;
     ++shown;
-    std::string margin;
-    if (r.margin) {
-      const char* unit = r.margin_unit();
-      margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
-    }
-    lines += fmt::format("\n- {}: {}{}", status_name(r.status), md_escape(r.message), margin);
+    lines += fmt::format("\n- {}: {}{}", status_name(r.status), md_escape(r.message), margin_text(r));
   }
   md += fmt::format("\n\nLast check: {} passed, {} failed{}", passed, failed, lines);
   if (passed + failed > shown) md += fmt::format("\n- … and {} more", passed + failed - shown);

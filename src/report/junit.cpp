@@ -69,8 +69,7 @@ void write_case(std::ostream& out, const VaultReport& vr, size_t i, const Source
       out << "/>\n";
     return;
   }
-  std::string margin =
-      (r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "", r.margin_unit()) : "") + change;
+  const std::string margin = margin_text(r) + change;
   std::string where = fmt::format("{}:{}:{}", sources.path(c.mark.file), c.mark.line, c.mark.column);
   if (o == Outcome::Error)
     out << fmt::format(">\n      <error message=\"{}{}\" type=\"{}\">{}: {}{}</error>\n    </testcase>\n", xml_escape(r.message),

@@ -21,5 +21,11 @@ std::string subject_names(const Workcell& wc, const CheckResult& r, const char* 
   return out;
 }
 
+std::string margin_text(const CheckResult& r) {
+  if (!r.margin) return "";
+  const char* unit = r.margin_unit();
+  return fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
+}
+
 
 }  // namespace sscs

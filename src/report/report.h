@@ -123,6 +123,8 @@ std::string format_sarif(const std::vector<VaultReport>& reports, const Sources&
 /// "Rack_1 Rack_2": the subject names of a result.
 std::string subject_names(const Workcell& wc, const CheckResult& r, const char* separator = ", ");
 
+/// " (margin -0.05 m)": a result's margin as every report and the editor print it, "" without one.
+std::string margin_text(const CheckResult& r);
 
 
 }  // namespace sscs

@@ -111,9 +111,7 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
       std::vector<std::string> subject;
       for (int s : r.subjects) subject.push_back(wc.objects[s].name);
       const bool warning = c.severity == Severity::Warning && r.status != Status::Error;
-      std::string margin = r.margin ? fmt::format(" (margin {:g}{}{})", stable(*r.margin), *r.margin_unit() ? " " : "",
-                                                  r.margin_unit())
-                                    : "";
+      const std::string margin = margin_text(r);
       nlohmann::ordered_json res;
       res["ruleId"] = fmt::format("sscs/{}", c.kind);
       res["ruleIndex"] = rule_index(c.kind);

@@ -22,11 +22,7 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
       const Constraint& c = wc.constraints[r.constraint];
       bool warning = c.severity == Severity::Warning;
       const char* word = r.status == Status::Error ? "error" : warning ? "warning" : "fail";
-      std::string margin;
-      if (r.margin) {
-        const char* unit = r.margin_unit();
-        margin = fmt::format(" (margin {:g}{}{})", stable(*r.margin), *unit ? " " : "", unit);
-      }
+      const std::string margin = margin_text(r);
       std::string subjects = subject_names(wc, r);
       std::string change;
       if (vr.baseline) change = vr.baseline->changes[i] == Change::New ? " [new failure]" : " [still failing]";
