@@ -109,7 +109,8 @@ SourceMark find_binary(const std::string& text, uint32_t file) {
 
 class Builder : public YAML::EventHandler {
  public:
-  Builder(Document& doc, Diagnostics& diag, const Limits& limits) : doc_(doc), diag_(diag), limits_(limits) {}
+  Builder(Document& doc, std::string_view text, Diagnostics& diag, const Limits& limits)
+      : doc_(doc), text_(text), diag_(diag), limits_(limits) {}
 
   void OnDocumentStart(const YAML::Mark& mark) override {
     if (documents_++ > 0)
@@ -118,7 +119,8 @@ class Builder : public YAML::EventHandler {
   void OnDocumentEnd() override {}
 
   void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override {
-    add_leaf({Kind::Null, false, line(mark), col(mark), 0, 0}, anchor);
+    const auto [l, c] = empty_value_place(mark);
+    add_leaf({Kind::Null, false, l, c, 0, 0}, anchor);
   }
 
   static constexpr uint32_t kBytesPerWeight = 64;
@@ -159,6 +161,42 @@ class Builder : public YAML::EventHandler {
     uint32_t index;
     size_t kids_begin;  // into pending_
   };
+
+  /// Where a null is. An empty value (`a:` with nothing after it, a `-` alone) has no text of its
+  /// own: yaml-cpp marks it at the next token, on the next key's line or past the end of the file.
+  /// Such a value is placed at its key (a mapping's value), else at its `-`. A `~` or `null` stays.
+  std::pair<uint32_t, uint32_t> empty_value_place(const YAML::Mark& m) const {
+    const std::pair<uint32_t, uint32_t> as_marked{line(m), col(m)};
+    size_t pos = std::min<size_t>(m.pos < 0 ? 0 : static_cast<size_t>(m.pos), text_.size());
+    const std::string_view rest = text_.substr(pos);
+    for (std::string_view word : {"~", "null", "Null", "NULL"})
+      if (rest.starts_with(word)) return as_marked;
+    // Back over blank lines and comments to the ':' or '-' the empty value follows.
+    uint32_t l = line(m);
+    for (size_t end = pos;; --l) {
+      const size_t nl = end == 0 ? std::string_view::npos : text_.rfind('\n', end - 1);
+      const size_t start = nl == std::string_view::npos ? 0 : nl + 1;
+      std::string_view content = text_.substr(start, end - start);
+      for (size_t hash = content.find('#'); hash != std::string_view::npos; hash = content.find('#', hash + 1))
+        if (hash == 0 || content[hash - 1] == ' ' || content[hash - 1] == '\t') {
+          content = content.substr(0, hash);
+          break;
+        }
+      while (!content.empty() && (content.back() == ' ' || content.back() == '\t' || content.back() == '\r')) content.remove_suffix(1);
+      if (!content.empty()) {
+        if (content.back() == '-') return {l, static_cast<uint32_t>(content.size())};
+        if (content.back() != ':') return as_marked;
+        // The key just attached to the innermost open mapping.
+        if (!open_.empty() && doc_.nodes_[open_.back().index].kind == Kind::Map && (pending_.size() - open_.back().kids_begin) % 2 == 1) {
+          const Document::Rec& key = doc_.nodes_[pending_.back()];
+          return {key.line, key.column};
+        }
+        return {l, static_cast<uint32_t>(content.size())};
+      }
+      if (start == 0 || l <= 1) return as_marked;
+      end = start - 1;
+    }
+  }
 
   static uint32_t line(const YAML::Mark& m) { return static_cast<uint32_t>(m.line + 1); }
   static uint32_t col(const YAML::Mark& m) { return static_cast<uint32_t>(m.column + 1); }
@@ -241,6 +279,7 @@ class Builder : public YAML::EventHandler {
   }
 
   Document& doc_;
+  std::string_view text_;
   Diagnostics& diag_;
   Limits limits_;
   int documents_ = 0;
@@ -316,7 +355,7 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
     MemoryBuf buf(text.data(), text.size());
     std::istream in(&buf);
     YAML::Parser parser(in);
-    Builder builder(doc, diag, limits);
+    Builder builder(doc, text, diag, limits);
     parser.HandleNextDocument(builder);
     if (doc.nodes_.empty()) throw InputError{{file, 1, 1}, "expected a YAML document, found an empty file"};
     doc.root_ = builder.root();
@@ -367,7 +406,10 @@ SourceMark exact_mark(const Sources& sources, SourceMark mark) {
   const size_t indicator = line.find_last_of(">|");
   const bool block = indicator != std::string_view::npos && mark.column - 1 > indicator &&
                      line.find_first_not_of("-+0123456789 \t", indicator + 1) == std::string_view::npos;
-  if (mark.column <= line.size() + 1 && !block) return mark;
+  // And unless an escape precedes it (`\u0020`, a `\` ending the line): a double-quoted
+  // scalar's text is then shorter than its source.
+  const bool escaped = line.substr(0, std::min<size_t>(mark.column, line.size())).find('\\') != std::string_view::npos;
+  if (mark.column <= line.size() + 1 && !block && !escaped) return mark;
   Diagnostics quiet;
   const Document doc = parse(sources, mark.file, quiet);
   const Node scalar = scalar_before(doc.root(), mark.line, mark.column);

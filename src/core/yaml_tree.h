@@ -95,7 +95,7 @@ Document parse(const Sources& sources, uint32_t file, Diagnostics& diag, const L
 /// one line, but past the end of the line for one written over several (a `>-` block, a folded
 /// plain or quoted scalar). Such a mark (its column beyond its line) is moved to the same text in
 /// the source: the token at `pos` (an identifier, a number, else one character), at the same
-/// occurrence. Other marks are returned as they are.
+/// occurrence; so is one on a line with an escape before it. Other marks are returned as they are.
 SourceMark exact_mark(const Sources& sources, SourceMark mark);
 
 }  // namespace sscs::yaml

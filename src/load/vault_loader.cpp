@@ -244,8 +244,8 @@ std::optional<ConstraintKind> read_kind(std::string_view kind, yaml::Node body, 
     allow_empty(re.targets);
     re.frame = load::scalar(r.take("frame"), "reach frame", diag);
     yaml::Node orientation = r.take("orientation");
-    if (orientation.valid()) {
-      std::string word = load::text(orientation, "orientation", diag);
+    if (orientation.valid()) {  // one error for a value that is not free or match, whatever it is
+      const std::string word = orientation.is_scalar() ? load::text(orientation, "orientation", diag) : "";
       if (word == "match") re.match_orientation = true;
       else if (word != "free") load::expected(diag, orientation, "free or match", "reach orientation");
     }
@@ -276,7 +276,7 @@ std::optional<ConstraintSpec> read_constraint(yaml::Node node, Diagnostics& diag
   c.description = load::text(r.take("description"), "description", diag);
   yaml::Node severity = r.take("severity");
   if (severity.valid()) {
-    std::string word = load::text(severity, "severity", diag);
+    const std::string word = severity.is_scalar() ? load::text(severity, "severity", diag) : "";
     if (word == "warning") c.severity = Severity::Warning;
     else if (word != "error") load::expected(diag, severity, "error or warning", "severity");
   }
