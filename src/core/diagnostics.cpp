@@ -69,6 +69,9 @@ void Diagnostics::warning(SourceMark mark, std::string message) {
 
 namespace {
 
+/// Longer source lines are shown as this many bytes around the column.
+constexpr size_t kLongLine = 160;
+
 /// One diagnostic: `file:line:col: error: message`, the source line and a caret under the column.
 std::string format_one(const Diagnostic& d, const Sources& sources, bool color) {
   const char* bold = color ? "\033[1m" : "";
@@ -82,11 +85,24 @@ std::string format_one(const Diagnostic& d, const Sources& sources, bool color) 
     out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(mark.file), mark.line, mark.column, reset, word_colour,
                        word, reset, printable(within_window(d.message), true));
     std::string_view line = sources.line(mark);
-    if (!line.empty() && line.size() < 300) {
-      out += fmt::format("  {}\n", printable(line));
-      std::string caret(mark.column > 0 ? mark.column - 1 : 0, ' ');
-      for (size_t i = 0; i < caret.size() && i < line.size(); ++i)
-        if (line[i] == '\t') caret[i] = '\t';
+    size_t at = mark.column > 0 ? mark.column - 1 : 0;  // the caret's byte in `line`
+    // A long line (a vault written as one flow mapping) shows the stretch around the column.
+    std::string before, after;
+    if (line.size() > kLongLine) {
+      size_t from = at > kLongLine / 2 ? at - kLongLine / 2 : 0;
+      while (from > 0 && from < line.size() && (static_cast<unsigned char>(line[from]) & 0xC0) == 0x80) --from;  // a character's start
+      size_t to = std::min(line.size(), from + kLongLine);
+      while (to < line.size() && (static_cast<unsigned char>(line[to]) & 0xC0) == 0x80) ++to;
+      if (from > 0) before = "...";
+      if (to < line.size()) after = "...";
+      line = line.substr(from, to - from);
+      at = at - from + before.size();
+    }
+    if (!line.empty()) {
+      out += fmt::format("  {}{}{}\n", before, printable(line), after);
+      std::string caret(at, ' ');
+      for (size_t i = before.size(); i < caret.size() && i - before.size() < line.size(); ++i)
+        if (line[i - before.size()] == '\t') caret[i] = '\t';
       out += fmt::format("  {}{}^{}\n", caret, green, reset);
     }
   } else {
