@@ -708,6 +708,17 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         // them, and what a pose hits changes with the design (it is in the message).
         break;
     }
+    {
+      auto pose = std::make_shared<ClosestPose>();
+      Eigen::VectorXd q = q0;
+      chain.to_device(ik.status == IkResult::Status::Rejected && hit_q.size() == chain.size() ? hit_q : ik.q, q);
+      for (int k = 0; k < d.dof(); ++k) pose->joints.push_back({d.joint(k).name, d.joint(k).type == JointType::Revolute, q[k]});
+      const std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+      for (size_t p = 0; p < d.parts.size(); ++p) pose->parts.push_back({d.parts[p].name, X[p]});
+      pose->tool = g.X_world_object * d.tool_pose(q).translation();
+      pose->target = X_world_target.translation();
+      r.closest = std::move(pose);
+    }
     out.push_back(std::move(r));
   }
   if (out.size() > first) return;

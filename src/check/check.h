@@ -1,6 +1,7 @@
 #pragma once
 /// The check stage: evaluate every constraint of a Workcell into results with margins.
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,24 @@ namespace sscs {
 enum class Status : uint8_t { Pass, Fail, Error };
 const char* status_name(Status s);
 
+/// Where a device came closest to a reach target it does not reach (the "why can't it reach"
+/// picture of the HTML report): the pose its margin is measured at, or for a target reached only
+/// in collision, the pose that reaches it and collides.
+struct ClosestPose {
+  struct Joint {
+    std::string name;
+    bool revolute;
+    double value;  ///< SI: rad or m
+  };
+  std::vector<Joint> joints;  ///< the device's, in its joint order
+  struct Part {
+    std::string name;
+    Eigen::Isometry3d X_object_part;  ///< in the device's frame
+  };
+  std::vector<Part> parts;
+  Eigen::Vector3d tool = Eigen::Vector3d::Zero(), target = Eigen::Vector3d::Zero();  ///< world points
+};
+
 /// One check: a constraint, or one member (object, pair) of a constraint over a set.
 struct CheckResult {
   int constraint = -1;
@@ -23,6 +42,7 @@ struct CheckResult {
   Dim dim = Dim::None;
   std::string unit;  ///< the margin's unit when it is no dimension's (a plugin's "sr"), else ""
   std::string message;
+  std::shared_ptr<const ClosestPose> closest;  ///< a failed reach target's, else none
   /// The unit the margin is in: `unit`, else the file unit of `dim`.
   const char* margin_unit() const { return unit.empty() ? file_unit(dim) : unit.c_str(); }
 };

@@ -1292,7 +1292,8 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
     return std::nullopt;
   }
   const Shape& cs = c.shapes[0];
-  Eigen::Isometry3d X_c_world = (c.X_world_object * cs.X_object_shape).inverse();
+  const Eigen::Isometry3d X_c_world = (c.X_world_object * cs.X_object_shape).inverse();
+  const Eigen::Isometry3d X_c_object = X_c_world * g.X_world_object;  // once, not per shape
   // Per face: the smallest distance of the object inside it (negative: protrusion). Counted faces
   // give the margin less `min`; any protrusion fails, counted or not.
   double counted = INFINITY, protrusion = 0;
@@ -1311,7 +1312,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       Eigen::Vector3d half = cs.box_size / 2;
       Eigen::AlignedBox3d b;
       for (const Shape& s : g.shapes)
-        if (judged(s)) b.extend(shape_bounds(s, X_c_world * g.X_world_object * s.X_object_shape));
+        if (judged(s)) b.extend(shape_bounds(s, X_c_object * s.X_object_shape));
       if (b.isEmpty()) return INFINITY;  // the part has no shape
       static constexpr const char* kNames[3][2] = {{"its x- face", "its x+ face"}, {"its y- face", "its y+ face"}, {"its floor", "its top"}};
       for (int k = 0; k < 3; ++k) {
@@ -1329,7 +1330,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       double half = cs.length / 2;
       for (const Shape& s : g.shapes) {
         if (!judged(s)) continue;
-        Eigen::Isometry3d X = X_c_world * g.X_world_object * s.X_object_shape;
+        Eigen::Isometry3d X = X_c_object * s.X_object_shape;
         Eigen::AlignedBox3d b = shape_bounds(s, X);
         face(SpatialCheck::ZMin, b.min().z() + half, "its bottom");
         face(SpatialCheck::ZMax, half - b.max().z(), "its top");
@@ -1361,7 +1362,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       double margin = INFINITY, worst_outside = 0;
       bool any_outside = false;
       for (const Shape& s : g.shapes)
-        for (const Eigen::Vector3d& p : judged(s) ? hull_points(s, X_c_world * g.X_world_object * s.X_object_shape) : std::vector<Eigen::Vector3d>()) {
+        for (const Eigen::Vector3d& p : judged(s) ? hull_points(s, X_c_object * s.X_object_shape) : std::vector<Eigen::Vector3d>()) {
           double d = surface_distance(p, v, tris);
           if (inside_mesh(p, v, tris)) {
             margin = std::min(margin, d);

@@ -8,12 +8,15 @@
 
 namespace sscs {
 
-Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& q) {
-  Chain chain(device);
+namespace {
+
+/// The ranges the chain's joints sweep: their limits; an unlimited revolute joint a turn, an
+/// unlimited prismatic end 0 (`unbounded` then says so).
+void joint_ranges(const Chain& chain, Eigen::VectorXd& lo, Eigen::VectorXd& hi, bool& unbounded) {
   const int n = chain.size();
-  Eigen::AlignedBox3d box;
-  Eigen::VectorXd lo(n), hi(n);
-  bool unbounded = false;
+  lo.resize(n);
+  hi.resize(n);
+  unbounded = false;
   for (int k = 0; k < n; ++k) {
     lo[k] = chain.lower(k);
     hi[k] = chain.upper(k);
@@ -26,6 +29,32 @@ Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& 
       hi[k] = std::isfinite(hi[k]) ? hi[k] : 0;
     }
   }
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> reach_points(const Device& device, const Eigen::VectorXd& q, int count) {
+  Chain chain(device);
+  Eigen::VectorXd lo, hi;
+  bool unbounded;
+  joint_ranges(chain, lo, hi, unbounded);
+  std::mt19937_64 rng(38);
+  std::vector<Eigen::Vector3d> out;
+  Eigen::VectorXd cq = chain.from_device(q);
+  for (int i = 0; i < count; ++i) {
+    for (int k = 0; k < chain.size(); ++k) cq[k] = std::uniform_real_distribution<double>(lo[k], hi[k])(rng);
+    out.push_back(chain.forward(cq).translation());
+  }
+  return out;
+}
+
+Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& q) {
+  Chain chain(device);
+  const int n = chain.size();
+  Eigen::AlignedBox3d box;
+  Eigen::VectorXd lo, hi;
+  bool unbounded;
+  joint_ranges(chain, lo, hi, unbounded);
   auto add = [&](const Eigen::VectorXd& cq) { box.extend(chain.forward(cq).translation()); };
   Eigen::VectorXd cq = chain.from_device(q);
   add(cq);

@@ -1,5 +1,7 @@
 #pragma once
 /// A device's reach envelope: the bounding box of its tool's positions over the joint ranges.
+#include <vector>
+
 #include <Eigen/Geometry>
 
 #include "model/device.h"
@@ -13,5 +15,10 @@ namespace sscs {
 /// per joint up to 3 joints, 9 for 4 ...), and 20,000 seeded random configurations beyond 3. An unlimited revolute joint spans a turn; an unlimited prismatic joint makes
 /// the envelope unbounded along its axis (infinite bounds).
 Eigen::AlignedBox3d reach_envelope(const Device& device, const Eigen::VectorXd& q);
+
+/// `count` points the tool's origin reaches (in the object's frame), at seeded random values of
+/// the chain's joints over their ranges (other joints at `q`; an unlimited prismatic joint stays
+/// at 0): the HTML report's picture of where a device reaches, collisions and orientation aside.
+std::vector<Eigen::Vector3d> reach_points(const Device& device, const Eigen::VectorXd& q, int count);
 
 }  // namespace sscs

@@ -11,6 +11,7 @@
 
 #include "core/archive.h"
 #include "core/digest.h"
+#include "kinematics/envelope.h"
 #include "pipeline/prepare.h"
 #include "render/gltf.h"
 #include "render/replay.h"
@@ -20,6 +21,9 @@ namespace sscs {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+
+/// Tool points per device in a check page's reach picture.
+constexpr int kReachPoints = 800;
 
 namespace {
 
@@ -71,15 +75,39 @@ Expected<std::string> run_gltf(const OpenedRun& run, const CompileOptions& optio
   return gltf_file(*ps.wc, ps.geometry, {vault_cameras(*ps.wc, ps.geometry), &animation}, binary);
 }
 
+namespace {
+
+/// Where each device of the vault reaches: {device: [x, y, z, ...]}, world points of its tool
+/// (reach_points), to the mm. The page draws them with a failed reach row and on request.
+json reach_clouds(const Workcell& wc, const GeometryModel& geometry) {
+  json out = json::object();
+  for (size_t o = 0; o < wc.objects.size(); ++o) {
+    const ObjectGeometry& g = geometry.objects[o];
+    if (!g.device || g.device->dof() == 0) continue;
+    const Eigen::VectorXd q = g.device->joint_values(&wc.values[wc.objects[o].first_slot + kFirstAttributeSlot]);
+    json points = json::array();
+    for (const Eigen::Vector3d& p : reach_points(*g.device, q, kReachPoints)) {
+      const Eigen::Vector3d w = g.X_world_object * p;
+      if (!w.allFinite()) continue;
+      for (int k = 0; k < 3; ++k) points.push_back(std::round(w[k] * 1000) / 1000);
+    }
+    out[wc.objects[o].name] = std::move(points);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string check_html(const std::vector<VaultReport>& reports, const Sources& sources, const std::vector<const GeometryModel*>& geometry) {
   HtmlReport page;
   // The JSON report as `--format json` writes it (no exception: a report it cannot parse is a
   // page that says so, never a crash).
   json all = json::parse(format_json(reports, sources), nullptr, /*allow_exceptions=*/false);
   json list = all.is_discarded() ? json::array() : reports.size() == 1 ? json::array({all}) : all.value("reports", json::array());
-  page.data = {{"kind", "check"}, {"generator", generator()}, {"reports", list}, {"models", json::array()}};
+  page.data = {{"kind", "check"}, {"generator", generator()}, {"reports", list}, {"models", json::array()}, {"reach", json::array()}};
   std::vector<std::string> names;
   for (size_t i = 0; i < reports.size(); ++i) {
+    page.data["reach"].push_back(reach_clouds(*reports[i].workcell, *geometry[i]));
     Expected<std::string> glb = gltf_file(*reports[i].workcell, *geometry[i], {vault_cameras(*reports[i].workcell, *geometry[i]), nullptr}, true);
     page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());
     if (glb) page.models.push_back(std::move(*glb));
@@ -162,7 +190,7 @@ Expected<std::string> report_json_html(const std::string& json_path, const Compi
     return Unexpected{fmt::format("{}: not a check report (expected the JSON of sscs check --format json)", json_path)};
   HtmlReport page;
   page.data = {{"kind", "check"}, {"generator", generator()}, {"source", json_path}, {"reports", list}, {"models", json::array()},
-               {"notes", json::array()}};
+               {"notes", json::array()}, {"reach", json::array()}};
   std::vector<std::string> names;
   auto note = [&](const std::string& text) {
     page.data["notes"].push_back(text);
@@ -180,6 +208,7 @@ Expected<std::string> report_json_html(const std::string& json_path, const Compi
       if (fs::is_regular_file(beside)) file = beside.string();
     }
     std::optional<std::string> glb;
+    json reach = json::object();
     if (file.empty() || !fs::is_regular_file(file)) {
       note(fmt::format("{}: no 3D view: its vault '{}' is not found from here (the report names it as sscs check was given it)", r.value("vault", "?"), file));
     } else {
@@ -204,9 +233,11 @@ Expected<std::string> report_json_html(const std::string& json_path, const Compi
         Expected<std::string> bytes = gltf_file(*vault.wc, vault.geometry, {vault_cameras(*vault.wc, vault.geometry), nullptr}, true);
         if (bytes) glb = std::move(*bytes);
         else note(fmt::format("{}: no 3D view: {}", r.value("vault", "?"), bytes.error()));
+        if (bytes) reach = reach_clouds(*vault.wc, vault.geometry);
       }
     }
     page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());
+    page.data["reach"].push_back(std::move(reach));
     if (glb) page.models.push_back(std::move(*glb));
   }
   page.title = fmt::format("sscs check: {}", fmt::join(names, ", "));

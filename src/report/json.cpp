@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "report/json_writer.h"
+#include "core/units.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -12,6 +13,48 @@ namespace {
 void number_or_null(JsonWriter& w, const std::optional<double>& v) {
   if (!v || !std::isfinite(*v)) w.null();
   else w.stable_number(*v);
+}
+
+void point(JsonWriter& w, const Eigen::Vector3d& p) {
+  w.begin_array();
+  for (int k = 0; k < 3; ++k) w.stable_number(p[k]);
+  w.end_array();
+}
+
+/// A failed reach target's closest pose: joints in file units (deg, m), the tool's and the
+/// target's world points, and each part's pose in the device's frame as [x, y, z, qw, qx, qy, qz].
+void write_closest(JsonWriter& w, const ClosestPose& c) {
+  w.key("closest");
+  w.begin_object();
+  w.key("joints");
+  w.begin_array();
+  for (const ClosestPose::Joint& j : c.joints) {
+    const Dim dim = j.revolute ? Dim::Angle : Dim::Length;
+    w.begin_object();
+    w.field("name", j.name);
+    w.key("value");
+    w.stable_number(si_to_file(j.value, dim));
+    w.field("unit", file_unit(dim));
+    w.end_object();
+  }
+  w.end_array();
+  w.key("tool");
+  point(w, c.tool);
+  w.key("target");
+  point(w, c.target);
+  w.key("parts");
+  w.begin_object();
+  for (const ClosestPose::Part& p : c.parts) {
+    const Eigen::Quaterniond q(p.X_object_part.linear());
+    w.key(p.name);
+    w.begin_array();
+    for (double v : {p.X_object_part.translation().x(), p.X_object_part.translation().y(), p.X_object_part.translation().z(), q.w(), q.x(),
+                     q.y(), q.z()})
+      w.stable_number(v);
+    w.end_array();
+  }
+  w.end_object();
+  w.end_object();
 }
 
 /// The baseline section: small, so built as a tree.
@@ -90,6 +133,7 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
     number_or_null(w, r.margin);
     w.field("unit", r.margin_unit());
     w.field("message", r.message);
+    if (r.closest) write_closest(w, *r.closest);
     w.key("location");
     w.begin_object();
     w.key("file");

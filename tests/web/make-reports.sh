@@ -17,6 +17,8 @@ check drum-store scenarios/drum-store/store.yaml
 check ci-main scenarios/ci-example/main/store.yaml
 check ci-branch scenarios/ci-example/branch/store.yaml --baseline "$out/ci-main.json"
 check two-vaults scenarios/demo/demo.yaml scenarios/ci-example/main/store.yaml
+# Devices that fail to reach targets: each failed row has its closest pose (the "why can't it reach" picture).
+check devices scenarios/devices/devices.yaml
 # Runs: a run folder each, its HTML, and the animated glTF sscs export makes of it.
 run() {
   local name=$1 scenario=$2

@@ -146,6 +146,55 @@ test('demo.html: clicking a failing row highlights and frames its object; clicki
   await page.close();
 });
 
+test('devices.html: a failed reach row draws its device at the closest pose, a rod from its tool to the target; another row puts it back', async () => {
+  const { page, problems } = await open('devices.html');
+  const data = await page.evaluate(() => window.sscsReport.rows.filter((r) => r.closest).map((r) => ({ id: r.id, device: r.subjects[0], closest: r.closest, message: r.message })));
+  assert.ok(data.length >= 3, `rows with a closest pose: ${data.length}`);
+  // The tool's distance from the device as drawn (its box in sscs's z-up world, the model root's frame).
+  const toolGap = (device, tool) => page.evaluate((device, tool) => {
+    const v = window.sscsReport.view, root = v.model.children[0];
+    root.updateMatrixWorld(true);
+    const box = new THREE.Box3().setFromObject(v.objects.get(device)).applyMatrix4(new THREE.Matrix4().getInverse(root.matrixWorld));
+    return box.distanceToPoint(new THREE.Vector3(...tool));
+  }, device, tool);
+  for (const row of data) {
+    const rest = await page.evaluate((d) => window.sscsReport.view.objects.get(d).children.map((n) => n.position.toArray().join()).join(';'), row.device);
+    await page.click(`table.results tbody tr[data-id="${row.id}"]`);
+    await page.evaluate('window.sscsReport.view.ready');
+    const shown = await page.evaluate(() => {
+      const c = window.sscsReport.view.closest;
+      return c && { device: c.device, parts: c.saved.length, things: c.group.children.length };
+    });
+    assert.ok(shown && shown.device === row.device && shown.parts > 0, `${row.message}: ${JSON.stringify(shown)}`);
+    const gap = Math.hypot(...row.closest.tool.map((x, k) => x - row.closest.target[k]));
+    assert.equal(shown.things, gap > 1e-6 ? 2 : 1, 'a rod when the tool stops short, and the ball on the target');
+    // The device drawn at its closest pose holds its tool (within a part's thickness): the parts' poses are applied in its frame.
+    assert.ok(await toolGap(row.device, row.closest.tool) < 0.05, `${row.device}'s tool ${row.closest.tool} lies off the posed device`);
+    // Where that device reaches, as dots (and no other device's).
+    assert.deepEqual(await page.evaluate(() => window.sscsReport.view.reach.children.map((c) => c.name)), [row.device]);
+    await shot(page, `devices-closest-${row.device}`);
+    // A passing row: the device as it stands again.
+    await page.click('table.results tbody tr.pass');
+    await page.evaluate('window.sscsReport.view.ready');
+    assert.equal(await page.evaluate('window.sscsReport.view.closest'), null);
+    const back = await page.evaluate((d) => window.sscsReport.view.objects.get(d).children.map((n) => n.position.toArray().join()).join(';'), row.device);
+    assert.equal(back, rest, `${row.device} back at its pose`);
+  }
+  // The switch: every device's dots, whatever row is selected; off: none.
+  const devices = await page.evaluate(() => Object.keys(window.sscsReport.data.reach[0]).sort());
+  assert.ok(devices.length >= 5, devices.join());
+  await page.click('[data-testid=reach]');
+  await page.evaluate('window.sscsReport.view.ready');
+  assert.deepEqual(await page.evaluate(() => window.sscsReport.view.reach.children.map((c) => c.name).sort()), devices);
+  assert.ok(await page.evaluate(() => window.sscsReport.view.reach.children.every((c) => c.geometry.attributes.position.count === 800)));
+  await shot(page, 'devices-reach');
+  await page.click('[data-testid=reach]');
+  await page.evaluate('window.sscsReport.view.ready');
+  assert.equal(await page.evaluate('window.sscsReport.view.reach'), null);
+  assert.deepEqual(problems, []);
+  await page.close();
+});
+
 test('two-vaults.html: a row of the second vault shows that vault in 3D', async () => {
   const { page } = await open('two-vaults.html');
   const report = jsonOf('two-vaults.html');
@@ -280,7 +329,7 @@ test('aisle-rows.html: one row per variant, one point per variant, a point selec
 test('screenshots for docs/reports.md', { skip: !process.env.SSCS_UPDATE_DOCS }, () => {
   const docs = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'docs', 'img', 'reports');
   mkdirSync(docs, { recursive: true });
-  for (const f of ['demo-row-selected', 'ci-branch', 'arm-loads-drum-event', 'store-drum-event', 'aisle-rows-plot'])
+  for (const f of ['demo-row-selected', 'ci-branch', 'arm-loads-drum-event', 'store-drum-event', 'aisle-rows-plot', 'devices-closest-Arm'])
     copyFileSync(join(shots, `${f}.png`), join(docs, `${f}.png`));
 });
 

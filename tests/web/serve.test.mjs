@@ -117,3 +117,37 @@ test('a save updates the page in place with its verdicts, its camera and its sea
   assert.deepEqual(problems, []);
   await page.close();
 });
+
+test('a failed reach row selected keeps its picture through a save: the device at its closest pose, the rod to the new target', async () => {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.goto(base);
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  // The crane asked to hold its hook 9 m above every rack position: out of its reach.
+  const above = (z) => text.replace('offset: {xyz: [0, 0, 1.2]}', `offset: {xyz: [0, 0, ${z}]}`);
+  await save(page, above(9));
+  const id = await page.evaluate(() => window.sscsReport.rows.find((r) => r.closest).id);
+  await page.click(`[data-testid=results] tbody tr[data-id="${id}"]`);
+  await page.evaluate('window.sscsReport.view.ready');
+  const picture = () => page.evaluate(() => {
+    const v = window.sscsReport.view;
+    return v.closest && { device: v.closest.device, ball: v.closest.group.children.at(-1).position.toArray(), dots: v.reach ? v.reach.children.map((c) => c.name) : [] };
+  });
+  const first = await picture();
+  assert.ok(first && first.device === 'Crane', JSON.stringify(first));
+  assert.deepEqual(first.dots, ['Crane']);
+  await save(page, above(10));
+  const second = await picture();
+  assert.ok(second, 'the picture is drawn again after the save');
+  assert.ok(Math.abs(second.ball[2] - first.ball[2] - 1) < 1e-6 && Math.abs(second.ball[0] - first.ball[0]) < 1e-6,
+            `the target 1 m higher: ${first.ball} -> ${second.ball}`);
+  assert.deepEqual(second.dots, ['Crane']);
+  await save(page, text);
+  assert.equal(await failed(page), 0);
+  assert.equal(await page.evaluate('window.sscsReport.view.closest'), null, 'nothing fails: no picture');
+  assert.deepEqual(problems, []);
+  await page.close();
+});

@@ -212,6 +212,8 @@
       reports.length > 1 ? { key: 'vaultName', label: 'Vault' } : null,
       { key: 'constraint', label: 'Constraint', render: (r) => [el('div', { class: 'name' }, nameEl(r.constraint)),
         el('div', { class: 'message' }, withNames(r.message, [...r.subjects, r.constraint])),
+        r.closest ? el('div', { class: 'closest', 'data-testid': 'closest', title: 'select the row: the 3D view draws the device at this pose, and a red rod from its tool to the target' },
+          'closest pose: ', (r.closest.joints || []).map((j) => `${j.name} ${S.num(Math.abs(j.value) < 1e-6 ? 0 : j.value, j.unit)}`).join(', ')) : null,
         r.where ? el('code', { class: 'where' }, r.where) : null] },
       { key: 'kind', label: 'Kind' },
       { key: 'severity', label: 'Severity' },
@@ -231,6 +233,8 @@
           const v = view;
           v.ready.then(() => {
             v.setHighlights(colours(r.vault, r));
+            v.showClosest(r.closest && r.subjects[0], r.closest);  // why it cannot reach (else: back as it stands)
+            drawReach(v, r);
             if (r.subjects.length) v.frameObjects(r.subjects);
           });
         }
@@ -252,19 +256,40 @@
     const panel3d = el('section', { class: 'panel3d-holder' });
     const vaultSelect = reports.length > 1 ? el('select', { 'data-testid': 'vault', onchange: (e) => showVault(+e.target.value) },
       reports.map((r, i) => el('option', { value: i }, r.vault))) : null;
+    // Where the devices reach: a failed reach row's device always, every device's with the switch.
+    const reachOf = (i) => (data.reach && data.reach[i]) || {};
+    function drawReach(v, row) {
+      const clouds = reachOf(vaultShown), shown = {};
+      const all = v.box && v.box.querySelector('[data-testid=reach]');
+      if (all && all.checked) Object.assign(shown, clouds);
+      if (row && row.closest && clouds[row.subjects[0]]) shown[row.subjects[0]] = clouds[row.subjects[0]];
+      v.showReach(shown);
+    }
     function showVault(i) {
       if (view) view.dispose();
       vaultShown = i;
       if (vaultSelect) vaultSelect.value = String(i);
       const v = viewPanel(data.models[i], { onPick: listObject });
       view = v.view;
+      const overlay = v.box && v.box.querySelector('.overlay');
+      if (overlay) {
+        let toggle = overlay.querySelector('[data-testid=reach]');
+        if (!toggle && Object.keys(reachOf(i)).length) {
+          toggle = el('input', { type: 'checkbox', 'data-testid': 'reach' });
+          overlay.append(el('label', { title: 'dots where each device\'s tool reaches within its joint limits (collisions and orientation aside)' }, toggle, ' where devices reach'));
+        }
+        if (toggle) {
+          toggle.parentElement.hidden = !Object.keys(reachOf(i)).length;
+          toggle.onchange = () => view && view.ready.then((w) => drawReach(w, table.selected));
+        }
+      }
       page.view = view;
       panel3d.replaceChildren(v.panel);
       if (vaultSelect) v.panel.prepend(el('label', { class: 'vault-choice' }, '3D view of ', vaultSelect));
       v.panel.append(objectPanel);
-      if (view) view.ready.then(() => view.setHighlights(colours(i)));
+      if (view) view.ready.then(() => { view.setHighlights(colours(i)); drawReach(view, null); });
     }
-    const page = { kind: 'check', table, view, rows, listObject, showVault };
+    const page = { kind: 'check', table, view, rows, listObject, showVault, drawReach };
     app.append(el('main', { class: 'check' }, el('section', { class: 'table-panel' }, filters, el('div', { class: 'scroll' }, table.element)), panel3d));
     showVault(0);
     return page;
@@ -524,6 +549,8 @@
     if (page.table && was) {  // kept selected, without moving the camera to it again
       page.table.selected = page.table.rows.find(same) || null;
       page.table.draw();
+      const row = page.table.selected;
+      if (row && page.view) page.view.ready.then((v) => { v.showClosest(row.closest && row.subjects[0], row.closest); page.drawReach(v, row); });
     }
     return page.ready;
   };

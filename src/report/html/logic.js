@@ -30,6 +30,7 @@
           margin: r.margin,
           unit: r.unit || '',
           message: r.message || '',
+          closest: r.closest || null,
           where: r.location ? `${r.location.file}:${r.location.line}` : '',
           change,
         });

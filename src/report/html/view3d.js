@@ -63,6 +63,8 @@
       this.ready = new Promise((resolve, reject) => {
         new THREE.GLTFLoader().parse(decodeBase64(glbBase64), '', (gltf) => {
           try {
+            this.closest = null;  // (its nodes go with the old model, as the reach dots do)
+            this.reach = null;
             if (this.model) {
               this.scene.remove(this.model);
               this.model.traverse((node) => {
@@ -181,6 +183,88 @@
       const c = box.getCenter(new THREE.Vector3());
       box.expandByPoint(c.clone().addScalar(2.5)).expandByPoint(c.clone().addScalar(-2.5));
       this.frameBox(box);
+    }
+
+    /** The "why can't it reach" picture: `device` drawn at `closest` (a failed reach target's
+     *  closest pose from the JSON report: each part node put at its pose there), a red rod from
+     *  its tool to the target and a red ball on the target. `null` puts the device back. */
+    showClosest(device, closest) {
+      this.clearClosest();
+      const object = device && closest && this.objects.get(device);
+      if (!object) return;
+      const saved = [];
+      object.traverse((node) => {
+        const info = node.userData && node.userData.sscs;
+        const p = info && info.part && info.object === device && closest.parts && closest.parts[info.part];
+        if (!p) return;
+        saved.push([node, node.position.clone(), node.quaternion.clone()]);
+        node.position.set(p[0], p[1], p[2]);
+        node.quaternion.set(p[4], p[5], p[6], p[3]);  // [x, y, z, qw, qx, qy, qz]; three.js's order is x, y, z, w
+      });
+      // In sscs's world (z up): under the model's root node, which turns it to glTF's y up.
+      const group = new THREE.Group();
+      group.name = 'sscs-closest';
+      const red = () => new THREE.MeshBasicMaterial({ color: 0xd62728, depthTest: false, transparent: true, opacity: 0.9 });
+      const tool = new THREE.Vector3(...closest.tool), target = new THREE.Vector3(...closest.target);
+      const gap = target.clone().sub(tool);
+      if (gap.length() > 1e-6) {
+        const rod = new THREE.Mesh(new THREE.CylinderGeometry(0.012, 0.012, gap.length(), 12), red());
+        rod.position.copy(tool).addScaledVector(gap, 0.5);
+        rod.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), gap.clone().normalize());
+        group.add(rod);
+      }
+      const ball = new THREE.Mesh(new THREE.SphereGeometry(0.035, 16, 12), red());
+      ball.position.copy(target);
+      group.add(ball);
+      for (const m of group.children) m.renderOrder = 10;  // seen through what stands in front
+      this.model.children[0].add(group);
+      this.closest = { device, saved, group };
+      this.model.updateMatrixWorld(true);
+      this.render();
+    }
+
+    /** Where devices reach: {device: [x, y, z, ...]} (world points of their tools, sscs's z up),
+     *  drawn as dots, each device's its own colour; {} draws none. */
+    showReach(clouds) {
+      if (this.reach) {
+        if (this.reach.parent) this.reach.parent.remove(this.reach);
+        this.reach.traverse((n) => { if (n.geometry) n.geometry.dispose(); if (n.material) n.material.dispose(); });
+        this.reach = null;
+      }
+      const names = Object.keys(clouds || {}).filter((n) => clouds[n] && clouds[n].length);
+      if (this.model && names.length) {
+        this.reach = new THREE.Group();
+        this.reach.name = 'sscs-reach';
+        const colours = [0x17becf, 0x9467bd, 0x2ca02c, 0xff7f0e, 0x8c564b];
+        names.forEach((name, i) => {
+          const geometry = new THREE.BufferGeometry();
+          geometry.setAttribute('position', new THREE.Float32BufferAttribute(clouds[name], 3));
+          const dots = new THREE.Points(geometry, new THREE.PointsMaterial({ color: colours[i % colours.length], size: 3, sizeAttenuation: false,
+                                                                            transparent: true, opacity: 0.7, depthWrite: false }));
+          dots.name = name;
+          this.reach.add(dots);
+        });
+        this.model.children[0].add(this.reach);
+        this.model.updateMatrixWorld(true);
+      }
+      this.render();
+    }
+
+    clearClosest() {
+      if (!this.closest) return;
+      for (const [node, position, quaternion] of this.closest.saved) {
+        node.position.copy(position);
+        node.quaternion.copy(quaternion);
+      }
+      const group = this.closest.group;
+      if (group.parent) group.parent.remove(group);
+      group.traverse((n) => {
+        if (n.geometry) n.geometry.dispose();
+        if (n.material) n.material.dispose();
+      });
+      this.closest = null;
+      if (this.model) this.model.updateMatrixWorld(true);
+      this.render();
     }
 
     /** Colours objects: {name: 0xrrggbb}; every other object loses its highlight. */

@@ -431,6 +431,51 @@ TEST_F(Check, AnUnreachableTargetsMarginIsTheClosestTheDeviceComesNotWhereASearc
   }
 }
 
+TEST_F(Check, AFailedReachTargetsClosestPoseIsTheOneItsMarginIsMeasuredAt) {
+  // The "why can't it reach" picture draws the device at `closest`: for every standard device and
+  // random targets around it, each target not reached has a pose within the joint limits whose
+  // tool lies the reported error from the target, and whose parts put the tool there.
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int failed = 0;
+  for (const std::string& type : standard_devices()) {
+    SCOPED_TRACE(type);
+    std::string targets;
+    for (int i = 0; i < 6; ++i)
+      targets += fmt::format("{}{{xyz: [{:.3f}, {:.3f}, {:.3f}]}}", i ? ", " : "", 30 + 6 * u(rng), 30 + 6 * u(rng), 1.5 + 1.5 * u(rng));
+    diag = Diagnostics{};
+    Workcell wc = must_compile("objects:\n  - {type: " + type + ", name: R, location: [30, 30, 0]}\n"
+                               "constraints:\n  - {name: r, reach: {device: R, targets: [" + targets + "]}}\n");
+    const GeometryModel geometry = build_geometry(wc, diag);
+    const ObjectGeometry& g = geometry.objects[wc.find_object("R")];
+    const Device& d = *g.device;
+    for (const CheckResult& r : check(wc, geometry).results) {
+      if (r.status == Status::Pass) {
+        EXPECT_FALSE(r.closest);
+        continue;
+      }
+      ++failed;
+      ASSERT_TRUE(r.closest) << r.message;
+      const ClosestPose& c = *r.closest;
+      ASSERT_EQ(c.joints.size(), static_cast<size_t>(d.dof()));
+      Eigen::VectorXd q(d.dof());
+      for (int k = 0; k < d.dof(); ++k) {
+        q[k] = c.joints[k].value;
+        EXPECT_EQ(c.joints[k].name, d.joint(k).name);
+        EXPECT_GE(q[k], d.joint(k).lower - 1e-9) << c.joints[k].name;
+        EXPECT_LE(q[k], d.joint(k).upper + 1e-9) << c.joints[k].name;
+      }
+      ASSERT_EQ(c.parts.size(), d.parts.size());
+      const std::vector<Eigen::Isometry3d> X = d.part_poses(q);
+      for (size_t p = 0; p < X.size(); ++p) EXPECT_TRUE(c.parts[p].X_object_part.isApprox(X[p], 1e-12)) << c.parts[p].name;
+      EXPECT_LT((c.tool - g.X_world_object * c.parts[d.tool_part].X_object_part * d.X_part_tool.translation()).norm(), 1e-9);
+      if (r.message.find("only in collision") == std::string::npos) EXPECT_NEAR((c.tool - c.target).norm(), *r.lhs, 1e-6) << r.message;
+      else EXPECT_LT((c.tool - c.target).norm(), 0.01) << "the pose that reaches it, and collides: " << r.message;
+    }
+  }
+  EXPECT_GT(failed, 10);
+}
+
 TEST_F(Check, MirrorImageReachTargetsOfAnArmFailByTheSameMargin) {
   // arm6 at [6, 6.9, 0.8], the tool pointing down at [5.43, 8.8, 1.837] and at its mirror image
   // in the arm's plane x = 6: -1.30694 and -0.48459 before (where the solver stopped).
