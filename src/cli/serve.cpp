@@ -22,6 +22,9 @@
 #include "pipeline/live_check.h"
 #include "report/html.h"
 #include "report/report.h"
+#include "core/digest.h"
+
+#include <nlohmann/json.hpp>
 
 #include <cerrno>
 #include <cstring>
@@ -93,19 +96,26 @@ constexpr const char* kLiveScript = R"(
     document.querySelectorAll(selector).forEach(function (e) { e.remove(); });
     doc.querySelectorAll(selector).forEach(function (e) { where(document.importNode(e, true)); });
   }
-  function update() {
-    if (busy) { again = true; return; }
-    busy = true;
-    save();
-    var t = { event: performance.now() };  // how long each part took (web.serve prints it)
-    fetch('/', { cache: 'no-store' }).then(function (r) { return r.text(); }).then(function (html) {
+  // The errors over the page (the banner and its greying style), as the server made them.
+  function banner(doc) {
+    replace('#sscs-serve-errors', doc, function (e) { document.body.prepend(e); });
+    replace('style[data-serve]', doc, function (e) { document.head.appendChild(e); });
+  }
+  function done(t, shown) {
+    t.ready = performance.now();
+    restore();
+    window.sscsServeTimes = { fetch: t.fetched - t.event, parse: t.parsed - t.fetched, model: t.model - t.parsed, build: t.built - t.model, ready: t.ready - t.built };
+    window.sscsServeShown = shown;
+  }
+  // The whole page fetched: its data, models and banner put into this one.
+  function full(t) {
+    return fetch('/', { cache: 'no-store' }).then(function (r) { return r.text(); }).then(function (html) {
       t.fetched = performance.now();
       var doc = new DOMParser().parseFromString(html, 'text/html');
       t.parsed = performance.now();
       var data = doc.getElementById('sscs-data'), mine = document.getElementById('sscs-data');
       if (!data || !mine || !window.sscsRebuild) { location.reload(); return; }
-      replace('#sscs-serve-errors', doc, function (e) { document.body.prepend(e); });
-      replace('style[data-serve]', doc, function (e) { document.head.appendChild(e); });
+      banner(doc);
       var shown = generation(doc);
       // A typo: the last good report stays. (Its model counts too: a save that moves a rack and
       // changes no verdict changes only the model.)
@@ -120,14 +130,39 @@ constexpr const char* kLiveScript = R"(
         e.textContent = m.textContent;
         document.body.appendChild(e);
       });
+      t.model = performance.now();
       var rebuilt = window.sscsRebuild();
       t.built = performance.now();
-      return rebuilt.then(function () {
-        t.ready = performance.now();
-        restore();
-        window.sscsServeTimes = { fetch: t.fetched - t.event, parse: t.parsed - t.fetched, build: t.built - t.parsed, model: t.ready - t.built };
-        window.sscsServeShown = shown;
-      });
+      return rebuilt.then(function () { done(t, shown); });
+    });
+  }
+  // An update is taken in place. A vault's check: the server sends what the save changed (the
+  // page's data, and a model of the objects drawn differently, with the names of those gone),
+  // put into this page's 3D view; the page is built again around that view (its canvas, camera
+  // and switches). A run, or a page too far behind: the whole page (full). A page with no report
+  // to take (the first check failed) reloads.
+  function update() {
+    if (busy) { again = true; return; }
+    busy = true;
+    save();
+    var t = { event: performance.now() };  // how long each part took (web.serve prints it)
+    fetch('/update?from=' + window.sscsServeShown, { cache: 'no-store' }).then(function (r) { return r.json(); }).then(function (u) {
+      var mine = document.getElementById('sscs-data'), report = window.sscsReport, view = report && report.view;
+      if (u.full || !mine || !window.sscsRebuild || !report || report.kind !== 'check' || !view || !view.patchModel) return full(t);
+      t.fetched = performance.now();
+      banner(new DOMParser().parseFromString('<body>' + (u.banner || '') + '</body>', 'text/html'));
+      t.parsed = performance.now();
+      if (u.data === mine.textContent && !u.model && !u.removed.length) { window.sscsServeShown = u.generation; return; }
+      mine.textContent = u.data;
+      view.hold();  // one frame drawn, when the page is rebuilt
+      return view.patchModel(u.model, u.removed).then(function () {
+        // The view holds the model now; the page's model elements are no longer it.
+        document.querySelectorAll('script[id^=sscs-model-]').forEach(function (e) { e.textContent = ''; });
+        t.model = performance.now();
+        var rebuilt = window.sscsRebuild({ keepModel: true });
+        t.built = performance.now();
+        return rebuilt.then(function () { done(t, u.generation); });
+      }).finally(function () { view.release(); });
     }).catch(function () { location.reload(); }).then(function () {
       busy = false;
       if (again) { again = false; update(); }
@@ -166,20 +201,56 @@ std::string gzip_fast(const std::string& text) {
   return done == Z_STREAM_END ? out : "";
 }
 
-/// The live state: the page served now, and its generation (bumped by each check published).
+/// `body` to the browser: gzipped (`gz`, made once) when it takes gzip. (cpp-httplib brotlis a
+/// body at each request, at its slowest level: 2.5 s of a save's 2.8 s to the page in chromium. It
+/// leaves a content provider's bytes as they are.)
+void send(const httplib::Request& req, httplib::Response& res, const std::string& gz, const std::string& body, const char* type) {
+  if (!gz.empty() && req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos) {
+    auto bytes = std::make_shared<const std::string>(gz);
+    res.set_header("Content-Encoding", "gzip");
+    res.set_content_provider(bytes->size(), type, [bytes](size_t offset, size_t length, httplib::DataSink& sink) {
+      return sink.write(bytes->data() + offset, length);
+    });
+    return;
+  }
+  res.set_content(body, type);
+}
+
+/// The live state: what the page of the last check published (its generation) is made of. A
+/// vault's page is made when a browser asks for it; a save's changes alone are sent to an open page.
 struct Live {
   std::mutex m;
   std::condition_variable published, changed;
-  std::string page;
-  std::string last_good;  ///< the last report that compiled, as checked
-  std::string page_gz;    ///< `page` gzipped (fast), for browsers
   long generation = 0;
+  std::shared_ptr<const LiveVault> vault;  ///< the last vault check that compiled
+  std::string banner;     ///< the last save's input errors, over that check ("" when it compiled)
+  std::string run_page;   ///< otherwise: a run's page, or the errors alone (with its live script)
+  std::string last_run;   ///< the last run's page that compiled, as made
+  /// The objects each recent generation's page draws (vault checks): what a save changed for a
+  /// page that shows that generation.
+  std::map<long, std::shared_ptr<const LiveVault::Keys>> keys_at;
+  long page_generation = -1;  ///< the generation `page` was made for
+  std::string page;
+  std::string page_gz;        ///< `page` gzipped (fast), for browsers
   bool dirty = true;      ///< a watched file changed since the last check began
   bool stopping = false;
   std::vector<std::string> files;  ///< watched
   long watch_generation = 0;       ///< bumped when `files` changes
   std::atomic<bool> checking{false};  ///< a check under way (one that never ends does not hold up Ctrl-C)
 };
+
+std::string generation_meta(long generation) {
+  return fmt::format("<meta name=\"sscs-serve-generation\" content=\"{}\">", generation);
+}
+
+/// The page of the generation published, made now if it was not (the lock held).
+void make_page(Live& live) {
+  if (live.page_generation == live.generation) return;
+  live.page = live.vault ? with_live_script(live.vault->page(), kLiveScript, generation_meta(live.generation) + live.banner)
+                         : live.run_page;
+  live.page_gz = gzip_fast(live.page);
+  live.page_generation = live.generation;
+}
 
 /// Checks again on every change: the last save wins (a check begun before it is not published).
 /// `run`: the file is a scenario or a campaign, run into `scratch` at each change.
@@ -205,23 +276,36 @@ void checker(Live& live, const std::string& vault, const CompileOptions& options
     std::lock_guard lock(live.m);
     if (live.stopping) return;
     if (live.dirty) continue;  // saved again meanwhile: that save's check is the one shown
+    const long next = live.generation + 1;
     // Which check a page shows: its live script takes updates in place and tells the tests.
-    const std::string meta = fmt::format("<meta name=\"sscs-serve-generation\" content=\"{}\">", live.generation + 1);
-    if (result.compiled) {
-      live.last_good = result.page;
-      live.page = with_live_script(result.page, kLiveScript, meta);
-    } else if (!live.last_good.empty()) {
-      live.page = with_live_script(live.last_good, kLiveScript, meta + errors_banner(result.errors, true));
+    const std::string meta = generation_meta(next);
+    live.banner.clear();
+    live.run_page.clear();
+    if (result.vault) {
+      live.vault = result.vault;
+    } else if (result.compiled) {
+      live.last_run = result.page;
+      live.run_page = with_live_script(result.page, kLiveScript, meta);
+    } else if (live.vault) {
+      live.banner = errors_banner(result.errors, true);
+    } else if (!live.last_run.empty()) {
+      live.run_page = with_live_script(live.last_run, kLiveScript, meta + errors_banner(result.errors, true));
     } else {
-      live.page = fmt::format("<!doctype html><html><head><meta charset=\"utf-8\"><title>sscs serve</title></head><body>{}<script>{}</script></body></html>",
-                              errors_banner(result.errors, false), kLiveScript);
+      live.run_page = fmt::format("<!doctype html><html><head><meta charset=\"utf-8\"><title>sscs serve</title></head><body>{}<script>{}</script></body></html>",
+                                  errors_banner(result.errors, false), kLiveScript);
     }
     if (result.files != live.files) {
       live.files = result.files;
       ++live.watch_generation;
     }
-    live.page_gz = gzip_fast(live.page);
-    ++live.generation;
+    live.generation = next;
+    if (live.vault && live.run_page.empty()) {
+      live.keys_at[next] = live.vault->keys();
+      while (live.keys_at.size() > 4) live.keys_at.erase(live.keys_at.begin());
+    } else {
+      live.keys_at.clear();
+    }
+    if (!live.run_page.empty()) make_page(live);  // (a vault's page is made when asked for)
     live.published.notify_all();
     if (!quiet) std::cout << fmt::format("sscs serve: checked in {:.0f} ms: {}\n", ms, result.summary) << std::flush;
   }
@@ -308,18 +392,34 @@ int run_serve(const Common& common, const ServeArgs& args) {
     // The first check: wait for it (a page that is not there yet would say nothing).
     live.published.wait_for(lock, std::chrono::seconds(30), [&] { return live.generation > 0 || live.stopping; });
     res.set_header("Cache-Control", "no-store");
-    // Gzipped once a check, fast. (cpp-httplib brotlis a body at each request, at its slowest
-    // level: 2.5 s of a save's 2.8 s to the page in chromium. It leaves a content provider's
-    // bytes as they are.)
-    if (!live.page_gz.empty() && req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos) {
-      auto gz = std::make_shared<const std::string>(live.page_gz);
-      res.set_header("Content-Encoding", "gzip");
-      res.set_content_provider(gz->size(), "text/html; charset=utf-8", [gz](size_t offset, size_t length, httplib::DataSink& sink) {
-        return sink.write(gz->data() + offset, length);
-      });
-      return;
+    if (live.generation > 0) make_page(live);
+    send(req, res, live.page_gz, live.page.empty() ? std::string("sscs serve: still checking; reload in a moment") : live.page,
+         "text/html; charset=utf-8");
+  });
+  // What an open page showing generation `from` takes of the last check: the page's data, the
+  // errors over it, and a model of the objects drawn differently (new or changed) with the names
+  // of those gone; {"full": true} when it must fetch the page (a run, a generation not kept).
+  server.Get("/update", [&](const httplib::Request& req, httplib::Response& res) {
+    std::unique_lock lock(live.m);
+    res.set_header("Cache-Control", "no-store");
+    long from = -1;
+    try {
+      from = std::stol(req.get_param_value("from"));
+    } catch (const std::exception&) {
     }
-    res.set_content(live.page.empty() ? std::string("sscs serve: still checking; reload in a moment") : live.page, "text/html; charset=utf-8");
+    nlohmann::json out;
+    auto before = live.keys_at.find(from);
+    if (!live.vault || !live.run_page.empty() || before == live.keys_at.end()) {
+      out = {{"full", true}};
+    } else {
+      std::vector<std::string> removed;
+      const std::string model = live.vault->changed_model(*before->second, removed);
+      out = {{"generation", live.generation}, {"banner", live.banner}, {"data", live.vault->data()}, {"removed", removed},
+             {"model", model.empty() ? std::string() : base64(model)}};
+    }
+    const std::string body = out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    lock.unlock();
+    send(req, res, gzip_fast(body), body, "application/json");
   });
   server.Get("/events", [&](const httplib::Request&, httplib::Response& res) {
     long sent = -1;
@@ -339,7 +439,7 @@ int run_serve(const Common& common, const ServeArgs& args) {
     });
   });
   server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
-    if (res.status == 404) res.set_content("sscs serve: only the page (/) and its updates (/events) are served\n", "text/plain");
+    if (res.status == 404) res.set_content("sscs serve: only the page (/) and its updates (/events, /update) are served\n", "text/plain");
   });
 
   const int port = args.port == 0 ? server.bind_to_any_port(args.host) : (server.bind_to_port(args.host, args.port) ? args.port : -1);

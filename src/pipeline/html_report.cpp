@@ -99,6 +99,11 @@ json reach_clouds(const Workcell& wc, const GeometryModel& geometry) {
 }  // namespace
 
 std::string check_html(const std::vector<VaultReport>& reports, const Sources& sources, const std::vector<const GeometryModel*>& geometry) {
+  return html_page(check_report(reports, sources, geometry));
+}
+
+HtmlReport check_report(const std::vector<VaultReport>& reports, const Sources& sources, const std::vector<const GeometryModel*>& geometry,
+                        bool models) {
   HtmlReport page;
   // The JSON report as `--format json` writes it (no exception: a report it cannot parse is a
   // page that says so, never a crash).
@@ -108,14 +113,18 @@ std::string check_html(const std::vector<VaultReport>& reports, const Sources& s
   std::vector<std::string> names;
   for (size_t i = 0; i < reports.size(); ++i) {
     page.data["reach"].push_back(reach_clouds(*reports[i].workcell, *geometry[i]));
+    names.push_back(reports[i].workcell->name);
+    if (!models) {  // named as a page with its models names them
+      page.data["models"].push_back(fmt::format("sscs-model-{}", i));
+      continue;
+    }
     Expected<std::string> glb = gltf_file(*reports[i].workcell, *geometry[i], {vault_cameras(*reports[i].workcell, *geometry[i]), nullptr}, true);
     page.data["models"].push_back(glb ? json(fmt::format("sscs-model-{}", page.models.size())) : json());
     if (glb) page.models.push_back(std::move(*glb));
-    names.push_back(reports[i].workcell->name);
   }
   page.title = fmt::format("sscs check: {}", fmt::join(names, ", "));
   page.data["title"] = page.title;
-  return html_page(page);
+  return page;
 }
 
 Expected<std::string> run_html(const OpenedRun& run, const CompileOptions& options, std::string* warnings) {

@@ -12,6 +12,7 @@
 #include "core/expected.h"
 #include "core/files.h"
 #include "geometry/geometry.h"
+#include "report/html.h"
 #include "report/report.h"
 
 namespace sscs {
@@ -38,6 +39,10 @@ Expected<std::string> run_gltf(const OpenedRun& run, const CompileOptions& optio
 /// The HTML page of a check: each vault's JSON report (its baseline diff in it) and its model.
 std::string check_html(const std::vector<VaultReport>& reports, const Sources& sources,
                        const std::vector<const GeometryModel*>& geometry);
+/// What that page holds: its data and (with `models`) each vault's model; without them, the
+/// data names the models as the page with them does (`sscs serve` sends a save's changes alone).
+HtmlReport check_report(const std::vector<VaultReport>& reports, const Sources& sources,
+                        const std::vector<const GeometryModel*>& geometry, bool models = true);
 
 /// The HTML page of a run: its summary, events, trajectories and animated model.
 Expected<std::string> run_html(const OpenedRun& run, const CompileOptions& options, std::string* warnings = nullptr);

@@ -10,6 +10,8 @@
 #include "pipeline/html_report.h"
 #include "pipeline/prepare.h"
 #include "pipeline/run_scenario.h"
+#include "render/gltf.h"
+#include "report/html.h"
 
 namespace sscs {
 
@@ -46,24 +48,54 @@ void input_errors(LiveCheck& out, const Diagnostics& diag, const Sources& source
 
 }  // namespace
 
+struct LiveVaultMaker {
+  static void make(LiveVault& v, const std::string& path, const CompileOptions& options, LibraryCache& library, LiveCheck& out) {
+    Diagnostics diag;
+    v.vault_ = prepare_vault(path, options, v.sources_, diag, {.visuals = true, .contacts = nullptr}, library);
+    out.files = files_read(path, v.sources_, v.vault_.wc ? &v.vault_.geometry : nullptr);
+    if (diag.has_errors() || !v.vault_.wc) {
+      input_errors(out, diag, v.sources_);
+      return;
+    }
+    const Workcell& wc = *v.vault_.wc;
+    CheckOptions check_options;
+    check_options.describe_passes = true;
+    v.reports_.push_back({&wc, path, check(wc, v.vault_.geometry, check_options), std::nullopt, diag.warnings(), options.overrides});
+    const CheckReport& r = v.reports_.back().report;
+    out.summary = fmt::format("{} passed, {} failed, {} warnings", r.passed, r.failed, r.warnings);
+    v.data_ = json_in_script(check_report(v.reports_, v.sources_, {&v.vault_.geometry}, /*models=*/false).data);
+    std::vector<std::string> keys = object_model_keys(wc, v.vault_.geometry);
+    auto named = std::make_shared<LiveVault::Keys>();
+    for (size_t o = 0; o < wc.objects.size(); ++o) named->emplace(wc.objects[o].name, std::move(keys[o]));
+    v.keys_ = std::move(named);
+    out.compiled = true;
+  }
+};
+
+std::string LiveVault::page() const { return check_html(reports_, sources_, {&vault_.geometry}); }
+
+std::string LiveVault::changed_model(const Keys& before, std::vector<std::string>& removed) const {
+  const Workcell& wc = *vault_.wc;
+  for (const auto& [name, key] : before)
+    if (!keys_->count(name)) removed.push_back(name);
+  GltfScene scene;
+  scene.only.assign(wc.objects.size(), 0);
+  bool any = false;
+  for (size_t o = 0; o < wc.objects.size(); ++o) {
+    auto it = before.find(wc.objects[o].name);
+    scene.only[o] = it == before.end() || it->second != keys_->at(wc.objects[o].name);
+    any = any || scene.only[o];
+  }
+  if (!any) return "";
+  Expected<std::string> glb = gltf_file(wc, vault_.geometry, scene, true);
+  return glb ? *glb : "";
+}
+
 LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library) {
   LiveCheck out;
-  Sources sources;
-  Diagnostics diag;
-  PreparedVault vault = prepare_vault(path, options, sources, diag, {.visuals = true, .contacts = nullptr}, library);
-  out.files = files_read(path, sources, vault.wc ? &vault.geometry : nullptr);
-  if (diag.has_errors() || !vault.wc) {
-    input_errors(out, diag, sources);
-    return out;
-  }
-  CheckOptions check_options;
-  check_options.describe_passes = true;
-  std::vector<VaultReport> reports;
-  reports.push_back({&*vault.wc, path, check(*vault.wc, vault.geometry, check_options), std::nullopt, diag.warnings(), options.overrides});
-  const CheckReport& r = reports.back().report;
-  out.summary = fmt::format("{} passed, {} failed, {} warnings", r.passed, r.failed, r.warnings);
-  out.page = check_html(reports, sources, {&vault.geometry});
-  out.compiled = true;
+  auto vault = std::make_shared<LiveVault>();
+  LiveVaultMaker::make(*vault, path, options, library, out);
+  if (out.compiled) out.vault = std::move(vault);
   return out;
 }
 

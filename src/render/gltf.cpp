@@ -124,6 +124,48 @@ bool moves(const std::vector<Eigen::Isometry3d>& X) {
 
 }  // namespace
 
+std::vector<std::string> object_model_keys(const Workcell& wc, const GeometryModel& geometry) {
+  const std::vector<char> container = containers(wc);
+  std::vector<std::string> keys(wc.objects.size());
+  // A mesh by its content (a new check reads it again, at another address), once a mesh.
+  std::map<const TriangleMesh*, std::string> digests;
+  auto mesh_digest = [&](const TriangleMesh& m) -> const std::string& {
+    auto [it, fresh] = digests.try_emplace(&m);
+    if (fresh) {
+      std::string bytes = m.path;
+      bytes.append(reinterpret_cast<const char*>(m.vertices.data()), m.vertices.size() * sizeof(Eigen::Vector3d));
+      bytes.append(reinterpret_cast<const char*>(m.triangles.data()), m.triangles.size() * sizeof(Eigen::Vector3i));
+      bytes.append(reinterpret_cast<const char*>(m.triangle_rgb.data()), m.triangle_rgb.size() * sizeof(uint32_t));
+      for (const std::string& image : m.images) bytes += "|" + image;
+      it->second = sha256_hex(bytes);
+    }
+    return it->second;
+  };
+  auto pose = [](std::string& out, const Eigen::Isometry3d& X) {
+    const Eigen::Matrix<double, 3, 4> m = X.matrix().topRows<3>();
+    out.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * 12);  // exact: any change is a change
+  };
+  for (size_t o = 0; o < wc.objects.size(); ++o) {
+    const ObjectGeometry& g = geometry.objects[o];
+    std::string& k = keys[o];
+    k = fmt::format("{}|{}|{}|{}|", wc.objects[o].name, wc.types[wc.objects[o].type].name, container[o] != 0, wc.objects[o].color);
+    for (int t : wc.lineage(wc.objects[o].type)) k += wc.types[t].name + ",";
+    pose(k, g.X_world_object);
+    if (g.device)
+      for (size_t p = 0; p < g.device->parts.size(); ++p) {
+        k += "|" + g.device->parts[p].name + "|" + g.device->parts[p].color + "|";
+        pose(k, g.X_object_part[p]);
+      }
+    for (const Shape& s : g.drawn_shapes()) {
+      k += fmt::format("|{}|{}|{}|{}|{}|{}|{}|", static_cast<int>(s.kind), fmt::join(s.box_size, ","), s.radius, s.length,
+                       fmt::join(s.scale, ","), s.color, s.part);
+      if (s.mesh) k += mesh_digest(*s.mesh);
+      pose(k, s.X_object_shape);
+    }
+  }
+  return keys;
+}
+
 Eigen::AlignedBox3d scene_bounds(const GeometryModel& geometry) {
   Eigen::AlignedBox3d bounds;
   for (const ObjectGeometry& g : geometry.objects) bounds.extend(g.bbox_world);
@@ -197,6 +239,7 @@ Expected<std::string> gltf_file(const Workcell& wc, const GeometryModel& geometr
     }
 
   for (size_t o = 0; o < wc.objects.size(); ++o) {
+    if (!scene.only.empty() && (o >= scene.only.size() || !scene.only[o])) continue;
     const ObjectGeometry& g = geometry.objects[o];
     const std::string& name = wc.objects[o].name;
     if (!finite(g.X_world_object)) return Unexpected{fmt::format("{}: its pose is not a finite number", name)};

@@ -38,7 +38,14 @@ struct SceneAnimation {
 struct GltfScene {
   std::vector<NamedCamera> cameras;            ///< still views (the vault's named cameras)
   const SceneAnimation* animation = nullptr;  ///< a run's motion, or none
+  /// Per object, whether to write it (empty: every object): what `sscs serve` sends of a save
+  /// that changed a few objects (their nodes, under the same root).
+  std::vector<char> only = {};
 };
+
+/// Per object, a text that is the same exactly when gltf_file draws the object the same (its
+/// name, type, pose, parts and shapes with their colours): what changed between two checks.
+std::vector<std::string> object_model_keys(const Workcell& wc, const GeometryModel& geometry);
 
 /// The world bounds of every object's geometry (what the renderer frames).
 Eigen::AlignedBox3d scene_bounds(const GeometryModel& geometry);

@@ -23,6 +23,8 @@ std::string script_safe(std::string_view text) {
   return out;
 }
 
+}  // namespace
+
 /// JSON safe inside <script>, and still JSON: every `<`, `>` and `&` (only ever inside strings)
 /// as its \u escape, so no string can close the element or open a comment (`<!` in a name
 /// blanked the page: `<\!` is no JSON escape), and U+2028/2029 escaped too.
@@ -54,7 +56,6 @@ std::string script_hash(std::string_view script) {
   return fmt::format("'sha256-{}'", base64(raw));
 }
 
-}  // namespace
 
 std::string html_page(const HtmlReport& report) {
   const HtmlAssets assets = html_assets();

@@ -26,6 +26,9 @@ struct HtmlReport {
   std::vector<std::string> models;  ///< binary glTF files
 };
 
+/// `data` as the page's data element holds it: JSON in which no string can end the element.
+std::string json_in_script(const nlohmann::json& data);
+
 /// The page's bytes. Text inlined in <script> elements cannot end them: "</" is written "<\/".
 std::string html_page(const HtmlReport& report);
 

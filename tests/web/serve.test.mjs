@@ -151,3 +151,65 @@ test('a failed reach row selected keeps its picture through a save: the device a
   assert.deepEqual(problems, []);
   await page.close();
 });
+
+test('a save sends the page what changed alone: the objects drawn differently, and those gone', async () => {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.goto(base);
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  // What the server sends a page that shows generation g: the names of the objects in its model, and those gone.
+  const sent = (g) => page.evaluate(async (g) => {
+    const u = await (await fetch(`/update?from=${g}`)).json();
+    if (u.full) return { full: true };
+    let objects = [];
+    if (u.model) {
+      const bytes = Uint8Array.from(atob(u.model), (c) => c.charCodeAt(0));
+      const length = new DataView(bytes.buffer).getUint32(12, true);  // the GLB's JSON chunk
+      const gltf = JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
+      objects = gltf.nodes.filter((n) => n.extras && n.extras.sscs && n.extras.sscs.object && !n.extras.sscs.part).map((n) => n.name);
+    }
+    return { objects: objects.sort(), removed: u.removed };
+  }, g);
+  const goodsX = () => page.evaluate(() => new THREE.Box3().setFromObject(window.sscsReport.view.objects.get('GoodsRack')).min.x);
+  const x0 = await goodsX();
+  const g0 = await page.evaluate(() => window.sscsServeShown);
+  const moved = text.replace('name: GoodsRack, parent: Hall, location: [9, 2.0, 0]', 'name: GoodsRack, parent: Hall, location: [9.5, 2.0, 0]');
+  assert.notEqual(moved, text);
+  await save(page, moved);
+  assert.deepEqual(await sent(g0), { objects: ['GoodsRack'], removed: [] });
+  assert.ok(Math.abs((await goodsX()) - x0 - 0.5) < 1e-6, 'the page moved it 0.5 m');
+  // An object taken out of the vault: taken out of the view; a page far behind gets the whole page.
+  const g1 = await page.evaluate(() => window.sscsServeShown);
+  await save(page, moved.replace(/^  - \{type: pallet, name: Dock,.*\n/m, ''));
+  assert.deepEqual(await sent(g1), { objects: [], removed: ['Dock'] });
+  assert.equal(await page.evaluate(() => window.sscsReport.view.objects.has('Dock')), false);
+  assert.deepEqual(await sent(-5), { full: true });
+  // Back as it was: what changed since Dock went (Dock again, GoodsRack back), and since g1 (GoodsRack).
+  const g2 = await page.evaluate(() => window.sscsServeShown);
+  await save(page, text);
+  assert.deepEqual(await sent(g2), { objects: ['Dock', 'GoodsRack'], removed: [] });
+  assert.deepEqual(await sent(g1), { objects: ['GoodsRack'], removed: [] });
+  assert.equal(await page.evaluate(() => window.sscsReport.view.objects.has('Dock')), true);
+  assert.ok(Math.abs((await goodsX()) - x0) < 1e-6);
+  // The view patched save by save is the view of the page loaded afresh: the same objects, where they are.
+  const drawn = (p) => p.evaluate(() => {
+    const v = window.sscsReport.view, out = {};
+    v.model.updateMatrixWorld(true);
+    for (const [name, node] of v.objects) {
+      const b = new THREE.Box3().setFromObject(node);
+      out[name] = [...b.min.toArray(), ...b.max.toArray()].map((x) => x.toFixed(6)).join(' ');
+    }
+    return out;
+  });
+  const fresh = await browser.newPage();
+  await fresh.goto(base);
+  await fresh.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await fresh.evaluate('window.sscsReport.ready');
+  assert.deepEqual(await drawn(page), await drawn(fresh));
+  await fresh.close();
+  assert.deepEqual(problems, []);
+  await page.close();
+});

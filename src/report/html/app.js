@@ -50,6 +50,7 @@
       this.onFilter = onFilter || (() => {});
       this.rowClass = rowClass || (() => '');
       this.selected = null;
+      this.limit = 500;  // rows drawn at first
       this.element = el('table', { class: 'results', 'data-testid': 'results' });
       this.head = el('thead');
       this.body = el('tbody');
@@ -73,16 +74,26 @@
     }
     draw() {
       this.body.replaceChildren();
-      for (const row of this.visible()) {
+      const visible = this.visible();
+      // A report of 10,000 checks: its first rows drawn (the selected one too), the rest on request;
+      // drawing every row took a browser seconds at each update.
+      const drawn = visible.length > this.limit ? visible.slice(0, this.limit) : visible;
+      if (this.selected && drawn !== visible && !drawn.includes(this.selected) && visible.includes(this.selected)) drawn.push(this.selected);
+      for (const row of drawn) {
         const tr = el('tr', { 'data-id': row.id, 'data-subjects': (row.subjects || []).join('|'), class: `${this.rowClass(row)}${row === this.selected ? ' selected' : ''}`,
                               onclick: () => this.select(row) });
         for (const c of this.columns) tr.append(el('td', { class: c.numeric ? 'num' : '' }, c.render ? c.render(row) : row[c.key]));
         this.body.append(tr);
       }
-      if (this.counter) this.counter.textContent = `${this.body.children.length} of ${this.rows.length}`;
+      if (drawn.length < visible.length)
+        this.body.append(el('tr', { class: 'more' }, el('td', { colspan: this.columns.length },
+          el('button', { 'data-testid': 'more-rows', onclick: () => { this.limit = Infinity; this.draw(); } },
+            `show the other ${visible.length - drawn.length} rows`), ' (or filter or search: every row is searched)')));
+      if (this.counter) this.counter.textContent = `${visible.length} of ${this.rows.length}`;
     }
     select(row) {
       this.selected = row;
+      if (row && ![...this.body.children].some((tr) => tr.dataset.id === row.id)) this.draw();  // a row past those drawn
       for (const tr of this.body.children) tr.classList.toggle('selected', tr.dataset.id === (row && row.id));
       this.onSelect(row);
     }
@@ -149,17 +160,19 @@
     return el('header', {}, el('h1', {}, title), el('div', { class: 'summary' }, items));
   }
 
-  // The 3D view of the page before a rebuild in place (sscs serve): taken by the first viewPanel.
-  let spare = null;
+  // The 3D view of the page before a rebuild in place (sscs serve): taken by the first viewPanel,
+  // with the model it shows when the server sent a save's changes into it (spareKeepsModel).
+  let spare = null, spareKeepsModel = false;
 
   function viewPanel(modelId, opts) {
     const text = model(modelId);
-    if (spare && text) {  // the same canvas, camera and switches, with the new model
+    if (spare && (text || spareKeepsModel)) {  // the same canvas, camera and switches, with the new model
       const view = spare;
       spare = null;
       view.onPick = (opts && opts.onPick) || (() => {});
       view.onTime = (opts && opts.onTime) || (() => {});
-      view.replaceModel(text);
+      if (!spareKeepsModel) view.replaceModel(text);  // (else the model was patched in the view: sscs serve)
+      spareKeepsModel = false;
       return { panel: el('section', { class: 'panel3d' }, view.box), box: view.box, view };
     }
     if (spare) { spare.dispose(); spare = null; }
@@ -532,9 +545,10 @@
 
   /** sscs serve: builds the page again from the report now in the document (its data and model
    *  elements replaced), keeping the 3D view (canvas, camera, switches) of a check page. */
-  root.sscsRebuild = () => {
+  root.sscsRebuild = ({ keepModel = false } = {}) => {
     const old = root.sscsReport;
     spare = old && old.kind === 'check' && old.view && !old.view.disposed ? old.view : null;
+    spareKeepsModel = !!spare && keepModel;
     if (old && old.view && !spare && !old.view.disposed) old.view.dispose();  // (a run's page: a new view)
     // The table as the user left it: its sort and the row selected (by its id), when it is still there.
     const sort = old && old.table ? old.table.sort : null;

@@ -12,6 +12,18 @@
     return bytes.buffer;
   }
 
+  /** The world box of a node's meshes: each mesh's geometry box (computed once, shared by the
+   *  meshes of one shape) turned by its world matrix. Box3.setFromObject visits every vertex. */
+  function boxOf(node) {
+    const box = new THREE.Box3(), part = new THREE.Box3();
+    node.traverse((m) => {
+      if (!m.isMesh || !m.geometry) return;
+      if (!m.geometry.boundingBox) m.geometry.computeBoundingBox();
+      box.union(part.copy(m.geometry.boundingBox).applyMatrix4(m.matrixWorld));
+    });
+    return box;
+  }
+
   class View3D {
     /** A canvas in `container` showing the glb (base64); `onPick(name)` when an object is clicked. */
     constructor(container, glbBase64, { onPick, onTime } = {}) {
@@ -22,6 +34,7 @@
       this.cameras = [];          // [{name, camera}]
       this.activeCamera = null;   // null: free orbit
       this.highlights = new Map();  // object name -> colour (hex number)
+      this.variants = new Map();    // "material uuid|colour|clear" -> the material looking so
       this.time = 0;
       this.duration = 0;
       this.playing = false;
@@ -69,8 +82,10 @@
               this.scene.remove(this.model);
               this.model.traverse((node) => {
                 if (node.geometry) node.geometry.dispose();
-                if (node.material) node.material.dispose();
+                if (node.userData.base) node.userData.base.dispose();
               });
+              for (const m of this.variants.values()) m.dispose();
+              this.variants = new Map();
             }
             if (this.gridHelper) this.scene.remove(this.gridHelper);
             this.objects = new Map();
@@ -88,6 +103,56 @@
       return this.ready;
     }
 
+    /** A save's changes (sscs serve): the objects of the glb (base64; "" for none) put in place
+     *  of those of the same names, and the objects named in `removed` taken out. */
+    patchModel(glbBase64, removed) {
+      const apply = (gltf) => {
+        this.clearClosest();
+        this.showReach({});
+        const root = this.model.children[0];
+        const drop = (name) => {
+          const node = this.objects.get(name);
+          if (node && node.parent) node.parent.remove(node);
+          this.objects.delete(name);
+        };
+        (removed || []).forEach(drop);
+        if (gltf) {
+          const nodes = [...gltf.scene.children[0].children];
+          for (const node of nodes) {
+            const info = node.userData && node.userData.sscs;
+            if (!info || !info.object || info.part) continue;  // (the vault's cameras)
+            drop(info.object);
+            root.add(node);
+            this.objects.set(info.object, node);
+            node.traverse((m) => {
+              if (!m.isMesh) return;
+              m.userData.base = m.material;
+              if (m.material.transparent) m.material.depthWrite = false;
+            });
+          }
+        }
+        this.model.updateMatrixWorld(true);
+        this.bounds = boxOf(this.model);
+        this.contentBounds = new THREE.Box3();
+        for (const node of this.objects.values()) if (!node.userData.sscs.container) this.contentBounds.union(boxOf(node));
+        if (this.contentBounds.isEmpty()) this.contentBounds = this.bounds;
+        if (this.gridHelper) this.scene.remove(this.gridHelper);
+        this.grid();
+        this.look();  // (the new objects' materials as the highlights say)
+        return this;
+      };
+      if (!glbBase64) {
+        this.ready = Promise.resolve(apply(null));
+        return this.ready;
+      }
+      this.ready = new Promise((resolve, reject) => {
+        new THREE.GLTFLoader().parse(decodeBase64(glbBase64), '', (gltf) => {
+          try { resolve(apply(gltf)); } catch (e) { reject(e); }
+        }, reject);
+      });
+      return this.ready;
+    }
+
     loaded(gltf, { keepCamera = false } = {}) {
       this.model = gltf.scene;
       this.scene.add(this.model);
@@ -95,9 +160,11 @@
         const info = node.userData && node.userData.sscs;
         if (info && info.object && !info.part) this.objects.set(info.object, node);
         if (node.isMesh) {
-          node.material = node.material.clone();  // one material per mesh: highlights colour one object
+          // The model's materials stay shared (one per colour): a mesh that looks otherwise (a
+          // highlight, see-through) takes a variant of its material (look()). A material per mesh
+          // cost a 10,000-object vault seconds at every update (three.js sets each one up).
+          node.userData.base = node.material;
           if (node.material.transparent) node.material.depthWrite = false;  // a room does not hide what it holds
-          node.userData.baseEmissive = node.material.emissive ? node.material.emissive.getHex() : 0;
         }
       });
       (gltf.cameras || []).forEach((camera) => {
@@ -114,10 +181,10 @@
       const rootInfo = this.model.children[0] && this.model.children[0].userData.sscs;
       if (rootInfo && typeof rootInfo.duration === 'number') this.duration = Math.max(this.duration, rootInfo.duration);
       this.model.updateMatrixWorld(true);
-      this.bounds = new THREE.Box3().setFromObject(this.model);
+      this.bounds = boxOf(this.model);
       // What to frame first: the objects a container (a room) holds, not the room's walls.
       this.contentBounds = new THREE.Box3();
-      for (const node of this.objects.values()) if (!node.userData.sscs.container) this.contentBounds.expandByObject(node);
+      for (const node of this.objects.values()) if (!node.userData.sscs.container) this.contentBounds.union(boxOf(node));
       if (this.contentBounds.isEmpty()) this.contentBounds = this.bounds;
       this.grid();
       this.resize();
@@ -178,7 +245,7 @@
       // the subject: the view frames the member (a drum in a hall was a 3-pixel dot).
       const nodes = names.map((n) => this.objects.get(n)).filter(Boolean);
       const members = nodes.filter((node) => !node.userData.sscs.container);
-      for (const node of members.length ? members : nodes) box.expandByObject(node);
+      for (const node of members.length ? members : nodes) box.union(boxOf(node));
       if (box.isEmpty()) return;
       const c = box.getCenter(new THREE.Vector3());
       box.expandByPoint(c.clone().addScalar(2.5)).expandByPoint(c.clone().addScalar(-2.5));
@@ -286,24 +353,34 @@
       for (const [name, node] of this.objects) {
         const colour = this.highlights.get(name);
         const clear = !!this.xray && colour === undefined && (node.userData.sscs.lineage || []).some((t) => see.has(t));
-        node.traverse((m) => {
-          if (!m.isMesh) return;
-          if (m.userData.solid === undefined) m.userData.solid = { transparent: m.material.transparent, opacity: m.material.opacity };
-          if (m.userData.baseColour === undefined) m.userData.baseColour = m.material.color.getHex();
-          // A highlighted object takes the highlight's colour, lit a little from within.
-          m.material.color.setHex(colour !== undefined ? colour : m.userData.baseColour);
-          if (m.material.emissive) {
-            m.material.emissive.setHex(colour !== undefined ? colour : m.userData.baseEmissive);
-            m.material.emissiveIntensity = colour !== undefined ? 0.35 : 1;
-          }
-          const transparent = clear || m.userData.solid.transparent;
-          if (m.material.transparent !== transparent) m.material.needsUpdate = true;
-          m.material.transparent = transparent;
-          m.material.opacity = clear ? 0.2 : m.userData.solid.opacity;
-          m.material.depthWrite = !transparent;
-        });
+        node.traverse((m) => { if (m.isMesh) m.material = this.variant(m.userData.base, colour, clear); });
       }
       this.render();
+    }
+
+    /** `base` as an object looks: a highlight's colour (lit a little from within) and see-through
+     *  (`clear`), made once per material and look; `base` itself when it looks as the model says. */
+    variant(base, colour, clear) {
+      if (colour === undefined && !clear) return base;
+      const key = `${base.uuid}|${colour}|${clear}`;
+      let m = this.variants.get(key);
+      if (!m) {
+        m = base.clone();
+        if (colour !== undefined) {
+          m.color.setHex(colour);
+          if (m.emissive) {
+            m.emissive.setHex(colour);
+            m.emissiveIntensity = 0.35;
+          }
+        }
+        if (clear) {
+          m.transparent = true;
+          m.opacity = 0.2;
+        }
+        m.depthWrite = !m.transparent;
+        this.variants.set(key, m);
+      }
+      return m;
     }
 
     /** The object under a page point, or null. */
@@ -326,7 +403,7 @@
     screenPoint(name) {
       const node = this.objects.get(name);
       if (!node) return null;
-      const c = new THREE.Box3().setFromObject(node).getCenter(new THREE.Vector3()).project(this.camera());
+      const c = boxOf(node).getCenter(new THREE.Vector3()).project(this.camera());
       const rect = this.renderer.domElement.getBoundingClientRect();
       return { x: rect.left + ((c.x + 1) / 2) * rect.width, y: rect.top + ((1 - c.y) / 2) * rect.height };
     }
@@ -388,7 +465,23 @@
     }
 
     render() {
+      if (this.holds) {
+        this.pending = true;
+        return;
+      }
       if (this.model && !this.disposed) this.renderer.render(this.scene, this.camera());
+    }
+
+    /** Draws nothing until release(), then once: a page rebuilt around this view (sscs serve)
+     *  changes it many times, and a frame of a large vault takes a software renderer 0.3 s. */
+    hold() { this.holds = (this.holds || 0) + 1; }
+
+    release() {
+      this.holds = Math.max(0, (this.holds || 0) - 1);
+      if (!this.holds && this.pending) {
+        this.pending = false;
+        this.render();
+      }
     }
   }
 
