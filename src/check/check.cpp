@@ -536,6 +536,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
   std::optional<double> smallest;
   std::string closest;
   for (size_t target = 0; target < rc.targets.size(); ++target) {
+    if (st.options.cancel && st.options.cancel->load(std::memory_order_relaxed)) throw CheckCancelled{};
     const ReachCheck::Target& t = rc.targets[target];
     Eigen::Isometry3d X_world_target = target_pose(t, st.geometry);
     // The offset places the target in the frame named (with `free`, its position: an offset
@@ -779,6 +780,7 @@ CheckReport check(const Workcell& wc, const GeometryModel& geometry, const std::
     return *collisions;
   };
   for (size_t i = 0; i < wc.constraints.size(); ++i) {
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw CheckCancelled{};
     if (!options.only.empty() && !options.only[i]) continue;
     const Constraint& c = wc.constraints[i];
     auto tally = [&](const CheckResult& r) {

@@ -1,5 +1,6 @@
 #pragma once
 /// The check stage: evaluate every constraint of a Workcell into results with margins.
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -72,7 +73,13 @@ struct CheckOptions {
   /// list, the device's joint vector (all its joints, in its order). What a report could draw;
   /// what the tests replay in the physics.
   std::function<void(int constraint, int target, const Eigen::VectorXd& q)> on_reach_solution;
+  /// When set and it turns true: the check stops (throws CheckCancelled) at its next constraint
+  /// or reach target. `sscs serve` and `sscs lsp` set it when a newer save or edit supersedes it.
+  const std::atomic<bool>* cancel = nullptr;
 };
+
+/// A check stopped by CheckOptions::cancel: it has no result.
+struct CheckCancelled {};
 
 /// Checks every constraint at the workcell's values and geometry.
 /// The value (SI) of a compiled operand in workcell values `values`: a slot, a bounding box

@@ -237,6 +237,7 @@ struct Live {
   std::vector<std::string> files;  ///< watched
   long watch_generation = 0;       ///< bumped when `files` changes
   std::atomic<bool> checking{false};  ///< a check under way (one that never ends does not hold up Ctrl-C)
+  std::atomic<bool> cancel{false};    ///< a save made while a check runs: that check stops, the save is checked
 };
 
 std::string generation_meta(long generation) {
@@ -270,7 +271,14 @@ void checker(Live& live, const std::string& vault, const CompileOptions& options
     }
     const auto t0 = std::chrono::steady_clock::now();
     live.checking = true;
-    LiveCheck result = run ? live_run(vault, options, scratch) : live_check(vault, options, library);
+    live.cancel = false;
+    LiveCheck result;
+    try {
+      result = run ? live_run(vault, options, scratch) : live_check(vault, options, library, &live.cancel);
+    } catch (const CheckCancelled&) {
+      live.checking = false;
+      continue;  // a newer save: checked next (the last save wins, without waiting for this one)
+    }
     live.checking = false;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard lock(live.m);
@@ -349,6 +357,7 @@ void watcher(Live& live) {
     if (hit) {
       std::lock_guard lock(live.m);
       live.dirty = true;
+      live.cancel = true;  // a check under way is of an older save
       live.changed.notify_all();
     }
   }

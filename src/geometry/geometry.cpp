@@ -433,9 +433,12 @@ GeometryModel build_geometry(const Workcell& wc, Diagnostics& diag, MeshCache* m
   // A pit turned against the room it opens into, by other than a multiple of 90 degrees, opens
   // the box around it in that room's floor (floor_blocks): say so where the pit is placed.
   const std::vector<char> container = containers(wc);
-  for (size_t c = 0; c < wc.objects.size(); ++c)
-    for (size_t h = 0; h < wc.objects.size(); ++h) {
-      if (!container[c] || !container[h] || !opens_into(wc, model, static_cast<int>(c), static_cast<int>(h))) continue;
+  std::vector<size_t> spaces;  // (pairs of containers, not of every object: 10,000 objects took 0.1 s)
+  for (size_t o = 0; o < wc.objects.size(); ++o)
+    if (container[o]) spaces.push_back(o);
+  for (size_t c : spaces)
+    for (size_t h : spaces) {
+      if (!opens_into(wc, model, static_cast<int>(c), static_cast<int>(h))) continue;
       const Eigen::Matrix3d R = model.objects[c].X_world_object.linear().transpose() * model.objects[h].X_world_object.linear();
       const double turn = std::atan2(R(1, 0), R(0, 0)) * 180 / std::numbers::pi;
       const double off = std::abs(turn - 90 * std::round(turn / 90));

@@ -40,7 +40,7 @@ FileKind file_kind(std::string_view text) {
 }
 
 std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, std::shared_ptr<const Sources::Unsaved> unsaved,
-                                        const CompileOptions& options, LibraryCache& library) {
+                                        const CompileOptions& options, LibraryCache& library, const std::atomic<bool>* cancel) {
   auto a = std::make_shared<Analysis>();
   a->path = path;
   a->kind = kind;
@@ -51,6 +51,7 @@ std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, 
       if (vault.wc && !a->diag.has_errors()) {
         CheckOptions check_options;
         check_options.describe_passes = true;  // hover shows a constraint's last result, passing too
+        check_options.cancel = cancel;
         a->report = check(*vault.wc, vault.geometry, check_options);
       }
       a->wc = std::move(vault.wc);

@@ -35,9 +35,11 @@ struct Analysis {
 /// Compiles the file `path` (absolute) of kind `kind`, with `unsaved` standing in for the files
 /// the editor has open, and checks it when it is a vault.
 /// `library` keeps the vault's type library between its compiles (a keystroke compiles the vault,
-/// not the library).
+/// not the library). `cancel`: when it turns true, the check stops (CheckCancelled): a newer
+/// edit supersedes it.
 std::shared_ptr<const Analysis> analyze(const std::string& path, FileKind kind, std::shared_ptr<const Sources::Unsaved> unsaved,
-                                        const CompileOptions& options, LibraryCache& library);
+                                        const CompileOptions& options, LibraryCache& library,
+                                        const std::atomic<bool>* cancel = nullptr);
 
 /// A range of a file as LSP counts: 0-based lines, and characters in UTF-16 code units (or bytes
 /// when the client speaks UTF-8).

@@ -567,6 +567,7 @@ void Server::changed(const std::string& path) {
     if (auto it = open_.find(path); it != open_.end() && it->second != FileKind::Other) pending_.insert(path);
     for (const auto& [p, a] : analyses_)
       if (p != path && open_.count(p) && reads(*a, path)) pending_.insert(p);
+    if (busy_ && pending_.count(compiling_)) cancel_ = true;  // its check is of older text: it stops, and runs again
   }
   if (options_.threaded) {
     cv_.notify_all();
@@ -592,6 +593,8 @@ void Server::work() {
     const std::string path = *pending_.begin();
     pending_.erase(pending_.begin());
     busy_ = true;
+    compiling_ = path;
+    cancel_ = false;
     lock.unlock();
     compile_one(path);
     lock.lock();
@@ -623,8 +626,10 @@ void Server::compile_one(const std::string& path) {
   std::map<std::string, std::vector<Problem>> found;
   std::shared_ptr<const Analysis> a;
   try {
-    a = analyze(path, kind, unsaved, options_.compile, libraries_[path]);
+    a = analyze(path, kind, unsaved, options_.compile, libraries_[path], options_.threaded ? &cancel_ : nullptr);
     found = problems(*a, utf8_);
+  } catch (const CheckCancelled&) {
+    return;  // an edit came: the file is pending again, its newer text checked next
   } catch (const std::exception& e) {  // a plugin that throws, a bug: said at the file's first line
     found[path].push_back({Range{}, 1, fmt::format("sscs could not check this file: {}", e.what())});
   }

@@ -4,6 +4,7 @@
 /// responses and notifications through `send`. Files are compiled and checked on a worker
 /// thread from the editor's buffers, so the server answers while a check runs (or never ends);
 /// the last change wins. It never writes a file.
+#include <atomic>
 #include <condition_variable>
 #include <functional>
 #include <map>
@@ -78,6 +79,8 @@ class Server {
   std::map<std::string, FileKind> open_;  ///< the open files the worker may compile
   std::set<std::string> pending_;
   bool busy_ = false, stop_ = false;
+  std::string compiling_;  ///< the file the worker compiles now
+  std::atomic<bool> cancel_{false};  ///< set when an edit makes that compile's result stale
   std::map<std::string, std::shared_ptr<const Analysis>> analyses_;  ///< the last of each open file
   /// The last that compiled: hover, definition and completion read it while the buffer is half typed.
   std::map<std::string, std::shared_ptr<const Analysis>> good_;

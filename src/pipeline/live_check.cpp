@@ -49,7 +49,8 @@ void input_errors(LiveCheck& out, const Diagnostics& diag, const Sources& source
 }  // namespace
 
 struct LiveVaultMaker {
-  static void make(LiveVault& v, const std::string& path, const CompileOptions& options, LibraryCache& library, LiveCheck& out) {
+  static void make(LiveVault& v, const std::string& path, const CompileOptions& options, LibraryCache& library,
+                   const std::atomic<bool>* cancel, LiveCheck& out) {
     Diagnostics diag;
     v.vault_ = prepare_vault(path, options, v.sources_, diag, {.visuals = true, .contacts = nullptr}, library);
     out.files = files_read(path, v.sources_, v.vault_.wc ? &v.vault_.geometry : nullptr);
@@ -60,6 +61,7 @@ struct LiveVaultMaker {
     const Workcell& wc = *v.vault_.wc;
     CheckOptions check_options;
     check_options.describe_passes = true;
+    check_options.cancel = cancel;
     v.reports_.push_back({&wc, path, check(wc, v.vault_.geometry, check_options), std::nullopt, diag.warnings(), options.overrides});
     const CheckReport& r = v.reports_.back().report;
     out.summary = fmt::format("{} passed, {} failed, {} warnings", r.passed, r.failed, r.warnings);
@@ -91,10 +93,10 @@ std::string LiveVault::changed_model(const Keys& before, std::vector<std::string
   return glb ? *glb : "";
 }
 
-LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library) {
+LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library, const std::atomic<bool>* cancel) {
   LiveCheck out;
   auto vault = std::make_shared<LiveVault>();
-  LiveVaultMaker::make(*vault, path, options, library, out);
+  LiveVaultMaker::make(*vault, path, options, library, cancel, out);
   if (out.compiled) out.vault = std::move(vault);
   return out;
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// One check of a vault as the live design view (`sscs serve`) shows it: the report page, or the
 /// input errors as they are printed, and every file the check read (what a save may change).
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -50,7 +51,9 @@ struct LiveCheck {
 
 /// Compiles and checks the vault `path` and makes its page (the caller has confined what files
 /// named inside it may read). `library` keeps its type library from one check to the next.
-LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library);
+/// `cancel`: when it turns true, the check stops (CheckCancelled): a newer save supersedes it.
+LiveCheck live_check(const std::string& path, const CompileOptions& options, LibraryCache& library,
+                     const std::atomic<bool>* cancel = nullptr);
 
 /// The same for a scenario or a campaign: it is run as `sscs simulate --no-frames` runs it (its
 /// own `sim:` mode), into `scratch` (a folder of the caller's, replaced at each run), and the

@@ -101,6 +101,7 @@ def serve(sscs, root, fail):
             if p.poll() is None:
                 p.kill()
         serve_scenario(sscs, root, tmp, fail)
+        serve_superseded(sscs, tmp, fail)
     print("ok serve")
 
 
@@ -157,6 +158,59 @@ def serve_scenario(sscs, root, tmp, fail):
         if ours & set(scratch_dirs()):
             fail(f"sscs serve of a scenario: its runs' folder left behind: {sorted(ours)}")
         print(f"serve: a scenario's run: {first:.3f} s cycle, {cycle(page) or 0:.3f} after the slower move")
+    finally:
+        if p.poll() is None:
+            p.kill()
+
+
+def reach_vault(targets):
+    """An arm reaching over a screen for `targets` points behind it: each is reached only in
+    collision, after the search's every approach and turn (a fifth of a second each)."""
+    points = ", ".join(f"{{xyz: [4.25, {3.4 + 1.2 * i / max(1, targets - 1):.4f}, {0.6 + 0.04 * (i % 10):.2f}]}}" for i in range(targets))
+    return ("sscs: 1\nvault: Screen\nobjects:\n"
+            "  - {type: room, name: Room1, length: 10 m, width: 8 m, height: 5 m}\n"
+            "  - {type: arm6, name: Arm, parent: Room1, location: [3, 4, 0]}\n"
+            "  - {type: wall, name: Screen, parent: Room1, location: [4.0, 2, 0], orientation: [0, 0, 90], length: 4 m, thickness: 0.1 m, height: 3 m}\n"
+            f"constraints:\n  - {{name: over the screen, reach: {{device: Arm, targets: [{points}]}}}}\n")
+
+
+def serve_superseded(sscs, tmp, fail):
+    """A save made while a long check runs stops that check: the save is checked at once (the last
+    save wins without waiting for a check of text that is already gone)."""
+    folder = os.path.join(tmp, "screen")
+    os.makedirs(folder)
+    path = os.path.join(folder, "screen.yaml")
+    with open(path, "w") as f:
+        f.write(reach_vault(1))
+    p = subprocess.Popen([sscs, "serve", "screen.yaml", "--port", "0"], cwd=folder, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    try:
+        m = re.search(r"http://127\.0\.0\.1:(\d+)/", p.stdout.readline())
+        if not m:
+            fail("sscs serve (superseded): no URL")
+        base = f"http://127.0.0.1:{m.group(1)}"
+        status, page = get(base + "/")
+        if status != 200 or failed_count(page) != 1:
+            fail(f"sscs serve (superseded): the first page (status {status}, failed {failed_count(page)})")
+        time.sleep(0.5)  # (the watcher arms on the files the first check read)
+        with open(path, "w") as f:  # 400 targets: a check of a minute and more
+            f.write(reach_vault(400))
+        time.sleep(1.5)  # (that check under way)
+        t0 = time.monotonic()
+        with open(path, "w") as f:
+            f.write(reach_vault(2))
+        while time.monotonic() - t0 < 60:
+            status, page = get(base + "/")
+            if failed_count(page) == 2:
+                break
+            time.sleep(0.1)
+        took = time.monotonic() - t0
+        if failed_count(page) != 2 or took > 10:
+            fail(f"sscs serve (superseded): the last save shown after {took:.1f} s (failed {failed_count(page)}): it waited for the long check")
+        print(f"serve: a save made during a long check, shown after {took * 1000:.0f} ms")
+        p.send_signal(signal.SIGINT)
+        if p.wait(timeout=10) != 0:
+            fail(f"sscs serve (superseded): exit {p.returncode} after Ctrl-C")
     finally:
         if p.poll() is None:
             p.kill()

@@ -8,7 +8,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { mkdtempSync, copyFileSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, copyFileSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
@@ -141,6 +141,32 @@ test('completion after `at: EndWall.` lists the wall\'s frames', async () => {
   for (const frame of ['opening_1', 'origin', 'top']) assert.ok(labels.includes(frame), labels.join(' '));
   assert.deepEqual(c.items[0].textEdit.range, { start: { line, character }, end: { line, character } });
   change(text);
+});
+
+test('an edit made while a long check runs stops that check: the new text is checked at once', async () => {
+  // An arm reaching over a screen for N points behind it: each reached only in collision, after
+  // the search's every approach and turn (a fifth of a second each).
+  const screen = (n) => ['sscs: 1', 'vault: Screen', 'objects:',
+    '  - {type: room, name: Room1, length: 10 m, width: 8 m, height: 5 m}',
+    '  - {type: arm6, name: Arm, parent: Room1, location: [3, 4, 0]}',
+    '  - {type: wall, name: Screen, parent: Room1, location: [4.0, 2, 0], orientation: [0, 0, 90], length: 4 m, thickness: 0.1 m, height: 3 m}',
+    'constraints:',
+    `  - {name: over the screen, reach: {device: Arm, targets: [${Array.from({ length: n }, (_, i) =>
+      `{xyz: [4.25, ${(3.4 + (1.2 * i) / Math.max(1, n - 1)).toFixed(4)}, ${(0.6 + 0.04 * (i % 10)).toFixed(2)}]}`).join(', ')}]}}`, ''].join('\n');
+  const file = pathToFileURL(join(dir, 'screen.yaml')).href;
+  writeFileSync(join(dir, 'screen.yaml'), screen(1));
+  connection.sendNotification('textDocument/didOpen', { textDocument: { uri: file, languageId: 'yaml', version: ++version, text: screen(1) } });
+  await diagnosticsWhere(file, (d) => d.length === 1);
+  change(screen(400), file);  // a check of a minute and more
+  await new Promise((r) => setTimeout(r, 1500));
+  const start = Date.now();
+  change(screen(2), file);
+  const d = await diagnosticsWhere(file, (d) => d.length === 2, 30000);
+  const ms = Date.now() - start;
+  assert.ok(d.every((x) => /only in collision/.test(x.message)), d.map((x) => x.message).join('\n'));
+  assert.ok(ms < 10000, `the new text's diagnostics after ${ms} ms: the long check was waited for`);
+  console.log(`lsp: an edit made during a long check, its diagnostics after ${ms} ms`);
+  connection.sendNotification('textDocument/didClose', { textDocument: { uri: file } });
 });
 
 test('a 50 MB buffer does not stop the server answering', async () => {

@@ -60,7 +60,7 @@ async function measure(sscs, vault) {
 console.log(`save -> page updated in place and drawn (chromium, software WebGL), best/median of ${runs}, ms`);
 for (const vault of vaults) {
   const cells = [];
-  for (const sscs of args) cells.push(await measure(sscs, vault));
+  for (const sscs of args) cells.push(await measure(resolve(sscs), vault));  // (run in a folder of its own)
   const ratio = cells.length > 1 ? `  ${(cells[0].median / cells[cells.length - 1].median).toFixed(2)}x faster` : '';
   console.log(`${vault.name.padEnd(18)} ${cells.map((c, k) => `${args[k]}: ${c.best}/${c.median}`).join('   ')}   target ${vault.target}${ratio}`);
 }

@@ -476,6 +476,18 @@ TEST_F(Check, AFailedReachTargetsClosestPoseIsTheOneItsMarginIsMeasuredAt) {
   EXPECT_GT(failed, 10);
 }
 
+TEST_F(Check, ACancelledCheckStopsWithoutAResult) {
+  // sscs serve and sscs lsp stop a check a newer save or edit supersedes.
+  Workcell wc = must_compile("objects:\n  - {type: drum, name: A}\nconstraints:\n  - {name: c, bound: [A.height, LT, 2 m]}\n");
+  const GeometryModel geometry = build_geometry(wc, diag);
+  std::atomic<bool> cancel{false};
+  CheckOptions options;
+  options.cancel = &cancel;
+  EXPECT_EQ(check(wc, geometry, options).results.size(), 1u);
+  cancel = true;
+  EXPECT_THROW(check(wc, geometry, options), CheckCancelled);
+}
+
 TEST_F(Check, MirrorImageReachTargetsOfAnArmFailByTheSameMargin) {
   // arm6 at [6, 6.9, 0.8], the tool pointing down at [5.43, 8.8, 1.837] and at its mirror image
   // in the arm's plane x = 6: -1.30694 and -0.48459 before (where the solver stopped).
