@@ -123,7 +123,27 @@ Range token_range(const Sources& sources, SourceMark mark, bool utf8) {
            line[end] != '{' && line[end] != '"' && line[end] != '\'' && !(line[end] == ':' && (end + 1 == line.size() || line[end + 1] == ' ')))
       ++end;
   }
-  if (end == start) end = line.size();  // a mark on a space or a bracket: the rest of the line
+  if (end == start && end < line.size() && (line[end] == '{' || line[end] == '[')) {
+    // A flow collection (a constraint of a vault written in flow style): to its closing bracket,
+    // not over what follows it on the line.
+    int depth = 0;
+    char quote = 0;
+    for (size_t k = start; k < line.size(); ++k) {
+      const char c = line[k];
+      if (quote) {
+        if (c == quote) quote = 0;
+        else if (c == '\\' && quote == '"') ++k;
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+      } else if (c == '{' || c == '[') {
+        ++depth;
+      } else if ((c == '}' || c == ']') && --depth == 0) {
+        end = k + 1;
+        break;
+      }
+    }
+  }
+  if (end == start) end = line.size();  // a mark on a space, or a collection not closed on its line: the rest of the line
   r.character = client_column(line, start, utf8);
   r.end_character = client_column(line, end, utf8);
   return r;

@@ -349,6 +349,16 @@ TEST(LspServer, AVaultWrittenAsOneFlowMappingIsChecked) {  // review 18: it got 
   const std::string uri = e.file("flow.yaml", flow);
   e.open(uri, flow);
   EXPECT_NE(messages(e.diagnostics(uri)).find("did you mean 'height'"), std::string::npos) << e.diagnostics(uri).dump(2);
+  // A failed constraint of a flow-style list is underlined to its closing brace, not over the
+  // constraints after it on the line (review 19).
+  const std::string two = "{sscs: 1, vault: Flow, objects: [{type: room, name: Room1, length: 10 m, width: 6 m, height: 5 m}], "
+                          "constraints: [{name: low, bound: [Room1.height, LT, 4 m]}, {name: wide, bound: [Room1.width, GT, 5 m]}]}\n";
+  e.change(uri, two);
+  const nlohmann::json d = e.diagnostics(uri);
+  ASSERT_EQ(d.size(), 1u) << d.dump(2);
+  const std::string first = "{name: low, bound: [Room1.height, LT, 4 m]}";
+  EXPECT_EQ(d[0]["range"]["start"]["character"], static_cast<int>(two.find(first)));
+  EXPECT_EQ(d[0]["range"]["end"]["character"], static_cast<int>(two.find(first) + first.size()));
 }
 
 TEST(LspServer, AnEmptiedBufferShowsItsErrorAndTheOldOnesGo) {  // review 18: the old ones stayed
