@@ -619,6 +619,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     // figure), for slides; it was the depth of the shallowest collision, which no move fixes (a
     // drum 0.086 m into one beam of a gap 0.122 m too narrow for it).
     std::optional<double> free_error;
+    Eigen::VectorXd free_q;  // the pose free_error is measured at
     if (ik.status == IkResult::Status::Rejected && !stuck && slides) {
       const ClosestReach closest = closest_free(chain, X_root_target, rc.match_orientation, hit ? hit_q : ik.q, free, /*rays=*/true);
       if (closest.found && closest.position_error <= rc.position_tol_si && closest.angle_error <= rc.angle_tol_si) {
@@ -628,6 +629,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         ik.status = IkResult::Status::Reached;
       } else if (closest.found) {
         free_error = closest.position_error;
+        free_q = closest.q;
       }
     }
     if (ik.status == IkResult::Status::Unreachable) {
@@ -712,7 +714,10 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     {
       auto pose = std::make_shared<ClosestPose>();
       Eigen::VectorXd q = q0;
-      chain.to_device(ik.status == IkResult::Status::Rejected && hit_q.size() == chain.size() ? hit_q : ik.q, q);
+      // Reached only in collision: the closest free pose when one was measured (the result's
+      // value), else the pose that reaches it and collides.
+      const bool rejected = ik.status == IkResult::Status::Rejected;
+      chain.to_device(rejected && free_error ? free_q : rejected && hit_q.size() == chain.size() ? hit_q : ik.q, q);
       for (int k = 0; k < d.dof(); ++k) pose->joints.push_back({d.joint(k).name, d.joint(k).type == JointType::Revolute, q[k]});
       const std::vector<Eigen::Isometry3d> X = d.part_poses(q);
       for (size_t p = 0; p < d.parts.size(); ++p) pose->parts.push_back({d.parts[p].name, X[p]});
