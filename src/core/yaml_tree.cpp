@@ -412,11 +412,27 @@ SourceMark exact_mark(const Sources& sources, SourceMark mark) {
   if (mark.column <= line.size() + 1 && !block && !escaped) return mark;
   Diagnostics quiet;
   const Document doc = parse(sources, mark.file, quiet);
+  if (quiet.has_errors()) return mark;  // invalid YAML (the mark is the parser's): no scalars to look in
   const Node scalar = scalar_before(doc.root(), mark.line, mark.column);
   if (!scalar.valid()) return mark;
   const SourceMark start = scalar.mark();
   const size_t skip = scalar.quoted() ? 1 : 0;
   if (mark.column < start.column + skip) return mark;
+  if (!block && mark.column <= line.size() + 1) {
+    // On its line, after an escape: moved only when inside that quoted scalar (an error later on
+    // the line, `heigth` after `color: "a\u0020b", `, is where it is).
+    const std::string_view source = sources.text(mark.file);
+    auto offset_of = [&](SourceMark m) {
+      size_t at = 0;
+      for (uint32_t l = 1; l < m.line && at != std::string_view::npos; ++l) at = source.find('\n', at) + 1;
+      return at + m.column - 1;
+    };
+    const size_t open = offset_of(start), at = offset_of(mark);
+    if (open >= source.size() || source[open] != '"') return mark;
+    size_t close = open + 1;
+    while (close < source.size() && source[close] != '"') close += source[close] == '\\' ? 2 : 1;
+    if (at > close) return mark;
+  }
   const size_t pos = mark.column - start.column - skip;
   const std::string_view text = scalar.text();
   if (pos >= text.size()) return start;

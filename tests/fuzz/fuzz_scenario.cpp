@@ -18,8 +18,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.library = fuzz::standard_library();
   PreparedScenario prepared;
   prepared.prepare(path, options);
+  (void)prepared.diag.format(prepared.sources);  // as sscs prints them
   Sources sources;
   Diagnostics diag;
+  // Every return says its diagnostics as sscs prints them (placing a mark re-reads the file).
+  const struct Said {
+    const Sources& s;
+    const Diagnostics& d;
+    ~Said() { (void)d.format(s); }
+  } said{sources, diag};
   load_campaign(path, sources, diag);
   return 0;
 }

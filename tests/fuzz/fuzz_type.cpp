@@ -10,6 +10,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::write_scratch("lib/types/fuzzed.yaml", data, size);
   Sources sources;
   Diagnostics diag;
+  // Every return says its diagnostics as sscs prints them (placing a mark re-reads the file).
+  const struct Said {
+    const Sources& s;
+    const Diagnostics& d;
+    ~Said() { (void)d.format(s); }
+  } said{sources, diag};
   std::vector<ObjectType> types = load_library({{(fuzz::scratch() / "lib").string(), SourceMark{}}}, sources, diag);
   if (diag.has_errors()) return 0;
   auto library = std::make_shared<const std::vector<ObjectType>>(std::move(types));

@@ -10,6 +10,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::confine_to_scratch();
   Sources sources;
   Diagnostics diag;
+  // Every return says its diagnostics as sscs prints them (placing a mark re-reads the file).
+  const struct Said {
+    const Sources& s;
+    const Diagnostics& d;
+    ~Said() { (void)d.format(s); }
+  } said{sources, diag};
   uint32_t file = sources.add((fuzz::scratch() / "vault.yaml").string(), std::string(reinterpret_cast<const char*>(data), size));
   auto spec = load_vault(file, sources, diag);
   if (!spec || diag.has_errors()) return 0;
