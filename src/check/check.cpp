@@ -606,6 +606,7 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     // off read 2.00015). The search may also find the target reached after all.
     bool beyond = false, no_free_pose = false;
     std::string closest_collides;  // what the closest pose hits, when no free pose was measured
+    std::optional<double> nearer_in_collision;  // a pose in collision comes this close (a device that turns)
     const Eigen::Isometry3d X_root_target = X_root_world * X_world_target;
     // (When a part no joint moves collides, every pose does: the collision says nothing of how
     // close the tool comes, and no pose is free to measure it at.)
@@ -652,6 +653,20 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         }
         if (auto c = collision_at(ik.q, false)) closest_collides = collision_text(wc, st.geometry, rc.device, *c);
       }
+      // A device that turns: the global search's closest free pose is its first refined pose
+      // free of collision, far when the nearer ones collide (an arm turned away from its target
+      // read 2.62 m where a free pose 1.46 m off exists: a review). A pattern search over free
+      // poses, from the free starts and that pose, may only bring it closer; and when a pose in
+      // collision still comes closer, the message says that a closer free pose may exist.
+      if (closest.found && !stuck && !slides) {
+        const ClosestReach better = closest_free(chain, X_root_target, rc.match_orientation, closest.q, free);
+        if (better.found && better.position_error < closest.position_error - 1e-6 &&
+            better.angle_error <= std::max(closest.angle_error, rc.angle_tol_si))
+          closest = better;
+        if (const ClosestReach any = closest_reach(chain, X_root_target, rc.match_orientation, ik.q);
+            any.found && any.position_error < closest.position_error - rc.position_tol_si)
+          nearer_in_collision = any.position_error;
+      }
       if (closest.found) {
         ik.q = closest.q;
         ik.position_error = closest.position_error;
@@ -691,6 +706,9 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
                            : fmt::format("{} cannot reach {} within its joint limits: the closest its tool comes is {:g} m{}", o.name,
                                          t.text, stable(ik.position_error), angle);
         if (no_free_pose) r.message += " (every pose the search tried near it collides: the closest free pose may be farther)";
+        if (nearer_in_collision && ik.status == IkResult::Status::Unreachable)
+          r.message += fmt::format(" (the closest free of collision that the search found; a pose in collision comes within {:g} m, "
+                                   "and a free pose between may exist)", stable(*nearer_in_collision));
         if (!closest_collides.empty())
           r.message += fmt::format(" (in collision there: {}; a pose free of collision comes no closer, and how much farther it "
                                    "is was not measured)", closest_collides);
