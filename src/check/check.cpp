@@ -570,6 +570,8 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     std::optional<Collision> hit;
     Eigen::VectorXd hit_q;
     auto collision_at = [&](const Eigen::VectorXd& chain_q, bool first) {
+      // (A target's searches try thousands of poses: a newer save stops them here too.)
+      if (st.options.cancel && st.options.cancel->load(std::memory_order_relaxed)) throw CheckCancelled{};
       Eigen::VectorXd q = q0;
       chain.to_device(chain_q, q);
       return clearance.at(world, q, t.object, first, {}, load);
