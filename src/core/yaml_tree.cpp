@@ -418,15 +418,15 @@ SourceMark exact_mark(const Sources& sources, SourceMark mark) {
   const SourceMark start = scalar.mark();
   const size_t skip = scalar.quoted() ? 1 : 0;
   if (mark.column < start.column + skip) return mark;
+  const std::string_view source = sources.text(mark.file);
+  auto offset_of = [&](SourceMark m) {  // a mark's byte in the source
+    size_t at = 0;
+    for (uint32_t l = 1; l < m.line && at != std::string_view::npos; ++l) at = source.find('\n', at) + 1;
+    return at + m.column - 1;
+  };
   if (!block && mark.column <= line.size() + 1) {
     // On its line, after an escape: moved only when inside that quoted scalar (an error later on
     // the line, `heigth` after `color: "a\u0020b", `, is where it is).
-    const std::string_view source = sources.text(mark.file);
-    auto offset_of = [&](SourceMark m) {
-      size_t at = 0;
-      for (uint32_t l = 1; l < m.line && at != std::string_view::npos; ++l) at = source.find('\n', at) + 1;
-      return at + m.column - 1;
-    };
     const size_t open = offset_of(start), at = offset_of(mark);
     if (open >= source.size() || source[open] != '"') return mark;
     size_t close = open + 1;
@@ -451,11 +451,7 @@ SourceMark exact_mark(const Sources& sources, SourceMark mark) {
   for (size_t at = text.find(token); at != std::string_view::npos && at < from; at = text.find(token, at + 1))
     if (whole(text, at)) ++before;
   // The same occurrence in the source, from the scalar's start.
-  const std::string_view source = sources.text(mark.file);
-  size_t offset = 0;
-  for (uint32_t l = 1; l < start.line && offset != std::string_view::npos; ++l) offset = source.find('\n', offset) + 1;
-  offset += start.column - 1;
-  for (size_t at = source.find(token, offset); at != std::string_view::npos; at = source.find(token, at + 1)) {
+  for (size_t at = source.find(token, offset_of(start)); at != std::string_view::npos; at = source.find(token, at + 1)) {
     if (!whole(source, at)) continue;
     if (before-- > 0) continue;
     SourceMark out{mark.file, 1, 1};

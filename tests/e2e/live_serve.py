@@ -23,6 +23,14 @@ def get(url, timeout=30):
         return e.code, e.read().decode("utf-8", "replace")
 
 
+def served_at(p, what, fail):
+    """The URL a started `sscs serve` prints on its first line."""
+    m = re.search(r"http://127\.0\.0\.1:(\d+)/", p.stdout.readline())
+    if not m:
+        fail(f"{what}: no URL")
+    return f"http://127.0.0.1:{m.group(1)}"
+
+
 def failed_count(page):
     found = re.findall(r'"failed":\s*(\d+)', page)
     return int(found[0]) if found else None
@@ -118,10 +126,7 @@ def serve_scenario(sscs, root, tmp, fail):
     p = subprocess.Popen([sscs, "serve", "arm-loads-drum.yaml", "--port", "0"], cwd=cell, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     try:
-        m = re.search(r"http://127\.0\.0\.1:(\d+)/", p.stdout.readline())
-        if not m:
-            fail("sscs serve of a scenario: no URL")
-        base = f"http://127.0.0.1:{m.group(1)}"
+        base = served_at(p, "sscs serve of a scenario", fail)
 
         def cycle(page):
             found = re.search(r'"cycle_time":([0-9.]+)', page)
@@ -191,10 +196,7 @@ def serve_superseded(sscs, tmp, fail):
     p = subprocess.Popen([sscs, "serve", "screen.yaml", "--port", "0"], cwd=folder, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     try:
-        m = re.search(r"http://127\.0\.0\.1:(\d+)/", p.stdout.readline())
-        if not m:
-            fail("sscs serve (superseded): no URL")
-        base = f"http://127.0.0.1:{m.group(1)}"
+        base = served_at(p, "sscs serve (superseded)", fail)
         status, page = get(base + "/")
         if status != 200 or failed_count(page) != 1:
             fail(f"sscs serve (superseded): the first page (status {status}, failed {failed_count(page)})")

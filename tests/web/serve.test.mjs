@@ -50,6 +50,18 @@ const camera = (page) => page.evaluate(() => {
   return [...v.orbitCamera.position.toArray(), ...v.controls.target.toArray()];
 });
 
+/** The served page, loaded and its report ready; its page errors collected in `problems`. */
+async function openServed() {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  await page.goto(base);
+  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
+  await page.evaluate('window.sscsReport.ready');
+  return { page, problems };
+}
+
 /** Saves `content` and waits until the page shows the check of it, its report ready: the time
  *  taken. The page takes it in place: a mark left on the page before survives (no reload). */
 async function save(page, content) {
@@ -119,13 +131,7 @@ test('a save updates the page in place with its verdicts, its camera and its sea
 });
 
 test('a failed reach row selected keeps its picture through a save: the device at its closest pose, the rod to the new target', async () => {
-  const page = await browser.newPage();
-  await page.setViewport({ width: 1400, height: 900 });
-  const problems = [];
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  await page.goto(base);
-  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
-  await page.evaluate('window.sscsReport.ready');
+  const { page, problems } = await openServed();
   // The crane asked to hold its hook 9 m above every rack position: out of its reach.
   const above = (z) => text.replace('offset: {xyz: [0, 0, 1.2]}', `offset: {xyz: [0, 0, ${z}]}`);
   await save(page, above(9));
@@ -153,13 +159,7 @@ test('a failed reach row selected keeps its picture through a save: the device a
 });
 
 test('a save sends the page what changed alone: the objects drawn differently, and those gone', async () => {
-  const page = await browser.newPage();
-  await page.setViewport({ width: 1400, height: 900 });
-  const problems = [];
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  await page.goto(base);
-  await page.waitForFunction('window.sscsReport !== undefined', { timeout: 30000 });
-  await page.evaluate('window.sscsReport.ready');
+  const { page, problems } = await openServed();
   // What the server sends a page that shows generation g: the names of the objects in its model, and those gone.
   const sent = (g) => page.evaluate(async (g) => {
     const u = await (await fetch(`/update?from=${g}`)).json();
