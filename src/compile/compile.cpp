@@ -54,17 +54,8 @@ std::optional<Eigen::Isometry3d> Workcell::named_frame(int object, std::string_v
   const double* attributes = &values[objects[object].first_slot + kFirstAttributeSlot];
   std::optional<Eigen::Isometry3d> found;
   if (name == "origin") found = Eigen::Isometry3d::Identity();
-  for (const FrameTemplate& f : tt.frames) {
-    if (!f.repeat) {
-      if (f.name == name) found = f.pose.eval(attributes);
-      continue;
-    }
-    // A copy's name is the pattern with numbers for its counters: compare before making them all.
-    if (name.substr(0, f.name.find('{')) != std::string_view(f.name).substr(0, f.name.find('{'))) continue;
-    f.each(attributes, [&](const std::string& copy, const Eigen::Isometry3d& X) {
-      if (copy == name) found = X;
-    });
-  }
+  for (const FrameTemplate& f : tt.frames)
+    if (auto X = f.find(attributes, name)) found = X;  // (a later one of the name replaces an earlier)
   return found;
 }
 

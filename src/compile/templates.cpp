@@ -75,4 +75,17 @@ std::string FrameTemplate::name_of(const double* at) const {
   return out;
 }
 
+std::optional<Eigen::Isometry3d> FrameTemplate::find(const double* attributes_si, std::string_view copy) const {
+  if (!repeat) return name == copy ? std::optional(pose.eval(attributes_si)) : std::nullopt;
+  // A copy's name is the pattern with numbers for its counters: compare before making them all.
+  if (copy.substr(0, name.find('{')) != std::string_view(name).substr(0, name.find('{'))) return std::nullopt;
+  std::optional<Eigen::Isometry3d> found;
+  repeat->each(attributes_si, [&](const double* at) {
+    if (name_of(at) != copy) return;  // (a pattern without its counters names every copy alike: the last)
+    found = pose.eval(attributes_si, at);
+    found->translation() += repeat->offset(attributes_si, at);
+  });
+  return found;
+}
+
 }  // namespace sscs

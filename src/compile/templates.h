@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -119,6 +120,9 @@ struct FrameTemplate {
   }
   /// The name of copy `at`: each `{counter}` replaced by its value.
   std::string name_of(const double* at) const;
+  /// The pose of its copy named `copy`, if it has one; only that copy's pose is evaluated (143
+  /// drums placed at a rack's slots evaluated every slot's pose for each drum).
+  std::optional<Eigen::Isometry3d> find(const double* attributes_si, std::string_view copy) const;
 };
 
 struct JointTemplate {

@@ -448,7 +448,7 @@ def simulate(sscs, root):
                 fail(f"{f} differs between the run and its rerun from resolved/")
         resolved = sorted(os.path.relpath(os.path.join(d, f), os.path.join(out, "resolved"))
                           for d, _, fs in os.walk(os.path.join(out, "resolved")) for f in fs)
-        expected = ["library/meshes/eur_pallet.obj"] + [f"library/types/{t}.yaml" for t in
+        expected = ["library/meshes/eur_pallet.ply"] + [f"library/types/{t}.yaml" for t in
                                                         ["arm6", "door", "drum", "pallet", "rack", "room"]] + ["scenario.yaml", "vault.yaml"]
         if resolved != expected:
             fail(f"resolved/ holds {resolved}, expected {expected}")
@@ -459,7 +459,7 @@ def simulate(sscs, root):
         import hashlib
         inputs = {os.path.basename(i["path"]): i["sha256"] for i in summary["inputs"]}
         for name, path in [("arm-loads-drum.yaml", arm), ("cell.yaml", "scenarios/drum-transfer/cell.yaml"),
-                           ("eur_pallet.obj", "library/meshes/eur_pallet.obj"), ("arm6.yaml", "library/types/arm6.yaml")]:
+                           ("eur_pallet.ply", "library/meshes/eur_pallet.ply"), ("arm6.yaml", "library/types/arm6.yaml")]:
             if inputs.get(name) != hashlib.sha256(open(os.path.join(root, path), "rb").read()).hexdigest():
                 fail(f"sha256 of {name} in summary.json: {inputs.get(name)}")
         # The closest approach: the carried drum swinging past the rack's end, 95 mm, at 4.88 s

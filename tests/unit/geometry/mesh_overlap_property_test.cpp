@@ -65,22 +65,21 @@ double overlap(const std::vector<Convex>& a, const std::vector<Convex>& b) {
   return depth;
 }
 
-std::vector<Eigen::Vector3d> obj_vertices(const std::string& name) {
+/// The vertices of a standard-library mesh (ASCII PLY, as tools/make-meshes.py writes them), in order.
+std::vector<Eigen::Vector3d> ply_vertices(const std::string& name) {
   std::ifstream in(std::string(SSCS_LIBRARY_DIR) + "/meshes/" + name);
-  std::vector<Eigen::Vector3d> v;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("v ", 0) != 0) continue;
-    std::istringstream s(line.substr(2));
-    double x, y, z;
-    s >> x >> y >> z;
-    v.emplace_back(x, y, z);
-  }
+  size_t count = 0;
+  for (std::string line; std::getline(in, line) && line != "end_header";)
+    if (line.rfind("element vertex ", 0) == 0) count = std::stoul(line.substr(15));
+  std::vector<Eigen::Vector3d> v(count);
+  for (Eigen::Vector3d& p : v) in >> p.x() >> p.y() >> p.z();
+  EXPECT_TRUE(in && count > 0) << name;
   return v;
 }
 
 /// The pallet's boards and blocks: tools/make-meshes.py writes each box as 8 corners.
 std::vector<Convex> pallet_pieces() {
-  std::vector<Eigen::Vector3d> v = obj_vertices("eur_pallet.obj");
+  std::vector<Eigen::Vector3d> v = ply_vertices("eur_pallet.ply");
   std::vector<Convex> out;
   for (size_t k = 0; k + 8 <= v.size(); k += 8) {
     Convex c;
@@ -93,7 +92,7 @@ std::vector<Convex> pallet_pieces() {
 
 /// The hooped drum's frusta: rings of 48 vertices from the bottom up (then two cap centres).
 std::vector<Convex> drum_pieces() {
-  std::vector<Eigen::Vector3d> v = obj_vertices("drum_55gal.obj");
+  std::vector<Eigen::Vector3d> v = ply_vertices("drum_55gal.ply");
   const size_t n = 48, rings = (v.size() - 2) / n;
   std::vector<Convex> out;
   for (size_t r = 0; r + 1 < rings; ++r) {

@@ -70,7 +70,7 @@ TEST_F(Physics, AReleasedDrumFallsFreelyAndComesToRestOnTheSupport) {
 }
 
 TEST_F(Physics, ADrumLandsOnAMeshPallet) {
-  // The EUR pallet is a triangle mesh (library/meshes/eur_pallet.obj), 144 mm high.
+  // The EUR pallet is a triangle mesh (library/meshes/eur_pallet.ply), 144 mm high.
   auto w = world_of("  - {type: pallet, name: P}\n  - {type: drum, name: D, location: [0.4, 0.4, 0.6]}\n", "D");
   PhysicsWorld& world = *w;
   // Dropped 0.46 m onto the deck boards it rocks for a while (ODE's cylinder-mesh contacts are
