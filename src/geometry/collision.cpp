@@ -1,6 +1,7 @@
 #include "geometry/collision.h"
 
 #include "geometry/export.h"
+#include "core/pose.h"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -509,8 +510,9 @@ struct CollisionWorld::Impl {
   std::map<int, std::vector<std::unique_ptr<fcl::CollisionObjectd>>> parts;
   // FCL geometry per shape (device parts are placed anew for each configuration).
   std::unordered_map<const Shape*, std::shared_ptr<fcl::CollisionGeometryd>> shapes;
-  // Objects moved since the model was built: their bounds now.
-  std::unordered_map<int, fcl::AABBd> moved_bounds;
+  // Every object's bounds where it is now (by object: a proximity query looks at every object's,
+  // a hashed lookup each was a twentieth of a fast run); filled on first use.
+  std::vector<fcl::AABBd> boxes;
   // proximity(): the last distance measured per shape pair (object, other, shape, other's
   // shape), with both shapes' placements then.
   struct Measured {
@@ -533,7 +535,7 @@ struct CollisionWorld::Impl {
   // was a tenth of the receiving campaign's time).
   std::unordered_map<MeasuredKey, Measured, MeasuredHash> measured;
   /// Per object, how many times one of its shapes was placed anew: what a search remembers.
-  std::unordered_map<int, uint64_t> moves;
+  std::vector<uint64_t> moves;
   /// nearest()'s last search per (object, other): the objects' moves then, the parts asked for,
   /// the limit, and the nearest shapes found below it (exact: every pair that could be nearer
   /// was measured), or none.
@@ -546,12 +548,12 @@ struct CollisionWorld::Impl {
   };
   std::unordered_map<uint64_t, Searched> searched;
 
-  fcl::AABBd bounds(int object) {
-    auto it = moved_bounds.find(object);
-    if (it != moved_bounds.end()) return it->second;
-    const Eigen::AlignedBox3d& b = geometry.objects[object].bbox_world;
-    return fcl::AABBd(b.min(), b.max());
+  const fcl::AABBd& bounds(int object) {
+    if (boxes.empty())
+      for (const ObjectGeometry& g : geometry.objects) boxes.emplace_back(g.bbox_world.min(), g.bbox_world.max());
+    return boxes[object];
   }
+  uint64_t moves_of(int object) const { return static_cast<size_t>(object) < moves.size() ? moves[object] : 0; }
 
   /// The nearest shapes of `object` (its `parts`, when given) and `other` at their placements,
   /// when nearer than `limit`. Branch and bound: shape pairs in order of a lower bound of their
@@ -565,7 +567,7 @@ struct CollisionWorld::Impl {
     // while the forklift works): that search's answer holds, as far as it reached.
     const uint64_t pair_key = (static_cast<uint64_t>(static_cast<uint32_t>(object)) << 32) | static_cast<uint32_t>(other);
     Searched& last_search = searched[pair_key];
-    const uint64_t moves_now[2] = {moves[object], moves[other]};
+    const uint64_t moves_now[2] = {moves_of(object), moves_of(other)};
     if (last_search.valid && last_search.moves[0] == moves_now[0] && last_search.moves[1] == moves_now[1] && last_search.parts == parts) {
       // Found below its limit, the nearest shapes then were exact (every pair that could be
       // nearer was measured), and are now; else nothing was nearer than that limit.
@@ -645,22 +647,36 @@ struct CollisionWorld::Impl {
     return it->second;
   }
   std::unordered_map<int, std::vector<Eigen::Isometry3d>> part_shapes;
+  /// A device's parts where move_parts last placed them (none once placed otherwise): the shapes
+  /// of a part still there are where they were (a crane's runway at each of 3,300 samples).
+  std::unordered_map<int, std::vector<Eigen::Isometry3d>> parts_at;
   std::vector<Eigen::Isometry3d> scratch;  ///< shapes' poses being placed
 
   void place(int object, const std::vector<Eigen::Isometry3d>& X_world_shape) {
+    place(object, [&](size_t k) { return &X_world_shape[k]; });
+    parts_at.erase(object);
+  }
+  /// Places each shape k of `object` at *at(k), or leaves it where it is when at(k) is null.
+  template <class At>
+  void place(int object, At at) {
     auto& list = of(object);
     fcl::AABBd box;
     bool moved_any = false;
     for (size_t k = 0; k < list.size(); ++k) {
-      if (!(list[k]->getTransform().matrix() == X_world_shape[k].matrix())) {  // a crane's runway stays where it is
-        list[k]->setTransform(fcl::Transform3d(X_world_shape[k].matrix()));
+      const Eigen::Isometry3d* X = at(k);
+      if (X && !(list[k]->getTransform().matrix() == X->matrix())) {  // a crane's runway stays where it is
+        list[k]->setTransform(fcl::Transform3d(X->matrix()));
         list[k]->computeAABB();
         moved_any = true;
       }
       if (k == 0) box = list[k]->getAABB();
       else box += list[k]->getAABB();
     }
-    if (!list.empty()) moved_bounds[object] = box;
+    if (moves.empty()) moves.resize(geometry.objects.size(), 0);
+    if (!list.empty()) {
+      bounds(object);  // (filled)
+      boxes[object] = box;
+    }
     if (moved_any) ++moves[object];
   }
 
@@ -726,7 +742,7 @@ struct CollisionWorld::Impl {
   }
 };
 
-CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}, {}, {}, {}, {}, {}})) {}
+CollisionWorld::CollisionWorld(const GeometryModel& geometry) : impl_(std::make_unique<Impl>(Impl{geometry, geometry.contacts.get(), {}, {}, {}, {}, {}, {}, {}, {}, {}, {}})) {}
 CollisionWorld::~CollisionWorld() = default;
 
 std::optional<double> CollisionWorld::distance(int a, int b, std::pair<int, int>* nearest_parts) {
@@ -1050,8 +1066,15 @@ void CollisionWorld::move_parts(int object, const std::vector<Eigen::Isometry3d>
   const std::vector<Eigen::Isometry3d>& X_part_shape = impl_->in_parts(object);
   std::vector<Eigen::Isometry3d>& X = impl_->scratch;
   X.resize(g.shapes.size());
-  for (size_t k = 0; k < g.shapes.size(); ++k) X[k] = X_world_part[g.shapes[k].part] * X_part_shape[k];
-  impl_->place(object, X);
+  std::vector<Eigen::Isometry3d>& then = impl_->parts_at[object];
+  const bool known = then.size() == X_world_part.size();
+  impl_->place(object, [&](size_t k) -> const Eigen::Isometry3d* {
+    const int p = g.shapes[k].part;
+    if (known && then[p].matrix() == X_world_part[p].matrix()) return nullptr;
+    X[k] = compose(X_world_part[p], X_part_shape[k]);
+    return &X[k];
+  });
+  then = X_world_part;
 }
 
 std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<int>& skip, double reach,
@@ -1075,15 +1098,23 @@ std::vector<Proximity> CollisionWorld::proximity(int object, const std::vector<i
     if (!any) return out;
   }
   const auto& objects = impl_->geometry.objects;
+  impl_->bounds(object);  // (every object's bounds filled)
+  const std::vector<fcl::AABBd>& boxes = impl_->boxes;
   for (size_t o = 0; o < objects.size(); ++o) {
     int other = static_cast<int>(o);
-    if (other == object || objects[o].shapes.empty()) continue;
-    if (std::find(skip.begin(), skip.end(), other) != skip.end()) continue;
     // Boxes apart bound the distance from below; overlapping boxes bound no depth (a pair seen
     // overlapping, limit < 0, was never measured again: its deepest went unseen). The reach
-    // first: asking `below` of each of a store's 200 objects at each sample was a tenth of a
-    // campaign's time.
-    const double gap = box_gap(box, impl_->bounds(other));
+    // first, one axis at a time (each object of a store's 200 is looked at several times a
+    // sample): asking `below` of each at each sample was a tenth of a campaign's time.
+    const fcl::AABBd& theirs = boxes[o];
+    bool beyond = false;
+    for (int k = 0; k < 3 && !beyond; ++k) {
+      const double apart = std::max(box.min_[k] - theirs.max_[k], theirs.min_[k] - box.max_[k]);
+      beyond = apart > reach && apart > 0;  // the boxes' gap is at least that
+    }
+    if (beyond || other == object || objects[o].shapes.empty()) continue;
+    if (std::find(skip.begin(), skip.end(), other) != skip.end()) continue;
+    const double gap = box_gap(box, theirs);
     if (gap > reach && gap > 0) continue;
     const double limit = below ? std::min(reach, below(other)) : reach;
     if (gap > limit && gap > 0) continue;
@@ -1312,7 +1343,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       Eigen::Vector3d half = cs.box_size / 2;
       Eigen::AlignedBox3d b;
       for (const Shape& s : g.shapes)
-        if (judged(s)) b.extend(shape_bounds(s, X_c_object * s.X_object_shape));
+        if (judged(s)) b.extend(shape_bounds(s, compose(X_c_object, s.X_object_shape)));
       if (b.isEmpty()) return INFINITY;  // the part has no shape
       static constexpr const char* kNames[3][2] = {{"its x- face", "its x+ face"}, {"its y- face", "its y+ face"}, {"its floor", "its top"}};
       for (int k = 0; k < 3; ++k) {
@@ -1330,7 +1361,7 @@ std::optional<double> inside_margin(const GeometryModel& geometry, int object, i
       double half = cs.length / 2;
       for (const Shape& s : g.shapes) {
         if (!judged(s)) continue;
-        Eigen::Isometry3d X = X_c_object * s.X_object_shape;
+        Eigen::Isometry3d X = compose(X_c_object, s.X_object_shape);
         Eigen::AlignedBox3d b = shape_bounds(s, X);
         face(SpatialCheck::ZMin, b.min().z() + half, "its bottom");
         face(SpatialCheck::ZMax, half - b.max().z(), "its top");

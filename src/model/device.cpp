@@ -1,4 +1,5 @@
 #include "model/device.h"
+#include "core/pose.h"
 
 #include <numbers>
 
@@ -48,7 +49,7 @@ std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) cons
       X[i].setIdentity();
       continue;
     }
-    X[i] = X[p.parent] * joint_transform(p.joint, p.joint.q >= 0 ? q[p.joint.q] : 0.0);
+    X[i] = compose(X[p.parent], joint_transform(p.joint, p.joint.q >= 0 ? q[p.joint.q] : 0.0));
   }
   return X;
 }

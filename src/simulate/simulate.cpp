@@ -657,8 +657,9 @@ class Run {
       for (int i = 1; i <= pieces; ++i) {
         std::vector<Eigen::Isometry3d> now = m.part_poses(devices_[d].track->at(at[i]));
         for (size_t p = 0; p < now.size(); ++p) {
-          parts_went[p] += near.travel_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
-          parts_sank[p] += near.descent_bound(o, static_cast<int>(p), X_wo * before[p], X_wo * now[p]);
+          const Eigen::Isometry3d from = compose(X_wo, before[p]), to = compose(X_wo, now[p]);
+          parts_went[p] += near.travel_bound(o, static_cast<int>(p), from, to);
+          parts_sank[p] += near.descent_bound(o, static_cast<int>(p), from, to);
         }
         poses[d].push_back(now);
         if (load >= 0) {
@@ -1464,11 +1465,11 @@ class Run {
       const Eigen::Isometry3d X_object_world = X_world_object.inverse();
       std::vector<Eigen::Isometry3d>& X_object_part = live_parts_;
       X_object_part.resize(geometry_.objects[dr.object].X_object_part.size());
-      for (size_t k = 0; k < X_object_part.size(); ++k) X_object_part[k] = X_object_world * world_.part_pose(dr.object, static_cast<int>(k));
+      for (size_t k = 0; k < X_object_part.size(); ++k) X_object_part[k] = compose(X_object_world, world_.part_pose(dr.object, static_cast<int>(k)));
       if (clearance) {
         std::vector<Eigen::Isometry3d>& X_world_part = live_world_parts_;
         X_world_part.resize(X_object_part.size());
-        for (size_t k = 0; k < X_object_part.size(); ++k) X_world_part[k] = X_world_object * X_object_part[k];
+        for (size_t k = 0; k < X_object_part.size(); ++k) X_world_part[k] = compose(X_world_object, X_object_part[k]);
         clearances_.move_parts(dr.object, X_world_part);
       }
       repose(live_.objects[dr.object], X_world_object, &X_object_part);

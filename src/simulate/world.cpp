@@ -22,6 +22,7 @@
 #include <ode/ode.h>
 
 #include "core/inertia.h"
+#include "core/pose.h"
 #include "model/device.h"
 #include "simulate/support.h"
 #include "core/units.h"
@@ -875,7 +876,7 @@ void PhysicsWorld::drive(int o, const Eigen::VectorXd& q, const Eigen::VectorXd&
     for (size_t p = 0; p < d.parts.size(); ++p) {
       dBodyID b = db.bodies[p];
       if (!b) continue;
-      db.target[p] = g.X_world_object * X[p] * db.X_body_part[p].inverse();
+      db.target[p] = compose(compose(g.X_world_object, X[p]), db.X_body_part[p].inverse());
       Impl::aim(b, db.target[p], w.options.timestep);
     }
     db.commanded = q;
@@ -923,9 +924,9 @@ Eigen::Isometry3d PhysicsWorld::part_pose(int o, int p) const {
   const Impl& w = *impl_;
   const ObjectGeometry& g = w.geometry.objects[o];
   auto it = w.devices.find(o);
-  if (it == w.devices.end() || !it->second.bodies[p]) return g.X_world_object * g.X_object_part[p];
+  if (it == w.devices.end() || !it->second.bodies[p]) return compose(g.X_world_object, g.X_object_part[p]);
   dBodyID b = it->second.bodies[p];
-  return from_ode(dBodyGetPosition(b), dBodyGetRotation(b)) * it->second.X_body_part[p];
+  return compose(from_ode(dBodyGetPosition(b), dBodyGetRotation(b)), it->second.X_body_part[p]);
 }
 
 void PhysicsWorld::grasp(int device, int o) {
