@@ -547,13 +547,14 @@ std::optional<Expression> Expression::parse(std::string_view text, Error* error,
   try {
     p.SetVarFactory(new_slot, &e.impl_->slots);
     p.SetExpr(internal.text);
-    // GetUsedVar parses the whole expression, so syntax errors surface here.
-    const mu::varmap_type& used = p.GetUsedVar();
-    for (const auto& [name, ptr] : used) {  // std::map: sorted by name
+    // Compiled to bytecode now (syntax errors surface here); the values are all 0, the result
+    // is ignored. Every variable it defines it reads: the factory made each as the parse met it
+    // (GetUsedVar would parse the text once more: a third of the time of parsing).
+    p.Eval();
+    for (const auto& [name, ptr] : p.GetVar()) {  // std::map: sorted by name
       e.names_.push_back(name);
       e.impl_->bound.push_back(ptr);
     }
-    p.Eval();  // compile to bytecode now; values are all 0 so the result is ignored
   } catch (const mu::Parser::exception_type& ex) {
     if (error) {
       error->message = ex.GetMsg();

@@ -42,7 +42,13 @@ Eigen::VectorXd Device::joint_values(const double* attribute_values) const {
 }
 
 std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) const {
-  std::vector<Eigen::Isometry3d> X(parts.size());
+  std::vector<Eigen::Isometry3d> X;
+  part_poses(q, X);
+  return X;
+}
+
+void Device::part_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& X) const {
+  X.resize(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) {
     const Part& p = parts[i];
     if (p.parent < 0) {
@@ -51,7 +57,6 @@ std::vector<Eigen::Isometry3d> Device::part_poses(const Eigen::VectorXd& q) cons
     }
     X[i] = compose(X[p.parent], joint_transform(p.joint, p.joint.q >= 0 ? q[p.joint.q] : 0.0));
   }
-  return X;
 }
 
 Eigen::Isometry3d Device::tool_pose(const Eigen::VectorXd& q) const { return part_poses(q)[tool_part] * X_part_tool; }

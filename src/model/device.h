@@ -60,6 +60,8 @@ struct Device {
   Eigen::VectorXd joint_values(const double* attribute_values) const;
   /// Pose of every part in the object's frame at joint values q.
   std::vector<Eigen::Isometry3d> part_poses(const Eigen::VectorXd& q) const;
+  /// The same, into `X` (its storage reused: a run's glides ask it thousands of times).
+  void part_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& X) const;
   /// Pose of the tool in the object's frame at joint values q.
   Eigen::Isometry3d tool_pose(const Eigen::VectorXd& q) const;
   /// Whether parts a and b are joined directly (one is the other's parent): such parts touch by

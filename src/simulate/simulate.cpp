@@ -639,7 +639,8 @@ class Run {
     // How far each device (and its load) can go: the tracker's bound over the sub-steps.
     CollisionWorld& near = clearances_.world();
     std::vector<double> went(devices_.size(), 0.0), sank(devices_.size(), 0.0), load_sank(devices_.size(), 0.0);
-    std::vector<std::vector<std::vector<Eigen::Isometry3d>>> poses(devices_.size());  // per device, per sub-step
+    auto& poses = glide_poses_;  // per device, per sub-step (kept: its storage is reused glide after glide)
+    poses.resize(devices_.size());
     std::map<int, std::vector<double>> ahead;  // per object, per part: how far it goes
     double all = 0;
     for (size_t d = 0; d < devices_.size(); ++d) {
@@ -649,26 +650,26 @@ class Run {
       const int load = world_.held(o);
       Eigen::Isometry3d X_tool_load = Eigen::Isometry3d::Identity();
       if (load >= 0) X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(load);
-      std::vector<Eigen::Isometry3d> before = m.part_poses(devices_[d].track->at(at[0]));
+      poses[d].resize(pieces + 1);
+      m.part_poses(devices_[d].track->at(at[0]), poses[d][0]);
       std::vector<double>& parts_went = ahead[o];
-      parts_went.assign(before.size(), 0.0);
-      std::vector<double> parts_sank(before.size(), 0.0);  // towards the floor
-      poses[d].push_back(before);
+      parts_went.assign(poses[d][0].size(), 0.0);
+      std::vector<double> parts_sank(poses[d][0].size(), 0.0);  // towards the floor
       for (int i = 1; i <= pieces; ++i) {
-        std::vector<Eigen::Isometry3d> now = m.part_poses(devices_[d].track->at(at[i]));
+        m.part_poses(devices_[d].track->at(at[i]), poses[d][i]);
+        const std::vector<Eigen::Isometry3d>& before = poses[d][i - 1];
+        const std::vector<Eigen::Isometry3d>& now = poses[d][i];
         for (size_t p = 0; p < now.size(); ++p) {
           const Eigen::Isometry3d from = compose(X_wo, before[p]), to = compose(X_wo, now[p]);
           parts_went[p] += near.travel_bound(o, static_cast<int>(p), from, to);
           parts_sank[p] += near.descent_bound(o, static_cast<int>(p), from, to);
         }
-        poses[d].push_back(now);
         if (load >= 0) {
           ahead[load].resize(1, 0.0);
           const Eigen::Isometry3d from = X_wo * before[m.tool_part] * X_tool_load, to = X_wo * now[m.tool_part] * X_tool_load;
           ahead[load][0] += near.travel_bound(load, -1, from, to);
           load_sank[d] += near.descent_bound(load, -1, from, to);
         }
-        before = std::move(now);
       }
       went[d] = *std::max_element(parts_went.begin(), parts_went.end());
       sank[d] = *std::max_element(parts_sank.begin(), parts_sank.end());
@@ -1429,6 +1430,7 @@ class Run {
     return out;
   }
   mutable std::vector<int> containers_;  ///< chain()'s: the vault's containers (none: not found yet, or none)
+  std::vector<std::vector<std::vector<Eigen::Isometry3d>>> glide_poses_;  ///< glide_clear()'s: per device, per sub-step, per part
 
   /// The objects the plan moves: its devices, what they grasp and what stands on that (riders
   /// were not re-checked: a drum lifted on a pallet to 2.6 m passed a 1.2 m lift rule).
