@@ -1,5 +1,9 @@
+#include <cctype>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "vault_fixture.h"
 
@@ -217,6 +221,62 @@ TEST_F(Compile, DeviceJointsAreAttributesWithLimits) {
   EXPECT_NEAR(value(wc, "T.turn"), std::numbers::pi / 4, 1e-12);  // home value is the default
   EXPECT_EQ(first_error("objects:\n  - {type: slider, name: S, x: 3}\n"),
             "'x' of 'S' is 3 m, above the max 2 m of type 'slider'");
+}
+
+}  // namespace
+}  // namespace sscs::testing
+
+namespace sscs::testing {
+namespace {
+
+/// A frame of a repeat is found by its name read back (its counters parsed from it) where the
+/// pattern allows, else by making every copy's name: the two must agree on every name, a copy's
+/// or not (leading zeros, counters out of range, patterns whose names do not give the counters:
+/// counters side by side, a digit after one).
+TEST_F(Compile, ANamedFrameOfARepeatIsTheCopyOfThatName) {
+  options.library_dirs.push_back(type_dir({{"grid", R"(sscs: 1
+type: grid
+attributes:
+  rows: {type: integer, default: 3}
+  cols: {type: integer, default: 12}
+frames:
+  slot_{row}_{col}:
+    xyz: ["col * 0.1", "row * 0.2", 0]
+    repeat: {row: rows, col: cols}
+  a{row}b{col}: {xyz: ["row + col", 0, 0], repeat: {row: rows, col: {count: cols, pitch: [0, 0.5, 0]}}}
+  x{row}{col}: {xyz: ["row", "col", 1], repeat: {row: rows, col: cols}}
+  n{row}7{col}: {xyz: ["row", "col", 2], repeat: {row: rows, col: cols}}
+  plain: {xyz: [1, 2, 3]}
+)"}}));
+  Workcell wc = must_compile("objects:\n  - {type: grid, name: G}\n  - {type: grid, name: H, rows: 0}\n");
+  for (const char* object : {"G", "H"}) {
+    const int o = wc.find_object(object);
+    ASSERT_GE(o, 0);
+    const double* attributes = &wc.values[wc.objects[o].first_slot + kFirstAttributeSlot];
+    // Every copy's name, each way it could be mistyped, and names of no copy.
+    std::vector<std::string> names = {"plain", "slot_", "slot_1", "slot__1", "slot_-1_1", "slot_1_1x", "x", "n171"};
+    for (const FrameTemplate& f : wc.types[wc.objects[o].type].templates.frames)
+      f.each(attributes, [&](const std::string& copy, const Eigen::Isometry3d&) {
+        names.push_back(copy);
+        names.push_back(copy + "0");
+        names.push_back("0" + copy);
+        for (size_t i = 0; i < copy.size(); ++i)
+          if (std::isdigit(static_cast<unsigned char>(copy[i]))) names.push_back(copy.substr(0, i) + "0" + copy.substr(i));
+      });
+    names.insert(names.end(), {"slot_4_1", "slot_3_13", "slot_0_1", "a4b1", "x113", "n37130"});
+    for (const std::string& name : names) {
+      std::optional<Eigen::Isometry3d> made;  // by making every copy: the last of that name
+      for (const FrameTemplate& f : wc.types[wc.objects[o].type].templates.frames)
+        f.each(attributes, [&](const std::string& copy, const Eigen::Isometry3d& X) {
+          if (copy == name) made = X;
+        });
+      const std::optional<Eigen::Isometry3d> found = wc.named_frame(o, name);
+      ASSERT_EQ(found.has_value(), made.has_value()) << object << " " << name;
+      if (found) {
+        EXPECT_TRUE(found->matrix() == made->matrix()) << object << " " << name << "\n" << found->matrix() << "\n" << made->matrix();
+      }
+    }
+  }
 }
 
 }  // namespace
