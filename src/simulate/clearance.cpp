@@ -12,7 +12,7 @@ namespace sscs {
 
 namespace {
 constexpr double kClearanceReach = 2.0;  // m: clearances beyond this are not tracked
-constexpr double kSpanSteps = 1.5 / 8;   // of a physics step: a glide's piece this short is not halved again
+constexpr double kSpanSteps = 1.5 / 64;  // of a physics step: a glide's piece this short is not halved again
 
 /// The least distance of a pair over an interval whose ends are d_i and d_j apart and over which
 /// the two went D at most: every point stays within D of where it was at either end, so the

@@ -1079,6 +1079,18 @@ void PhysicsWorld::step() {
 const SolverMessages& PhysicsWorld::solver_messages() const { return impl_->messages; }
 long PhysicsWorld::dynamics_steps() const { return impl_->dynamics_steps; }
 
+bool PhysicsWorld::on_plan(int o) const {
+  const Impl& w = *impl_;
+  auto it = w.devices.find(o);
+  return w.options.fast && it != w.devices.end() && it->second.kinematic && !w.handed.count(o);
+}
+
+int PhysicsWorld::rigid_load(int o) const {
+  const Impl& w = *impl_;
+  auto grip = w.grips.find(o);
+  return on_plan(o) && grip != w.grips.end() && !grip->second.joint ? grip->second.object : -1;
+}
+
 bool PhysicsWorld::quiet() const {
   const Impl& w = *impl_;
   if (!w.options.fast || !w.handed.empty() || !w.rides.empty()) return false;

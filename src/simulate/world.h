@@ -142,6 +142,12 @@ class PhysicsWorld {
   /// it is stopped, deflected or pushes through is the physics' to say). False when it already is
   /// in physics (or moves kinematically in physics mode too, `driven: kinematic`).
   bool hand_over(int object);
+  /// Fast mode: device `object` moves kinematically on its plan (not handed over): where a step
+  /// leaves it is its plan's pose, and what it holds goes rigidly with its tool (`rigid_load`).
+  bool on_plan(int object) const;
+  /// Fast mode: the load device `object` holds rigidly with its tool (no joint: a kinematic
+  /// body), else -1.
+  int rigid_load(int object) const;
   /// Fast mode: nothing here needs the dynamics now: no device handed over, no stack carried,
   /// every free body at rest. Then the run may glide: place() and advance() instead of steps.
   bool quiet() const;

@@ -2289,6 +2289,22 @@ def certified(sscs, root):
                         if low["distance"] > ref["distance"] + slack + 1e-9 or low["distance"] < ref["distance"] - 0.002:
                             fail(f"{what}: the bound {low['distance']} m against the reference at 1000 Hz {ref['distance']} m")
                     plates += 1
+        # Review 21: an arm6's link5 (its farthest corner 1.0181478 m from the j1 axis) swings
+        # j1 0 -> 90 deg past a 2 cm post whose near face stands 1.018148 + 0.03 m from the axis at
+        # 45 deg: 0.030000 m by hand. Fast mode's figure is within its 0.1 mm tolerance of that at
+        # 1, 10 and 1000 Hz (it read 0.029814, 0.029696 and 0.028364: a step a run takes instead
+        # of gliding kept its whole-step bound, and the halving stopped at an eighth of a step).
+        truth = 1.018148 + 0.03 - math.hypot(1.015, 0.08)
+        r0 = 1.018148 + 0.01 + 0.03
+        arm = ("sscs: 1\nvault: ArmPost\nlibrary: [lib]\nobjects:\n  - {type: room, name: Cell, length: 12 m, width: 8 m, height: 6 m}\n"
+               "  - {type: arm6, name: D, parent: Cell, location: [6, 4, 0]}\n"
+               f"  - {{type: plate, name: Post, parent: Cell, location: [{6 + r0 * math.cos(math.pi / 4):.9f}, {4 + r0 * math.sin(math.pi / 4):.9f}, 0], "
+               "orientation: [0, 0, 45], length: 0.02 m, thickness: 0.02 m, height: 2 m}\n")
+        for rate in (1, 10, 1000):
+            summary, _ = simulate(f"arm-post-{rate}", arm, {"j1": 0}, {"j1": 90}, rate, "fast")
+            mc = summary["min_clearance"]
+            if not mc or not mc.get("certified") or {mc["a"], mc["b"]} != {"D.link5", "Post"} or not truth - 1.2e-4 <= mc["distance"] <= truth + 1e-6:
+                fail(f"an arm past a post {truth:.6f} m away, logged at {rate} Hz in fast mode: min_clearance {mc}")
     # A clearance rule broken between samples (issue 36's example: a gantry's gripper passing a
     # post 2 cm beside its path, "keep 3 cm from the post"): at 1-4 Hz the run finds what it finds
     # at 1000 Hz, the rule's constraint event at the same time and margin, over random posts and
@@ -2364,8 +2380,12 @@ def certified(sscs, root):
                 for a, b in zip(ref_events[:1], events[:1]):
                     if abs(a["t"] - b["t"]) > 0.02 or abs(a["margin"] - b["margin"]) > 5e-4:
                         fail(f"{what}: the rule broken at {b['t']} s by {b['margin']} m, at 1000 Hz at {a['t']} s by {a['margin']} m")
-                if not mc or not mc["certified"] or mc["distance"] > ref_mc["distance"] + slack + 1e-9 or mc["distance"] < ref_mc["distance"] - 0.002:
-                    fail(f"{what}: min_clearance {mc} against {ref_mc} at 1000 Hz")
+                # Never above the true closest approach (`gap`, and the 2.2 µm link5's corner lies
+                # inside the 1.01815 m written), nor far below 1000 Hz's; a device's bound in fast
+                # mode is halved below the step, with both arms' plans, so it may lie above physics
+                # mode's by more than one device's half-step (0.046904 against 0.043560 for 0.047).
+                if not mc or not mc["certified"] or mc["distance"] > gap + 1e-5 or mc["distance"] < ref_mc["distance"] - 0.002:
+                    fail(f"{what}: min_clearance {mc} against the gap {gap} m ({ref_mc} at 1000 Hz)")
             rules += 1
             agreed += bool(ref_events)
         # Bounds and expressions that read the motion, checked at every physics step: a gantry
