@@ -341,9 +341,11 @@ TEST_F(Urdf, LinksJointsInertiasAndMeshesImport) {
 // continuous joint, a mimic finger) and the MoveIt SRDF that disables the overlapping pair.
 class Vendor : public Kinematics {
  public:
-  const std::string data = std::string(SSCS_TEST_DATA) + "/vendor";
-  const std::string urdf = data + "/acme_rx6_support/urdf/rx6.urdf";
-  const std::string srdf = data + "/acme_rx6_moveit_config/config/rx6.srdf";
+  // (Formatted, not `std::string(SSCS_TEST_DATA) + "/vendor"`: GCC 12 warned of a memcpy out of
+  // bounds there, a false positive that depends on the length of the clone's path.)
+  const std::string data = fmt::format("{}/vendor", SSCS_TEST_DATA);
+  const std::string urdf = fmt::format("{}/acme_rx6_support/urdf/rx6.urdf", data);
+  const std::string srdf = fmt::format("{}/acme_rx6_moveit_config/config/rx6.srdf", data);
   /// A type file for the vendor's URDF, with `extra` lines (srdf:, joint_limits:).
   std::string rx6_type(const std::string& extra) {
     return "sscs: 1\ntype: rx6\nkind: device\nurdf: " + urdf + "\ntool: {part: tool0}\n" + extra;
