@@ -203,6 +203,14 @@ void ClearanceTracker::glide(int object, double from, double to, double step, Po
   held->spans.push_back({from, to, step, std::move(source), std::move(hull)});
 }
 
+bool ClearanceTracker::extend(int object, double from, double to) {
+  auto it = paths_.find(object);
+  if (it == paths_.end() || !it->second || it->second->spans.empty() || std::abs(it->second->spans.back().to - from) > 1e-9)
+    return false;
+  it->second->spans.back().to = to;
+  return true;
+}
+
 void ClearanceTracker::measure(double t, int moving, const std::vector<int>& skip, const std::vector<char>& parts) {
   if (!followed_) certified_ = false;  // a caller that does not follow the steps measures samples only
   measured_now_[moving] = skip;

@@ -112,6 +112,9 @@ class ClearanceTracker {
   /// from it all the way down), not how far it goes.
   using HullSource = std::function<bool(double a, double b, std::vector<std::vector<Eigen::Isometry3d>>& corners)>;
   void glide(int object, double from, double to, double step, PoseSource source, HullSource hull = {});
+  /// The span `object`'s path last got, when it ends at `from`, made to end at `to` instead
+  /// (the same plan goes on: a run's next step); false when there is none such.
+  bool extend(int object, double from, double to);
   /// Closer than this to the measured distance (m), or than kCertifyFraction of it, a lower
   /// bound is not refined further: 0.1 mm near, 2 mm at 2 m, where no closest approach is.
   static constexpr double kCertifyTolerance = 1e-4, kCertifyFraction = 1e-3;
