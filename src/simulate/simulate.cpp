@@ -831,11 +831,11 @@ class Run {
       const Device& m = *geometry_.objects[o].device;
       const Eigen::Isometry3d X_wo = geometry_.objects[o].X_world_object;
       const Track* track = dr.track;
-      // Its step after a step it took on its plan, holding what it held as it held it: that
-      // span goes on (two std::functions a device a step were a third of e2e.fast's time).
-      const int held = world_.rigid_load(o);
+      // Its step after a step it took on its plan, holding what it held as it held it (the
+      // grasp's placement, which the world places the load with): that span goes on (two
+      // std::functions a device a step were a third of e2e.fast's time).
       Eigen::Isometry3d X_tool_load = Eigen::Isometry3d::Identity();
-      if (held >= 0) X_tool_load = world_.part_pose(o, m.tool_part).inverse() * world_.pose(held);
+      const int held = world_.rigid_load(o, &X_tool_load);
       SpanKey& last = span_keys_[o];
       const bool same = last.load == held && (held < 0 || last.X_tool_load.matrix() == X_tool_load.matrix());
       last = {held, X_tool_load};

@@ -1085,10 +1085,15 @@ bool PhysicsWorld::on_plan(int o) const {
   return w.options.fast && it != w.devices.end() && it->second.kinematic && !w.handed.count(o);
 }
 
-int PhysicsWorld::rigid_load(int o) const {
+int PhysicsWorld::rigid_load(int o, Eigen::Isometry3d* X_tool_load) const {
   const Impl& w = *impl_;
   auto grip = w.grips.find(o);
-  return on_plan(o) && grip != w.grips.end() && !grip->second.joint ? grip->second.object : -1;
+  if (!on_plan(o) || grip == w.grips.end() || grip->second.joint) return -1;
+  if (X_tool_load) {  // the grip keeps the load's body in the tool's body; here its object in the tool part
+    const Device& d = *w.geometry.objects[o].device;
+    *X_tool_load = w.devices.at(o).X_body_part[d.tool_part].inverse() * grip->second.X_tool_load * w.X_body_object[grip->second.object];
+  }
+  return grip->second.object;
 }
 
 bool PhysicsWorld::quiet() const {

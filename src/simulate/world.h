@@ -146,8 +146,9 @@ class PhysicsWorld {
   /// leaves it is its plan's pose, and what it holds goes rigidly with its tool (`rigid_load`).
   bool on_plan(int object) const;
   /// Fast mode: the load device `object` holds rigidly with its tool (no joint: a kinematic
-  /// body), else -1.
-  int rigid_load(int object) const;
+  /// body), else -1; `X_tool_load`, when given, gets the load object's pose in the tool part's
+  /// frame as the grasp placed it (fixed while it holds it).
+  int rigid_load(int object, Eigen::Isometry3d* X_tool_load = nullptr) const;
   /// Fast mode: nothing here needs the dynamics now: no device handed over, no stack carried,
   /// every free body at rest. Then the run may glide: place() and advance() instead of steps.
   bool quiet() const;
