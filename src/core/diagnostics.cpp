@@ -82,7 +82,7 @@ std::string format_one(const Diagnostic& d, const Sources& sources, bool color) 
   std::string out;
   const SourceMark mark = yaml::exact_mark(sources, d.mark);  // inside a scalar written over several lines
   if (mark.valid()) {
-    out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(mark.file), mark.line, mark.column, reset, word_colour,
+    out += fmt::format("{}{}:{}:{}:{} {}{}:{} {}\n", bold, sources.path(mark.file), mark.line, sources.character_column(mark), reset, word_colour,
                        word, reset, printable(within_window(d.message), true));
     std::string_view line = sources.line(mark);
     size_t at = mark.column > 0 ? mark.column - 1 : 0;  // the caret's byte in `line`
@@ -100,9 +100,13 @@ std::string format_one(const Diagnostic& d, const Sources& sources, bool color) 
     }
     if (!line.empty()) {
       out += fmt::format("  {}{}{}\n", before, printable(line), after);
-      std::string caret(at, ' ');
-      for (size_t i = before.size(); i < caret.size() && i - before.size() < line.size(); ++i)
-        if (line[i - before.size()] == '\t') caret[i] = '\t';
+      // Under the column's character: a space for each character before it (a tab for a tab).
+      std::string caret(before.size(), ' ');
+      for (size_t i = 0; i + before.size() < at; ++i) {
+        if (i >= line.size()) caret += ' ';
+        else if (line[i] == '\t') caret += '\t';
+        else if ((static_cast<unsigned char>(line[i]) & 0xC0) != 0x80) caret += ' ';
+      }
       out += fmt::format("  {}{}^{}\n", caret, green, reset);
     }
   } else {

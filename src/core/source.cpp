@@ -4,7 +4,7 @@
 
 namespace sscs {
 
-Sources::Sources() { files_.push_back({"<none>", ""}); }
+Sources::Sources() { files_.push_back({"<none>", "", true}); }
 
 uint32_t Sources::find(std::string_view path) const {
   for (uint32_t f = 1; f < files_.size(); ++f)
@@ -22,6 +22,7 @@ const std::string* Sources::unsaved(std::string_view path) const {
 
 uint32_t Sources::add(std::string path, std::string text) {
   files_.push_back({std::move(path), std::move(text)});
+  for (char c : files_.back().text) files_.back().ascii &= static_cast<unsigned char>(c) < 0x80;
   return static_cast<uint32_t>(files_.size() - 1);
 }
 
@@ -38,6 +39,17 @@ std::string_view Sources::line(const SourceMark& mark) const {
   std::string_view line = text.substr(pos, end == std::string_view::npos ? text.size() - pos : end - pos);
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   return line;
+}
+
+size_t characters(std::string_view text, size_t bytes) {
+  size_t n = 0;
+  for (size_t i = 0; i < bytes && i < text.size(); ++i) n += (static_cast<unsigned char>(text[i]) & 0xC0) != 0x80;
+  return n + (bytes > text.size() ? bytes - text.size() : 0);
+}
+
+uint32_t Sources::character_column(const SourceMark& mark) const {
+  if (mark.column == 0 || mark.file >= files_.size() || files_[mark.file].ascii) return mark.column;
+  return static_cast<uint32_t>(characters(line(mark), mark.column - 1) + 1);
 }
 
 }  // namespace sscs

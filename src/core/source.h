@@ -9,7 +9,8 @@
 
 namespace sscs {
 
-/// A position in an input file: 1-based line and column. file == 0 means "no file".
+/// A position in an input file: 1-based line and column (in bytes; reports show
+/// Sources::character_column). file == 0 means "no file".
 struct SourceMark {
   uint32_t file = 0;
   uint32_t line = 0;
@@ -19,6 +20,9 @@ struct SourceMark {
 
 /// Owns the text of every file read, so a diagnostic found at any stage can quote its line.
 /// Not copyable (marks index into it); movable.
+/// The characters (UTF-8 code points) in the first `bytes` bytes of `text`.
+size_t characters(std::string_view text, size_t bytes);
+
 class Sources {
  public:
   Sources();
@@ -35,6 +39,10 @@ class Sources {
   uint32_t find(std::string_view path) const;
   /// The text of the line a mark points into, without its line break.
   std::string_view line(const SourceMark& mark) const;
+  /// The column a user reads for `mark`: the characters (Unicode code points) before it on its
+  /// line, plus one, as editors and compilers count. `mark.column` counts bytes (as the YAML
+  /// reader does): `name: "Drüm → 2", x: [` puts `[` at byte 22 and character 19.
+  uint32_t character_column(const SourceMark& mark) const;
   size_t size() const { return files_.size(); }
 
   /// Texts that stand in for files on disk, by absolute path (an editor's unsaved buffers, given
@@ -50,6 +58,7 @@ class Sources {
   struct File {
     std::string path;
     std::string text;
+    bool ascii = true;  ///< every byte below 0x80: a column in characters is the column in bytes
   };
   std::vector<File> files_;
   std::shared_ptr<const Unsaved> unsaved_;

@@ -100,7 +100,7 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
     w.begin_array();
     for (const Diagnostic& d : vr.input_warnings)
       w.json(nlohmann::ordered_json{{"file", d.mark.valid() ? sources.path(d.mark.file) : ""}, {"line", d.mark.line},
-                                    {"column", d.mark.column}, {"message", d.message}});
+                                    {"column", sources.character_column(d.mark)}, {"message", d.message}});
     w.end_array();
   }
   if (vr.baseline) w.field("baseline", baseline_json(*vr.baseline));
@@ -139,7 +139,7 @@ void write_vault(JsonWriter& w, const VaultReport& vr, const Sources& sources) {
     w.key("file");
     w.literal(path(c.mark.file));
     w.field("line", c.mark.line);
-    w.field("column", c.mark.column);
+    w.field("column", sources.character_column(c.mark));
     w.end_object();
     if (vr.baseline) w.field("baseline", change_name(vr.baseline->changes[i]));
     w.end_object();

@@ -70,7 +70,7 @@ void write_case(std::ostream& out, const VaultReport& vr, size_t i, const Source
     return;
   }
   const std::string margin = margin_text(r) + change;
-  std::string where = fmt::format("{}:{}:{}", sources.path(c.mark.file), c.mark.line, c.mark.column);
+  std::string where = fmt::format("{}:{}:{}", sources.path(c.mark.file), c.mark.line, sources.character_column(c.mark));
   if (o == Outcome::Error)
     out << fmt::format(">\n      <error message=\"{}{}\" type=\"{}\">{}: {}{}</error>\n    </testcase>\n", xml_escape(r.message),
                        xml_escape(change), c.kind, xml_escape(where), xml_escape(r.message), xml_escape(change));

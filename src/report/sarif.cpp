@@ -62,7 +62,7 @@ nlohmann::ordered_json artifact(const std::string& file, const std::string& base
 nlohmann::ordered_json location(SourceMark mark, const Sources& sources, const std::string& base_dir) {
   return {{"physicalLocation",
            {{"artifactLocation", artifact(sources.path(mark.file), base_dir)},
-            {"region", {{"startLine", mark.line}, {"startColumn", mark.column}}}}}};
+            {"region", {{"startLine", mark.line}, {"startColumn", sources.character_column(mark)}}}}}};
 }
 
 /// A fingerprint that follows a result across edits that move lines: vault, constraint, subjects.
@@ -100,6 +100,7 @@ void write_sarif(std::ostream& out, const std::vector<VaultReport>& reports, con
   w.begin_array();
   w.begin_object();
   w.field("tool", nlohmann::ordered_json{{"driver", {{"name", "sscs"}, {"semanticVersion", SSCS_VERSION}, {"rules", std::move(rules)}}}});
+  w.field("columnKind", "unicodeCodePoints");  // Sources::character_column (SARIF's default counts UTF-16 units)
   w.key("results");
   w.begin_array();
   for (const VaultReport& vr : reports) {

@@ -28,7 +28,7 @@ std::string format_text(const std::vector<VaultReport>& reports, const Sources& 
       if (vr.baseline) change = vr.baseline->changes[i] == Change::New ? " [new failure]" : " [still failing]";
       // Names and messages come from input: no escape sequence of theirs reaches a terminal or a CI log.
       out += fmt::format("{}{}:{}:{}:{} {}{}:{} {} [{}{}{}]: {}{}{}\n", bold, printable(sources.path(c.mark.file)), c.mark.line,
-                         c.mark.column, reset, warning && r.status != Status::Error ? yellow : red, word, reset, printable(c.name),
+                         sources.character_column(c.mark), reset, warning && r.status != Status::Error ? yellow : red, word, reset, printable(c.name),
                          c.kind, subjects.empty() ? "" : " ", printable(subjects), printable(within_window(r.message)), margin, change);
     }
     if (vr.baseline && !options.quiet) out += baseline_lines(*vr.baseline);

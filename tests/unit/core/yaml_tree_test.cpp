@@ -96,6 +96,21 @@ TEST(YamlTree, DiagnosticsQuoteTheLineWithACaret) {
   EXPECT_NE(q->diag.format(q->sources).find("error: invalid YAML"), std::string::npos);
 }
 
+TEST(YamlTree, AColumnAfterCharactersOfManyBytesCountsCharacters) {
+  // "Größe → " is 8 characters in 12 bytes: the duplicate key is at character 20, byte 24, and
+  // the caret stands under it, as an editor counts (a tab before it stays a tab).
+  auto p = parse("a: {\"Größe → \": 1, \"Größe → \": 2}\n");
+  ASSERT_TRUE(p->diag.has_errors());
+  EXPECT_EQ(p->diag.errors()[0].mark.column, 24u);  // bytes, as the YAML reader counts
+  EXPECT_EQ(p->sources.character_column(p->diag.errors()[0].mark), 20u);
+  EXPECT_EQ(p->diag.format(p->sources),
+            "t.yaml:1:20: error: duplicate key 'Größe → ' (first given at line 1)\n"
+            "  a: {\"Größe → \": 1, \"Größe → \": 2}\n"
+            "                     ^\n");
+  EXPECT_EQ(characters("a\tb\xc3\xa9" "c", 5), 4u);  // a, tab, b, é
+  EXPECT_EQ(characters("\xe2\x86\x92x", 3), 1u);     // → is one character of three bytes
+}
+
 /// Where yaml::exact_mark puts offset `pos` of the scalar at (line, column), placed as the
 /// stages place it (column + pos, +1 past a quote or a block indicator): "line:column".
 std::string exact(const std::string& text, uint32_t line, uint32_t column, bool quoted, size_t pos) {
