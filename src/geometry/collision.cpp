@@ -1053,6 +1053,13 @@ std::optional<Collision> DeviceClearance::of_parts(CollisionWorld& world, const 
   return world.device_collision(device_, X, skip, target, tool_parts_, stands_on_, false, parts);
 }
 
+Eigen::Isometry3d CollisionWorld::placed_pose(int object) {
+  const ObjectGeometry& g = impl_->geometry.objects[object];
+  const auto& shapes = impl_->of(object);
+  if (shapes.empty()) return g.X_world_object;
+  return Eigen::Isometry3d(shapes.front()->getTransform().matrix()) * g.shapes.front().X_object_shape.inverse();
+}
+
 void CollisionWorld::move(int object, const Eigen::Isometry3d& X_world_object) {
   const ObjectGeometry& g = impl_->geometry.objects[object];
   std::vector<Eigen::Isometry3d>& X = impl_->scratch;

@@ -92,6 +92,8 @@ class CollisionWorld {
   /// How far the point `p_world` is from object `object`'s solids at their current placements:
   /// 0 when on or inside one (a closed mesh holds its inside). nullopt when it has no geometry.
   std::optional<double> distance_to_point(int object, const Eigen::Vector3d& p_world);
+  /// Where object `object` (not a device) is placed now: its vault pose until it is moved.
+  Eigen::Isometry3d placed_pose(int object);
 
   /// Pairs of parts of device `object` that may not touch (Device::may_touch) and interpenetrate
   /// at its instance's joint values (self-collision).

@@ -272,6 +272,7 @@ void ClearanceTracker::measure(double t, int moving, const std::vector<int>& ski
         motion->with = other.path != nullptr;
         motion->mine = paths_.at(moving);
         if (theirs) motion->theirs = paths_.at(p.other);
+        else if (!geometry_.objects[p.other].device) motion->other_at = nearby_.placed_pose(p.other);
         motion->parts = parts;
         refine(motion, 0, mine->poses.size() - 1, *then, p);
         for (double gap : pair.watches)  // each rule's gap: the first pose nearer, left to right
@@ -309,7 +310,10 @@ void ClearanceTracker::refine(const std::shared_ptr<const Motion>& motion, size_
   // The bound keep_bound keeps, here to decide whether halving could find news.
   const double d_i = at_i.distance, d_j = at_j.distance, D = p.between(i, j) + other.between(i, j);
   const double lower = interval_bound(d_i - other.shift(), d_j - other.shift(), D);
-  if (lower >= pair.closest()) return;  // no news
+  // A contact no step saw may hide here (the pair apart at both ends, the bound below a touch):
+  // looked for whether or not the bound is news (a blade through a plate in one step was `ok`).
+  const bool hidden = other.shift() == 0 && unsure(pair, lower, d_i, d_j, p.t[i], p.t[j]);
+  if (lower >= pair.closest() && !hidden) return;  // no news
   // Excused all along (a drum lifted off its pallet, set on a beam): only a penetration deeper
   // than a contact would be kept, and the bound rules that out (halving it cost the arm demo a
   // third of its time).
@@ -317,11 +321,11 @@ void ClearanceTracker::refine(const std::shared_ptr<const Motion>& motion, size_
   // Not nearer than the run's closest so far (less the tolerance): this stretch cannot be the
   // run's closest approach by more than that; its bound, coarse but certain, is kept without
   // halving (the halving is the cost).
-  if (moot(lower)) {
+  if (moot(lower) && !hidden) {
     keep_bound(pair, m.moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
-  if (j - i <= 1 || std::min(d_i, d_j) - lower <= certify_tolerance(std::min(d_i, d_j))) {
+  if (j - i <= 1 || (!hidden && std::min(d_i, d_j) - lower <= certify_tolerance(std::min(d_i, d_j)))) {
     // Two sub-steps of a glide: halved in time, the poses from its plan (and the other's, when
     // it glides too).
     const Path::Span* span = j - i == 1 ? p.span(p.t[i], p.t[j]) : nullptr;
@@ -330,6 +334,8 @@ void ClearanceTracker::refine(const std::shared_ptr<const Motion>& motion, size_
       return refine_span(motion, *span, theirs, p.t[i], p.t[j], p.poses[i], p.poses[j],
                          other.path ? other.path->poses[i] : std::vector<Eigen::Isometry3d>(),
                          other.path ? other.path->poses[j] : std::vector<Eigen::Isometry3d>(), at_i, at_j);
+    // Two physics steps: along the integrator's straight motion between them.
+    if (hidden && j - i == 1) sweep_step(m, i, at_i, D);
     keep_bound(pair, m.moving, other, at_i, p.t[i], at_j, p.t[j], D);
     return;
   }
@@ -368,15 +374,18 @@ void ClearanceTracker::refine_span(const std::shared_ptr<const Motion>& motion, 
   // Where that bound would be news, the way it goes instead of how far, when it only translates.
   if (lower < pair.closest() && !theirs && span.hull && std::min(d_a, d_b) - lower > certify_tolerance(std::min(d_a, d_b)))
     lower = std::max(lower, std::min({slab_over(m, span, t_a, t_b, X_a, X_b), d_a - other.shift(), d_b - other.shift()}));
-  if (lower >= pair.closest()) return;
+  // A contact no step saw may hide here: halved to the end whether or not it is news.
+  const bool hidden = other.shift() == 0 && unsure(pair, lower, d_a, d_b, t_a, t_b);
+  if (lower >= pair.closest() && !hidden) return;
   if (lower >= -kContact && pair.excused_over(t_a, t_b)) return;
-  if (moot(lower)) {
+  if (moot(lower) && !hidden) {
     keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D, lower);
     return;
   }
   // The plan has a pose at any time: halved below the physics step too, to an eighth of it (a
   // drum drifting past a post's rim read 0.21 mm under the truth, stopped at the step).
-  if (t_b - t_a <= span.step * kSpanSteps || std::min(d_a, d_b) - lower <= certify_tolerance(std::min(d_a, d_b))) {
+  if (t_b - t_a <= span.step * kSpanSteps ||
+      (!hidden && std::min(d_a, d_b) - lower <= certify_tolerance(std::min(d_a, d_b)))) {
     keep_bound(pair, m.moving, other, at_a, t_a, at_b, t_b, D, lower);
     return;
   }
@@ -456,10 +465,12 @@ void ClearanceTracker::settle(size_t keep_bytes) {
     const Motion& m = *piece.motion;
     Pair& pair = pairs_[key(m.moving, m.other)];
     keeping_ = {m.moving, m.other};
-    // What was recorded since it was deferred may have made it moot, or no longer the closest.
-    if (piece.lower >= pair.closest()) continue;
+    // What was recorded since it was deferred may have made it moot, or no longer the closest
+    // (unless a contact no step saw may hide in it).
+    const bool hidden = m.as_other().shift() == 0 && unsure(pair, piece.lower, piece.at_a.distance, piece.at_b.distance, piece.t_a, piece.t_b);
+    if (piece.lower >= pair.closest() && !hidden) continue;
     if (piece.lower >= -kContact && pair.excused_over(piece.t_a, piece.t_b)) continue;
-    if (moot(piece.lower)) {  // refined again, it keeps its bound unhalved
+    if (moot(piece.lower) && !hidden) {  // refined again, it keeps its bound unhalved
       if (piece.span)
         refine_span(piece.motion, *piece.span, piece.their_span, piece.t_a, piece.t_b, piece.X_a, piece.X_b, piece.Y_a, piece.Y_b,
                     piece.at_a, piece.at_b);
@@ -472,6 +483,8 @@ void ClearanceTracker::settle(size_t keep_bytes) {
   // Put back what was placed to halve: where the run has it now.
   for (int o : placed)
     if (const Path* p = path(o)) place(o, p->now);
+  for (const auto& [o, X] : put_back_) nearby_.move(o, X);
+  put_back_.clear();
 }
 
 void ClearanceTracker::halve(const Piece& piece, std::set<int>& placed) {
@@ -483,6 +496,9 @@ void ClearanceTracker::halve(const Piece& piece, std::set<int>& placed) {
   if (m.theirs) {
     placed.insert(m.other);
     if (!m.with) place(m.other, m.theirs->now);
+  } else if (m.other_at) {
+    put_back_.try_emplace(m.other, nearby_.placed_pose(m.other));
+    nearby_.move(m.other, *m.other_at);
   }
   if (!piece.span) {
     const Path& p = *m.mine;
@@ -507,8 +523,84 @@ void ClearanceTracker::halve(const Piece& piece, std::set<int>& placed) {
   const std::optional<Proximity> at_m = nearby_.pair_distance(m.moving, m.other, m.parts);
   if (!at_m) return;
   if (other.shift() == 0) saw(pairs_[key(m.moving, m.other)], at_m->distance, t_m);
+  // Into the other at a pose of the plan between the steps: a contact (as deep as that, at
+  // least), and where the two are apart at an end, the piece swept along its plan for the
+  // deepest.
+  const bool into = other.shift() == 0 && at_m->distance < -kSweptDepth && !pairs_[key(m.moving, m.other)].is_excused(t_m);
+  if (into) swept_.push_back({m.moving, at_m->part, m.other, at_m->other_part, t_m, -at_m->distance});
+  if (into && std::max(piece.at_a.distance, piece.at_b.distance) >= -kSweptDepth) {
+    const Path::Span& span = *piece.span;
+    const Path::Span* theirs = piece.their_span;
+    const double t_a = piece.t_a, t_b = piece.t_b;
+    double D = 0;
+    for (size_t k = 0; k < piece.X_a.size() && k < piece.X_b.size(); ++k)
+      D = std::max(D, nearby_.travel_bound(m.moving, geometry_.objects[m.moving].device ? static_cast<int>(k) : -1, piece.X_a[k], piece.X_b[k]));
+    for (size_t k = 0; theirs && k < piece.Y_a.size() && k < piece.Y_b.size(); ++k)
+      D += nearby_.travel_bound(m.other, geometry_.objects[m.other].device ? static_cast<int>(k) : -1, piece.Y_a[k], piece.Y_b[k]);
+    sweep(m, t_a, t_b, D, piece.at_a, [&](double s, std::vector<Eigen::Isometry3d>& X, std::vector<Eigen::Isometry3d>& Y) {
+      span.source(t_a + s * (t_b - t_a), X);
+      if (theirs) theirs->source(t_a + s * (t_b - t_a), Y);
+    });
+    place(m.moving, X_m);
+    if (piece.their_span) place(m.other, Y_m);
+  }
   refine_span(piece.motion, *piece.span, piece.their_span, piece.t_a, t_m, piece.X_a, X_m, piece.Y_a, Y_m, piece.at_a, *at_m);
   refine_span(piece.motion, *piece.span, piece.their_span, t_m, piece.t_b, X_m, piece.X_b, Y_m, piece.Y_b, *at_m, piece.at_b);
+}
+
+void ClearanceTracker::sweep_step(const Motion& m, size_t i, const Proximity& at_i, double D) {
+  const Path& p = *m.mine;
+  const Path* theirs = m.with ? m.theirs.get() : nullptr;
+  // Each part's frame from its pose at step i to its pose at step i + 1: straight, turning at a
+  // constant rate. No point goes farther than D over the step, at most D times the fraction of it.
+  auto between = [](const std::vector<Eigen::Isometry3d>& from, const std::vector<Eigen::Isometry3d>& to, double s,
+                    std::vector<Eigen::Isometry3d>& X) {
+    X.resize(from.size());
+    for (size_t k = 0; k < from.size(); ++k) {
+      const Eigen::Quaterniond q = Eigen::Quaterniond(from[k].linear()).slerp(s, Eigen::Quaterniond(to[k].linear()));
+      X[k].linear() = q.toRotationMatrix();
+      X[k].translation() = (1 - s) * from[k].translation() + s * to[k].translation();
+      X[k].makeAffine();
+    }
+  };
+  sweep(m, p.t[i], p.t[i + 1], D, at_i, [&](double s, std::vector<Eigen::Isometry3d>& X, std::vector<Eigen::Isometry3d>& Y) {
+    between(p.poses[i], p.poses[i + 1], s, X);
+    if (theirs) between(theirs->poses[i], theirs->poses[i + 1], s, Y);
+  });
+}
+
+void ClearanceTracker::sweep(const Motion& m, double t_a, double t_b, double D, const Proximity& at_a, const SweepPoses& poses) {
+  if (D <= 0 || t_b <= t_a) return;
+  const bool both = m.with && m.theirs;
+  Pair& pair = pairs_[key(m.moving, m.other)];
+  std::vector<Eigen::Isometry3d> X, Y;
+  double s = 0, d = at_a.distance;
+  std::optional<Proximity> deepest;
+  double deepest_at = 0;
+  for (int n = 0; n < 4096; ++n) {
+    // Apart, as far as the fastest point cannot close (conservative advancement); inside,
+    // finely, for the deepest.
+    s += (d < 0 ? kSweepResolution : std::max(d, kSweepResolution)) / D;
+    if (s >= 1) break;
+    poses(s, X, Y);
+    place(m.moving, X);
+    if (both) place(m.other, Y);
+    const std::optional<Proximity> at = nearby_.pair_distance(m.moving, m.other, m.parts);
+    if (!at) break;
+    d = at->distance;
+    const double t = t_a + s * (t_b - t_a);
+    if (d < -kSweptDepth && !pair.is_excused(t) && (!deepest || d < deepest->distance)) {
+      deepest = at;
+      deepest_at = t;
+    }
+    if (deepest && d >= -kSweptDepth) break;  // through: the deepest of this pass is found
+  }
+  place(m.moving, m.mine->now);
+  if (both) place(m.other, m.theirs->now);
+  if (!deepest) return;
+  swept_.push_back({m.moving, deepest->part, m.other, deepest->other_part, deepest_at, -deepest->distance});
+  keeping_ = {m.moving, m.other};
+  keep(pair, deepest->distance, deepest_at, m.moving, deepest->part, m.other, deepest->other_part);
 }
 
 void ClearanceTracker::finish() {
