@@ -836,6 +836,12 @@ def agreement(sscs, root):
             fail(f"the drum standing on the pallet rides to (8.6, 4.12, 0.444) and breaks the lift rule: {last} {events}", p)
         if "Far" in last or any(e["kind"] == "load_shifted" for e in events):
             fail(f"the pallet's child standing 2.4 m from it is no rider: {events}", p)
+        # Its closest approach is the carriage under the drum's rim (about 0.042 m), not the
+        # truck's body 0.625 m into the drum (a stretch halved after the drum had ridden away,
+        # where it was by then; review 22).
+        mc = summary["min_clearance"]
+        if not 0.03 < mc["distance"] < 0.05 or {mc["a"], mc["b"]} != {"Truck.carriage", "D"}:
+            fail(f"stand-on-lift: min_clearance about 0.042 m, carriage to drum: {mc}", p)
         # The arm picks the drum where the truck set its pallet down (planning moves what stands
         # on a carried load with it: the arm went to where the drum stood in the vault, 1 m off,
         # and lifted it from there).
