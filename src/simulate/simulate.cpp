@@ -51,6 +51,7 @@ const char* run_status_name(RunStatus s) {
 namespace {
 
 constexpr double kTrackingTolerance = 0.005;  // m: the tool may lag its plan by this much
+constexpr double kTurnTolerance = 1.0 * kPi / 180;  // rad: and its orientation by this much (a wrist 90 deg short "arrived")
 constexpr double kLimitTolerance = 1e-3;      // rad or m past a joint limit before it is an event
 constexpr double kSettleLimit = 5.0;          // s after the last step for released objects to settle
 constexpr double kApart = 0.1;                // s apart before a touching pair counts as a new contact
@@ -242,12 +243,20 @@ class Run {
         nlohmann::ordered_json extra;
         std::string short_of;
         if (is_move(ps.kind) && ps.device >= 0)
-          if (const double lag = lag_now(ps.device, t); lag > kTrackingTolerance) {
-            short_by_.emplace(i, lag);
-            short_of = fmt::format("{}'s {} (step {}) ended {:g} m short of its target at {:g} s", wc_.objects[ps.device].name,
-                                   step_kind_name(ps.kind), ps.index + 1, stable(lag), stable(t));  // numbered from 1, as everything else numbers steps
+          if (const Lag lag = lag_now(ps.device, t); lag.over() > 1) {
+            // Short by a distance, or turned off the target's orientation (a wrist stopped 90 deg
+            // short with the tool point on its axis), or both.
+            short_by_.emplace(i, lag.distance);
+            const bool short_of_it = lag.distance > kTrackingTolerance, turned = lag.turn > kTurnTolerance;
+            const std::string off =
+                fmt::format("{}{}{}", short_of_it ? fmt::format("{:g} m short of its target", stable(lag.distance)) : "",
+                            short_of_it && turned ? " and " : "",
+                            turned ? fmt::format("turned {:g} deg off {}", stable(lag.turn * 180 / kPi), short_of_it ? "it" : "its target") : "");
+            short_of = fmt::format("{}'s {} (step {}) ended {} at {:g} s", wc_.objects[ps.device].name, step_kind_name(ps.kind),
+                                   ps.index + 1, off, stable(t));  // numbered from 1, as everything else numbers steps
             if (unfinished_.empty()) unfinished_ = short_of;
-            extra["short_by"] = r9(lag);
+            extra["short_by"] = r9(lag.distance);
+            if (lag.turn > kTurnTolerance) extra["turned_by"] = r9(lag.turn * 180 / kPi);
           }
         step_event(t, EventKind::StepEnd, ps, extra);
         if (options_.on_step_end) options_.on_step_end(ps, t, scene_pose());
@@ -275,7 +284,7 @@ class Run {
     // moved it since (fallen, rolled, carried on a pallet): a grasp from afar held a drum
     // 0.4 m below the gripper and the run said ok.
     if (const double gap = grasp_gap(ps.device, ps.object); gap > kGraspReach || known) {
-      const double lag = lag_now(ps.device, t);
+      const double lag = lag_now(ps.device, t).distance;
       const std::string why =
           lag > kGraspReach ? fmt::format("its tool is {:g} m from where the plan put it (something held it back)", stable(lag))
                             : fmt::format("{} is not where the plan expected it (it fell, rolled, was carried or pushed)",
@@ -925,7 +934,7 @@ class Run {
     Eigen::VectorXd travel;
     bool lagging = false;
     std::vector<char> moving_parts;  // parts below a revolute or prismatic joint
-    double largest_lag = 0;  ///< of the current lagging episode
+    double largest_lag = 0;  ///< of the current lagging episode, as Lag::over()
     size_t lag_event = 0;    ///< its tracking_error event
   };
 
@@ -936,17 +945,24 @@ class Run {
 
   std::string part_name(int o, int part) const { return run_part_name(wc_, geometry_, o, part); }
 
-  /// Where the plan puts a device's tool at t (world).
-  Eigen::Vector3d planned_tool(const DeviceRun& dr, double t) const {
+  /// How far a device's tool is from where its plan puts it: the distance (m) and the turn
+  /// between the two orientations (rad). Over the tolerance when either is.
+  struct Lag {
+    double distance = 0, turn = 0;
+    /// How far over its tolerance the larger of the two is (1: at it).
+    double over() const { return std::max(distance / kTrackingTolerance, turn / kTurnTolerance); }
+  };
+  Lag lag_of(const DeviceRun& dr, double t) const {
     const ObjectGeometry& g = geometry_.objects[dr.object];
-    return (g.X_world_object * g.device->tool_pose(dr.track->at(t))).translation();
+    const Device& m = *g.device;
+    const Eigen::Isometry3d planned = g.X_world_object * m.tool_pose(dr.track->at(t));
+    const Eigen::Isometry3d now = world_.part_pose(dr.object, m.tool_part) * m.X_part_tool;
+    return {(now.translation() - planned.translation()).norm(), Eigen::AngleAxisd(now.linear() * planned.linear().transpose()).angle()};
   }
-
-  /// How far device `d`'s tool is from where its plan puts it at t (m).
-  double lag_now(int d, double t) const {
+  Lag lag_now(int d, double t) const {
     for (const DeviceRun& dr : devices_)
-      if (dr.object == d) return (tool_now(d) - planned_tool(dr, t)).norm();
-    return 0;
+      if (dr.object == d) return lag_of(dr, t);
+    return {};
   }
 
   /// Which of its job's steps `ps` is (0-based, in the template's order: the plan's steps of
@@ -994,7 +1010,7 @@ class Run {
       if (c.depth >= kTargetTouch) continue;
       // A touch that holds the tool back from its plan is a collision too: motors do not sink a
       // tool into scenery, it is stopped (a tool planned 4 mm into a drum touched it by 5 um).
-      if (lag_now(dev, t) > kTargetTouch) continue;
+      if (lag_now(dev, t).distance > kTargetTouch) continue;
       std::vector<int> loads = handled(dev, t);
       if (std::find(loads.begin(), loads.end(), other) != loads.end() && !pushed_since_release(other)) return true;
       if (move_target(dev, t) == other) return true;
@@ -1442,17 +1458,21 @@ class Run {
   /// it first passed) and `largest_at` when that was.
   void check_tracking(double t) {
     for (DeviceRun& dr : devices_) {
-      double lag = (dr.tool_prev - planned_tool(dr, t)).norm();
-      if (lag > kTrackingTolerance && !dr.lagging) {
+      // Off its plan's position, or its orientation (a wrist lagging 63 deg behind its plan with
+      // the tool point on its axis went unseen).
+      const Lag lag = lag_of(dr, t);
+      const double over = lag.over();
+      if (over > 1 && !dr.lagging) {
         dr.lagging = true;
-        dr.largest_lag = lag;
-        dr.lag_event = events_.add(t, EventKind::TrackingError,
-                                   {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag)}, {"largest_at", r9(t)}});
-      } else if (dr.lagging && lag > dr.largest_lag) {
-        dr.largest_lag = lag;
-        events_.update(dr.lag_event, "deviation", r9(lag));
+        dr.largest_lag = over;
+        dr.lag_event = events_.add(t, EventKind::TrackingError, {{"device", wc_.objects[dr.object].name}, {"deviation", r9(lag.distance)},
+                                                                 {"turn", r9(lag.turn * 180 / kPi)}, {"largest_at", r9(t)}});
+      } else if (dr.lagging && over > dr.largest_lag) {
+        dr.largest_lag = over;
+        events_.update(dr.lag_event, "deviation", r9(lag.distance));
+        events_.update(dr.lag_event, "turn", r9(lag.turn * 180 / kPi));
         events_.update(dr.lag_event, "largest_at", r9(t));
-      } else if (lag < kTrackingTolerance / 2) {
+      } else if (over < 0.5) {
         dr.lagging = false;
       }
     }
