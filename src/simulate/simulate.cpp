@@ -1303,7 +1303,12 @@ class Run {
       const int load = moving_load(o);
       for (const DeviceRun& dr : devices_)
         if (load >= 0 && world_.held(dr.object) == load) device = dr.object;
-      if (device >= 0 && world_.hand_over(device))
+      // From its pose before this step (its plan's, which met nothing), not a step's travel
+      // into what it met.
+      std::optional<Eigen::VectorXd> q_from;
+      for (const DeviceRun& dr : devices_)
+        if (dr.object == device && world_.on_plan(device)) q_from = dr.track->at(std::max(0.0, t - plan_.settings.timestep));
+      if (device >= 0 && world_.hand_over(device, q_from ? &*q_from : nullptr))
         handed_.push_back({wc_.objects[device].name, r9(t), fmt::format("{} meets {}", part_name(c.a, c.part_a), part_name(c.b, c.part_b))});
     }
   }

@@ -1132,11 +1132,24 @@ void PhysicsWorld::advance(double seconds) {
   w.time += seconds;
 }
 
-bool PhysicsWorld::hand_over(int o) {
+bool PhysicsWorld::hand_over(int o, const Eigen::VectorXd* q_from) {
   Impl& w = *impl_;
   auto it = w.devices.find(o);
   if (!w.options.fast || it == w.devices.end() || !it->second.kinematic || w.geometry.objects[o].device->kinematic) return false;
   DeviceBodies& db = it->second;
+  if (q_from) {  // back to where it was before the step, its velocities kept (the plan's)
+    const ObjectGeometry& g = w.geometry.objects[o];
+    const std::vector<Eigen::Isometry3d> X = g.device->part_poses(*q_from);
+    auto grip = w.grips.find(o);
+    const bool rigid = grip != w.grips.end() && !grip->second.joint;
+    for (size_t p = 0; p < db.bodies.size(); ++p)
+      if (db.bodies[p]) Impl::place_body(db.bodies[p], compose(compose(g.X_world_object, X[p]), db.X_body_part[p].inverse()));
+    if (rigid && db.bodies[g.device->tool_part]) {
+      const dBodyID tool = db.bodies[g.device->tool_part];
+      Impl::place_body(w.bodies[grip->second.object], from_ode(dBodyGetPosition(tool), dBodyGetRotation(tool)) * grip->second.X_tool_load);
+    }
+    db.commanded = *q_from;
+  }
   for (dBodyID b : db.bodies)
     if (b) dBodySetDynamic(b);
   db.kinematic = false;

@@ -141,7 +141,11 @@ class PhysicsWorld {
   /// what fast mode cannot decide kinematically (a device or its load meeting something: whether
   /// it is stopped, deflected or pushes through is the physics' to say). False when it already is
   /// in physics (or moves kinematically in physics mode too, `driven: kinematic`).
-  bool hand_over(int object);
+  /// `q_from`, when given: its parts (and what it holds, with its tool) are first set back to
+  /// joint values q_from, its pose before the step that met something, so that the physics meets
+  /// the obstacle from outside as physics mode does (handed over a step's travel deep into a
+  /// plate, a blade went through it where physics mode stopped it).
+  bool hand_over(int object, const Eigen::VectorXd* q_from = nullptr);
   /// Fast mode: device `object` moves kinematically on its plan (not handed over): where a step
   /// leaves it is its plan's pose, and what it holds goes rigidly with its tool (`rigid_load`).
   bool on_plan(int object) const;
