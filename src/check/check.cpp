@@ -623,7 +623,10 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
     // drum 0.086 m into one beam of a gap 0.122 m too narrow for it).
     std::optional<double> free_error;
     Eigen::VectorXd free_q;  // the pose free_error is measured at
-    if (ik.status == IkResult::Status::Rejected && !stuck && slides) {
+    // A device that turns too (review 22: an arm carrying a drum over a pedestal read -0.286, the
+    // drum's depth into it, where the closest free pose is 0.742 m off): its search through free
+    // poses is local, so the figure is a bound the truth is no worse than, and the message says so.
+    if (ik.status == IkResult::Status::Rejected && !stuck) {
       const ClosestReach closest = closest_free(chain, X_root_target, rc.match_orientation, hit ? hit_q : ik.q, free, /*rays=*/true);
       if (closest.found && closest.position_error <= rc.position_tol_si && closest.angle_error <= rc.angle_tol_si) {
         ik.q = closest.q;  // free after all
@@ -644,16 +647,22 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       // free pose is 0.254 m off, by hand). A device that turns: the message says the closest
       // pose collides and the margin is that pose's, better than the truth (an arm read 0.27 m
       // where 0.02 m was likely).
-      if (!closest.found && !stuck && slides) {
-        closest = closest_free(chain, X_root_target, rc.match_orientation, ik.q, free);
+      // (A device that turns did not search, and gave the closest pose's error with what it
+      // hits: an arm carrying a drum beside a pedestal read 0.0297 m where the closest free
+      // pose is 0.458 m off; review 22. Its search through free poses is local: a bound.)
+      bool searched_free = false;
+      if (!closest.found && !stuck) {
+        closest = closest_free(chain, X_root_target, rc.match_orientation, ik.q, free, /*rays=*/!slides);
+        searched_free = true;
         no_free_pose = !closest.found;
-      } else if (!closest.found && !stuck) {
-        if (const ClosestReach any = closest_reach(chain, X_root_target, rc.match_orientation, ik.q); any.found) {
-          ik.q = any.q;
-          ik.position_error = any.position_error;
-          ik.angle_error = any.angle_error;
+        if (no_free_pose && !slides) {
+          if (const ClosestReach any = closest_reach(chain, X_root_target, rc.match_orientation, ik.q); any.found) {
+            ik.q = any.q;
+            ik.position_error = any.position_error;
+            ik.angle_error = any.angle_error;
+          }
+          if (auto c = collision_at(ik.q, false)) closest_collides = collision_text(wc, st.geometry, rc.device, *c);
         }
-        if (auto c = collision_at(ik.q, false)) closest_collides = collision_text(wc, st.geometry, rc.device, *c);
       }
       // A device that turns: the global search's closest free pose is its first refined pose
       // free of collision, far when the nearer ones collide (an arm turned away from its target
@@ -661,10 +670,12 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
       // poses, from the free starts and that pose, may only bring it closer; and when a pose in
       // collision still comes closer, the message says that a closer free pose may exist.
       if (closest.found && !stuck && !slides) {
-        const ClosestReach better = closest_free(chain, X_root_target, rc.match_orientation, closest.q, free);
-        if (better.found && better.position_error < closest.position_error - 1e-6 &&
-            better.angle_error <= std::max(closest.angle_error, rc.angle_tol_si))
-          closest = better;
+        if (!searched_free) {
+          const ClosestReach better = closest_free(chain, X_root_target, rc.match_orientation, closest.q, free);
+          if (better.found && better.position_error < closest.position_error - 1e-6 &&
+              better.angle_error <= std::max(closest.angle_error, rc.angle_tol_si))
+            closest = better;
+        }
         if (const ClosestReach any = closest_reach(chain, X_root_target, rc.match_orientation, ik.q);
             any.found && any.position_error < closest.position_error - rc.position_tol_si)
           nearer_in_collision = any.position_error;
@@ -726,7 +737,9 @@ void check_reach(const Workcell& wc, const ReachCheck& rc, const State& st, Coll
         else
           r.message = fmt::format("{} reaches {} only in collision: {}", o.name, t.text,
                                   hit ? collision_text(wc, st.geometry, rc.device, *hit) : "?");
-        if (free_error) r.message += fmt::format("; the closest a pose free of collision comes is {:g} m", stable(*free_error));
+        if (free_error)
+          r.message += fmt::format("; the closest a pose free of collision comes is {:g} m{}", stable(*free_error),
+                                   slides ? "" : " (the closest the search found: a closer free pose may exist)");
         // The subjects stay the device, the target and the load: a baseline matches results by
         // them, and what a pose hits changes with the design (it is in the message).
         break;
