@@ -77,6 +77,12 @@ class ClearanceTracker {
   /// The dip below `gap` (as watched) of the interval that ended at `t` (the sample being
   /// observed), if any.
   std::optional<Dip> dip(int a, int b, double gap, double t) const;
+  /// The pair's closest approach so far (a record, certified between samples) and when.
+  std::optional<std::pair<double, double>> closest_of(int a, int b) const {
+    auto it = pairs_.find(key(a, b));
+    if (it == pairs_.end() || it->second.records.empty()) return std::nullopt;
+    return std::make_pair(it->second.records.back().distance, it->second.records.back().t);
+  }
 
   /// A contact no physics step saw: between two steps (a thin blade through a thin plate in one
   /// step) the moving object was measured into the other, `depth` deep at `t`, at a pose of its

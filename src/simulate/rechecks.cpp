@@ -120,6 +120,12 @@ void ConstraintRechecks::check(double t, const GeometryModel& live, const std::v
       dipped.insert(ci);
     }
   }
+  // A clearance rule failing since the last sample or a dip in this interval: its pair's closest
+  // approach (certified between samples) is its episode's worst, when it came after the episode
+  // began (before the sample may end the episode).
+  if (tracker)
+    for (const Watched& w : watched_)
+      if (const auto closest = tracker->closest_of(w.a, w.b)) worsen(w.constraint, {w.a, w.b}, closest->first - w.gap, closest->second, events);
   const CheckReport report = sscs::check(wc_, live, values, whole_due_ ? options_ : motion_options_);
   whole_due_ = false;
   judge(t, report, dipped, false, events);
@@ -235,6 +241,12 @@ void ConstraintRechecks::judge(double t, const CheckReport& report, const std::s
     bool failing = r.status != Status::Pass;
     bool was = failing_[key];
     failing_[key] = failing;
+    if (!failing)
+      if (auto open = open_.find(episode_key(r.constraint, r.subjects)); open != open_.end()) {
+        episodes_[open->second].end = t;
+        open_.erase(open);
+      }
+    if (failing && r.margin) worsen(r.constraint, r.subjects, *r.margin, t, events);
     if (!failing || was || already.count(r.constraint)) continue;  // a dip already started it
     starts_failing(t, r.constraint, r.subjects, r.margin, r.dim, r.message, between_samples, events);
   }
@@ -251,8 +263,30 @@ void ConstraintRechecks::starts_failing(double t, int constraint, const std::vec
   f["unit"] = file_unit(dim);
   f["message"] = message;
   if (between_samples) f["between_samples"] = true;
-  events.add(t, EventKind::Constraint, f);
+  if (margin) {
+    f["worst_margin"] = r9(*margin);
+    f["worst_at"] = r9(t);
+  }
+  const size_t event = events.add(t, EventKind::Constraint, f);
+  EpisodeKey key = episode_key(constraint, subjects);
+  open_[key] = episodes_.size();
+  episodes_.push_back({std::move(key), event, t, INFINITY, margin ? *margin : -INFINITY});
   if (c.severity != Severity::Warning) ++failures_;
+}
+
+void ConstraintRechecks::worsen(int constraint, const std::vector<int>& subjects, double margin, double t, EventLog& events) {
+  const EpisodeKey key = episode_key(constraint, subjects);
+  for (Episode& e : episodes_) {
+    if (e.key != key || t < e.start - 1e-9 || t > e.end + 1e-9 || !(margin < e.worst)) continue;
+    e.worst = margin;
+    events.update(e.event, "worst_margin", r9(margin));
+    events.update(e.event, "worst_at", r9(t));
+  }
+}
+
+void ConstraintRechecks::finish(const ClearanceTracker& tracker, EventLog& events) {
+  for (const Watched& w : watched_)
+    if (const auto closest = tracker.closest_of(w.a, w.b)) worsen(w.constraint, {w.a, w.b}, closest->first - w.gap, closest->second, events);
 }
 
 }  // namespace sscs

@@ -3,6 +3,7 @@
 /// containment that read a device or an object the plan moves (overlaps are the physics'
 /// collisions; reach is a property of the design, not of one motion). A constraint that starts
 /// failing is a `constraint` event.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -71,6 +72,10 @@ class ConstraintRechecks {
   }
   /// How many error-severity constraints started failing (the run's verdict counts them).
   size_t failures() const { return failures_; }
+  /// When the run has ended and the tracker has halved what was left: each clearance rule's
+  /// pair's closest approach is the worst of the episode it fell in (a 1 Hz run knows it only
+  /// then).
+  void finish(const ClearanceTracker& tracker, EventLog& events);
 
  private:
   const Workcell& wc_;
@@ -87,6 +92,23 @@ class ConstraintRechecks {
   /// A rule that starts failing at t: its `constraint` event, counted when an error.
   void starts_failing(double t, int constraint, const std::vector<int>& subjects, std::optional<double> margin, Dim dim,
                       const std::string& message, bool between_samples, EventLog& events);
+  /// A failing rule's episode: its event, which says the worst margin the episode reached and
+  /// when (its first margin is only where it started: a gantry's drum 5 mm inside a 2 cm rule
+  /// said -0.1 mm; review 22).
+  using EpisodeKey = std::pair<int, std::vector<int>>;  ///< (constraint, subjects sorted)
+  struct Episode {
+    EpisodeKey key;
+    size_t event = 0;
+    double start = 0, end = INFINITY, worst = INFINITY;
+  };
+  std::vector<Episode> episodes_;
+  std::map<EpisodeKey, size_t> open_;  ///< the episode under way, per key
+  static EpisodeKey episode_key(int constraint, std::vector<int> subjects) {
+    std::sort(subjects.begin(), subjects.end());
+    return {constraint, subjects};
+  }
+  /// (constraint, subjects) reached `margin` at t: the worst of the episode under way then, if worse.
+  void worsen(int constraint, const std::vector<int>& subjects, double margin, double t, EventLog& events);
 
   std::map<std::pair<int, std::vector<int>>, bool> failing_;  ///< (constraint, subjects) -> failing now
   std::set<int> absent_;
