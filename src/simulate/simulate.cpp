@@ -247,6 +247,7 @@ class Run {
             // Short by a distance, or turned off the target's orientation (a wrist stopped 90 deg
             // short with the tool point on its axis), or both.
             short_by_.emplace(i, lag.distance);
+            if (lag.turn > kTurnTolerance) turned_by_.emplace(i, lag.turn * 180 / kPi);
             const bool short_of_it = lag.distance > kTrackingTolerance, turned = lag.turn > kTurnTolerance;
             const std::string off =
                 fmt::format("{}{}{}", short_of_it ? fmt::format("{:g} m short of its target", stable(lag.distance)) : "",
@@ -1908,6 +1909,7 @@ class Run {
       st.start = skipped && !started_[i] ? std::nullopt : when(ps.start);
       st.end = plan_.failed_at(ps) || skipped ? std::nullopt : when(ps.end);  // it began and never finished
       if (auto sb = short_by_.find(i); sb != short_by_.end()) st.short_by = r9(sb->second);
+      if (auto tb = turned_by_.find(i); tb != turned_by_.end()) st.turned_by = r9(tb->second);
       f.steps.push_back(std::move(st));
     }
     for (const PlannedStep& ps : plan_.not_begun) {  // after the failure
@@ -2018,6 +2020,7 @@ class Run {
   /// Moves that ended with the tool still off their target (by plan position: how far), and what
   /// the first says: the run has no cycle time.
   std::map<size_t, double> short_by_;
+  std::map<size_t, double> turned_by_;  ///< deg, of the moves short_by_ has that ended turned off
   std::string unfinished_;
   bool interrupted_ = false;
   std::vector<RunSummaryFile::HandOver> handed_;  // fast mode: devices that went on in physics

@@ -100,6 +100,7 @@ nlohmann::ordered_json RunSummaryFile::to_json() const {
     e["start"] = or_null(s.start);
     e["end"] = or_null(s.end);
     if (s.short_by) e["short_by"] = *s.short_by;
+    if (s.turned_by) e["turned_by"] = *s.turned_by;
     st.push_back(std::move(e));
   }
   j["steps"] = std::move(st);
@@ -179,6 +180,7 @@ std::optional<RunSummaryFile> RunSummaryFile::parse(const std::string& text, std
       step.start = r.maybe_number(e, "start", "steps[]");
       step.end = r.maybe_number(e, "end", "steps[]");
       step.short_by = r.maybe_number(e, "short_by", "steps[]");
+      step.turned_by = r.maybe_number(e, "turned_by", "steps[]");
       s.steps.push_back(std::move(step));
     }
   if (const json* devices = r.object(j, "devices", "summary"))

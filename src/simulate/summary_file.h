@@ -42,6 +42,7 @@ struct RunSummaryFile {
     std::optional<std::string> job;    ///< a campaign's: the job it belongs to ("store In_3")
     std::optional<double> start, end;  ///< null: not begun / not finished when the run stopped
     std::optional<double> short_by;    ///< a move that ended with its tool this far off its target (m)
+    std::optional<double> turned_by;   ///< ... or turned this far off its target's orientation (deg)
   };
   std::vector<Step> steps;
   struct DeviceFigures {

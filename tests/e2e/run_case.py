@@ -2193,6 +2193,8 @@ def arrival(sscs, root):
                         fail(f"{what}: as physics mode, turned {physics_turn} deg off with {physics_pairs}: {events}", p)
                 if plate and mode == "physics":
                     physics_turn = ends[0].get("turned_by", 0)
+                    if summary["steps"][1].get("turned_by") != physics_turn:
+                        fail(f"{what}: summary.json's step says turned_by as its step_end does: {summary['steps'][1]}", p)
                     physics_pairs = sorted({tuple(sorted((e["a"], e["b"]))) for e in events if e["kind"] == "collision"})
                 if not plate and (p.returncode != 0 or lags or "turned_by" in ends[0] or summary.get("cycle_time") is None):
                     fail(f"{what}: ok, it arrived: {events}", p)
