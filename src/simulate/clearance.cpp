@@ -174,6 +174,32 @@ void ClearanceTracker::follow(double t, int object, const std::vector<Eigen::Iso
   }
 }
 
+void ClearanceTracker::set_back(int object, double t_back, double t, const std::vector<Eigen::Isometry3d>& X_world) {
+  auto it = paths_.find(object);
+  if (it == paths_.end() || !it->second || it->second->t.empty()) return;
+  Path& p = *it->second;
+  const bool device = geometry_.objects[object].device != nullptr;
+  // The plan's poses after t_back are not where it went.
+  for (Path::Span& span : p.spans) span.to = std::min(span.to, t_back);
+  p.spans.erase(std::remove_if(p.spans.begin(), p.spans.end(), [](const Path::Span& s) { return s.to <= s.from + 1e-12; }), p.spans.end());
+  auto bound = [&](size_t k, const Eigen::Isometry3d& from, const Eigen::Isometry3d& to) {
+    return nearby_.travel_bound(object, device ? static_cast<int>(k) : -1, from, to);
+  };
+  if (!p.keep) {  // unkept: its going back counts too
+    for (size_t k = 0; k < X_world.size() && k < p.travelled.back().size(); ++k) p.travelled.back()[k] += bound(k, p.now[k], X_world[k]);
+  } else {
+    // Each kept pose after t_back (but the sample's) is where it was set back to; the travel to
+    // the first of them from the one before, nothing after.
+    for (size_t i = 1; i < p.t.size(); ++i) {
+      if (p.t[i] <= t_back + 1e-9 || p.t[i] > t + 1e-9) continue;
+      for (size_t k = 0; k < X_world.size() && k < p.travelled[i].size(); ++k)
+        p.travelled[i][k] = p.travelled[i - 1][k] + bound(k, p.poses[i - 1][k], X_world[k]);
+      p.poses[i] = X_world;
+    }
+  }
+  p.now = X_world;
+}
+
 void ClearanceTracker::next_interval(double t) {
   interval_start_ = t;
   measured_before_ = std::move(measured_now_);

@@ -114,6 +114,11 @@ class ClearanceTracker {
   /// from the sample on), every pose, to bound each pair's distance between the samples from
   /// below: a gripper passing a post between two samples 0.5 s apart is seen.
   void follow(double t, int object, const std::vector<Eigen::Isometry3d>& X_world, bool keep_path);
+  /// Fast mode's hand-over set `object` back to where it was at `t_back` (PhysicsWorld::hand_over's
+  /// q_from) after the step to `t` was followed: it is at `X_world` at t, and its plan after
+  /// t_back is no motion it made (its poses there went into what it met: review 23, a blade's
+  /// episode 4.66 mm deep where the run went 2.14 mm).
+  void set_back(int object, double t_back, double t, const std::vector<Eigen::Isometry3d>& X_world);
   /// How far the points of each part of `object` (one entry for an object) may have gone since
   /// the last sample, from the steps followed; nullptr when it is not followed (it stands).
   const std::vector<double>* travelled(int object) const {

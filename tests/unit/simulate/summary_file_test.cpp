@@ -12,8 +12,8 @@ RunSummaryFile example() {
   f.status = "failed";
   f.simulated_time = 2.5;
   f.stopped = RunSummaryFile::Stopped{"unreachable", 1.25, "Drum_1.top is out of reach"};
-  f.steps.push_back({0, "move_to", "Robot", std::nullopt, "store In_3", 0.0, 1.0, 0.25});  // a campaign's step names its job; it ended 0.25 m short
-  f.steps.push_back({1, "wait", std::nullopt, std::nullopt, std::nullopt, 1.0, std::nullopt, std::nullopt});
+  f.steps.push_back({0, "move_to", "Robot", std::nullopt, "store In_3", 0.0, 1.0, 0.25, 12.5});  // a campaign's step names its job; it ended 0.25 m short, turned 12.5 deg off
+  f.steps.push_back({1, "wait", std::nullopt, std::nullopt, std::nullopt, 1.0, std::nullopt, std::nullopt, std::nullopt});
   f.devices.push_back({"Robot", {{{"j1", 30.5}, {"x", 0.2}}, 30.5, 0.2, 1.75}});
   f.min_clearance = RunSummaryFile::Clearance{0.012, "Robot.link6", "Drum_1", 0.9};
   f.events = {{"collision", 2}, {"step_start", 2}};
@@ -33,6 +33,8 @@ TEST(SummaryFile, WhatIsWrittenReadsBackTheSame) {
   EXPECT_EQ(back->steps[1].end, std::nullopt);
   EXPECT_EQ(back->steps[0].short_by, 0.25);
   EXPECT_EQ(back->steps[1].short_by, std::nullopt);
+  EXPECT_EQ(back->steps[0].turned_by, 12.5);
+  EXPECT_EQ(back->steps[1].turned_by, std::nullopt);
 }
 
 TEST(SummaryFile, EveryMistypedOrMissingKeyIsNamed) {
