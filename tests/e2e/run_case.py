@@ -2345,11 +2345,11 @@ def sweep_reuse(sscs, root):
     variant's report.json, with one worker and with two, is byte-identical to the report of its
     own `sscs check --set ...` process, which remembers nothing. The demo vault's variants move
     racks into the robot's reach, so reach, no_overlap and clearance all hit remembered answers."""
-    variants = [(a, r, b) for a in ("1.4", "2.2") for r in (2, 4) for b in (3, 5)]
+    variants = [(a, r, b) for a in ("1.4", "2.2") for r in (2, 4) for b in (3,)]  # (a crowded variant's reach costs seconds)
     with tempfile.TemporaryDirectory() as tmp:
         study = os.path.join(tmp, "reuse.yaml")
         open(study, "w").write("sscs: 1\nsweep: reuse\nvault: " + os.path.join(root, "scenarios/demo/demo.yaml") + "\n"
-                               "vary:\n  aisle: {values: [1.4 m, 2.2 m]}\n  rows: {values: [2, 4]}\n  bays: {values: [3, 5]}\n"
+                               "vary:\n  aisle: {values: [1.4 m, 2.2 m]}\n  rows: {values: [2, 4]}\n  bays: {values: [3]}\n"
                                "metrics:\n  min_margin: \"min_margin()\"\n")
         alone = []
         for i, (a, r, b) in enumerate(variants):
@@ -2362,7 +2362,7 @@ def sweep_reuse(sscs, root):
         for jobs in ("1", "2"):
             out = os.path.join(tmp, f"jobs{jobs}")
             p = run(sscs, root, ["sweep", study, "--out", out, "--jobs", jobs, "--quiet", "--allow-outside-root"])
-            if p.returncode != 1 or "swept 8 variants: 0 pass, 8 fail, 0 error" not in p.stdout:
+            if p.returncode != 1 or "swept 4 variants: 0 pass, 4 fail, 0 error" not in p.stdout:
                 fail(f"the reuse sweep with --jobs {jobs}", p)
             for i, (a, r, b) in enumerate(variants):
                 report = open(os.path.join(out, f"{i}-aisle={a}m-rows={r}-bays={b}", "report.json"), "rb").read()
